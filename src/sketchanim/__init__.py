@@ -1,0 +1,22 @@
+"""sketchanim: sketch 3D animations; every performed channel becomes a compact B-spline.
+
+>>> import numpy as np, sketchanim
+>>> t = np.linspace(0, 2, 200)
+>>> r = sketchanim.reduce(t, np.c_[np.sin(t), np.cos(t)], tol=0.01)
+>>> bool(np.all(r.max_error <= 0.01)), r.n_coefficients < 200
+(True, True)
+"""
+
+from sketchanim.errors import ArgumentError, FileFormatError, InputError, SampleError, ToleranceUnreachableError
+from sketchanim.reduce import Reduction, reduce
+
+__all__ = [
+    "ArgumentError",
+    "FileFormatError",
+    "InputError",
+    "Reduction",
+    "SampleError",
+    "ToleranceUnreachableError",
+    "reduce",
+]
+__version__ = "0.1.0"

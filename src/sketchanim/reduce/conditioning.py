@@ -1,0 +1,161 @@
+"""Input checks for the reducers: sample times, values, tolerances and order.
+
+Times must be finite and strictly increasing once exact duplicate samples (same time,
+same values) are dropped; everything else is an error that names the first bad sample.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from sketchanim.errors import ArgumentError, SampleError
+
+
+@dataclass(frozen=True)
+class Samples:
+    """Checked samples, ready for a reducer.
+
+    Attributes
+    ----------
+    times : ndarray, shape (n,)
+        Strictly increasing, finite, float64 seconds.
+    values : ndarray, shape (n, d)
+        Finite float64 values.
+    tol : ndarray, shape (d,)
+        Positive per-channel tolerance.
+    scalar : bool
+        The caller gave values of shape (n,): results evaluate to shape (m,).
+    duplicates_dropped : int
+        Exact duplicate samples removed (same time and same values as the one before).
+    """
+
+    times: np.ndarray
+    values: np.ndarray
+    tol: np.ndarray
+    scalar: bool
+    duplicates_dropped: int
+
+    @property
+    def n(self) -> int:
+        """Number of samples kept."""
+        return len(self.times)
+
+    @property
+    def dim(self) -> int:
+        """Number of channels."""
+        return self.values.shape[1]
+
+
+def check_order(order: object) -> int:
+    """Return ``order`` as an int >= 2 (2 linear, 4 cubic), or raise :class:`ArgumentError`.
+
+    >>> check_order(4)
+    4
+    """
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 2:
+        raise ArgumentError("order", f"must be an integer >= 2 (4 is cubic), got {order!r}")
+    return int(order)
+
+
+def check_tolerance(tol: ArrayLike, dim: int) -> np.ndarray:
+    """Broadcast ``tol`` to shape (dim,) and check every entry is finite and positive.
+
+    >>> check_tolerance(0.5, 3)
+    array([0.5, 0.5, 0.5])
+    """
+    arr = np.asarray(tol, dtype=float)
+    if arr.ndim == 0:
+        arr = np.full(dim, float(arr))
+    if arr.shape != (dim,):
+        raise ArgumentError("tol", f"needs 1 or {dim} values (one per channel), got {arr.size}")
+    bad = np.flatnonzero(~np.isfinite(arr) | (arr <= 0))
+    if bad.size:
+        raise ArgumentError("tol", f"channel {bad[0]} tolerance must be finite and > 0, got {arr[bad[0]]!r}")
+    return arr
+
+
+def _as_float(name: str, data: ArrayLike) -> np.ndarray:
+    try:
+        return np.asarray(data, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise ArgumentError(name, f"must be numbers ({err})") from None
+
+
+def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_samples: int = 2) -> Samples:
+    """Check and clean samples for reduction.
+
+    Parameters
+    ----------
+    times : array_like, shape (n,)
+        Sample times in seconds.
+    values : array_like, shape (n,) or (n, d)
+        Sample values, one column per channel.
+    tol : float or array_like, shape (d,)
+        Tolerance per channel (a scalar applies to all).
+    min_samples : int
+        Fewest samples accepted after duplicates are dropped.
+
+    Returns
+    -------
+    Samples
+
+    Raises
+    ------
+    SampleError
+        NaN or infinite time or value, time going backwards, two samples at the same
+        time with different values, or too few samples; names the first offending index.
+    ArgumentError
+        Shapes that do not match, or a tolerance that is not positive.
+
+    Examples
+    --------
+    >>> s = condition([0.0, 0.1, 0.1, 0.2], [1.0, 2.0, 2.0, 3.0], 0.01)
+    >>> s.times, s.duplicates_dropped
+    (array([0. , 0.1, 0.2]), 1)
+    """
+    t = _as_float("times", times)
+    x = _as_float("values", values)
+    if t.ndim != 1:
+        raise ArgumentError("times", f"must be 1-D, got shape {t.shape}")
+    scalar = x.ndim == 1
+    if scalar:
+        x = x[:, None]
+    if x.ndim != 2:
+        raise ArgumentError("values", f"must be of shape (n,) or (n, d), got {x.shape}")
+    if x.shape[0] != t.shape[0]:
+        raise ArgumentError("values", f"has {x.shape[0]} rows but times has {t.shape[0]}")
+    if x.shape[1] == 0:
+        raise ArgumentError("values", "has no channels")
+    tol_arr = check_tolerance(tol, x.shape[1])
+
+    bad_t = np.flatnonzero(~np.isfinite(t))
+    if bad_t.size:
+        raise SampleError(f"time is {t[bad_t[0]]!r}", index=int(bad_t[0]), field="time")
+    bad_x = np.argwhere(~np.isfinite(x))
+    if bad_x.size:
+        i, j = bad_x[0]
+        raise SampleError(f"value is {x[i, j]!r}", index=int(i), field=f"channel {j}")
+
+    dt = np.diff(t)
+    back = np.flatnonzero(dt < 0)
+    if back.size:
+        i = int(back[0]) + 1
+        raise SampleError(f"time goes backwards ({t[i]!r} after {t[i - 1]!r})", index=i, field="time")
+    same_t = np.flatnonzero(dt == 0)
+    conflicting = same_t[np.any(x[same_t] != x[same_t + 1], axis=1)]
+    if conflicting.size:
+        i = int(conflicting[0]) + 1
+        raise SampleError(
+            f"same time {t[i]!r} as sample {i - 1} but different values", index=i, field="time"
+        )
+    keep = np.ones(len(t), dtype=bool)
+    keep[same_t + 1] = False
+    t, x = t[keep], x[keep]
+    if len(t) < min_samples:
+        raise SampleError(
+            f"{len(t)} distinct samples, at least {min_samples} needed", index=None, field="times"
+        )
+    return Samples(t, np.ascontiguousarray(x), tol_arr, scalar, int(same_t.size))

@@ -1,0 +1,205 @@
+"""Global Lyche-Morken knot removal (section 2.1 of the paper): rank, remove, approximate.
+
+Each iteration ranks the interior knots of the current curve (:mod:`.rank`), then looks
+for the shortest knot vector, among candidates built from that ranking, on which a
+least-squares fit of the samples stays within tolerance (:mod:`.approximate`). The
+error is always measured against the samples, never against the previous iterate.
+
+Candidates, tried in this order until one has fewer knots than the current curve:
+
+1. *spread*: ``m`` knots that share the total weight^(1/order) equally. A knot's
+   removal weight grows like (spacing^order x the local derivative of that order), so
+   weight^(1/order) / spacing is the knot density that equidistributes the error, the
+   aim of LM's grouping of equal-weight knots. The knots are re-placed among all the
+   starting knot positions (the sample times), not only the surviving ones, so the
+   first, coarse guess is corrected once the curve's weights become informative. The
+   smallest passing ``m`` is found by galloping and bisection.
+2. *lowest*: drop the ``r`` lowest-weight knots, the largest ``r`` that passes
+   (bisection for long knot vectors; counts 1, 2, ... for short ones, as 2.2.1 argues).
+3. *single*: each knot alone, lowest weight first, fitted with Lawson re-weighting (a
+   near-minimax fit), so that knots go that a plain least-squares fit would keep.
+
+The loop stops when no candidate removes a knot.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sketchanim.reduce.approximate import Approximator, Fit
+from sketchanim.reduce.rank import removal_weights
+
+
+@dataclass
+class RemovalLog:
+    """What one run of the loop did: iterations, fits solved, interior knots left after each."""
+
+    iterations: int = 0
+    fits: int = 0
+    knots_left: list[int] = field(default_factory=list)
+
+
+class _Candidates:
+    """Knot vectors derived from one ranking of the current curve."""
+
+    def __init__(self, ap: Approximator, knots: np.ndarray, weights: np.ndarray, pool: np.ndarray) -> None:
+        self.ap = ap
+        self.order = ap.order
+        self.ends = (knots[: self.order], knots[len(knots) - self.order :])
+        self.inner = knots[self.order : len(knots) - self.order]
+        self.weights = weights
+        self.pool = pool
+
+    def _test(self, inner: np.ndarray, minimax: int = 0) -> Fit | None:
+        fit = self.ap.fit(np.concatenate([self.ends[0], inner, self.ends[1]]), minimax_iterations=minimax)
+        return fit if fit is not None and fit.passes else None
+
+    def _spread_inner(self, m: int) -> np.ndarray:
+        """m knots from the pool, equidistributing weight^(1/order) over time."""
+        if m <= 0 or self.pool.size == 0:
+            return np.zeros(0)
+        u = self.inner
+        share = np.minimum(self.weights, 1e300) ** (1.0 / self.order)
+        if not share.sum() > 0:
+            share = np.ones_like(share)
+        # Each knot's share is spread evenly between the midpoints to its neighbours.
+        lo_end, hi_end = self.ends[0][-1], self.ends[1][0]
+        edges = np.concatenate([[lo_end], 0.5 * (u[1:] + u[:-1]), [hi_end]])
+        mass = np.concatenate([[0.0], np.cumsum(share)])
+        pool_mass = np.interp(self.pool, edges, mass)
+        targets = (np.arange(m) + 0.5) / m * mass[-1]
+        picks = np.clip(np.searchsorted(pool_mass, targets), 0, self.pool.size - 1)
+        return self.pool[np.unique(picks)]
+
+    def spread(self, gallop_up: bool) -> Fit | None:
+        n = len(self.inner)
+        cache: dict[int, Fit | None] = {}
+
+        def passes(m: int) -> bool:
+            if m not in cache:
+                cache[m] = self._test(self._spread_inner(m))
+            return cache[m] is not None
+
+        # Bracket the smallest passing m in (fail, ok], then bisect.
+        if gallop_up:
+            fail, step, ok = -1, 1, None
+            m = 0
+            while m < n:
+                if passes(m):
+                    ok = m
+                    break
+                fail, m = m, m + step
+                step *= 2
+            if ok is None:
+                return None
+        else:
+            ok, step, fail = None, 1, -1
+            m = n - 1
+            while m >= 0:
+                if not passes(m):
+                    fail = m
+                    break
+                ok, m = m, m - step
+                step *= 2
+            if ok is None:
+                return None
+        while ok - fail > 1:
+            mid = (ok + fail) // 2
+            if passes(mid):
+                ok = mid
+            else:
+                fail = mid
+        return cache[ok]
+
+    def lowest(self, exhaustive_below: int) -> Fit | None:
+        ranked = np.argsort(self.weights, kind="stable")
+        n = len(ranked)
+
+        def removing(r: int) -> Fit | None:
+            return self._test(self.inner[np.sort(ranked[r:])])
+
+        best = None
+        if n <= exhaustive_below:
+            for r in range(1, n + 1):
+                fit = removing(r)
+                if fit is None:
+                    break
+                best = fit
+            return best
+        lo, hi = 0, n
+        while lo < hi:
+            mid = (lo + hi + 1) // 2
+            fit = removing(mid)
+            if fit is not None:
+                lo, best = mid, fit
+            else:
+                hi = mid - 1
+        return best
+
+    def single(self, minimax: int) -> Fit | None:
+        for j in np.argsort(self.weights, kind="stable"):
+            fit = self._test(np.delete(self.inner, j), minimax)
+            if fit is not None:
+                return fit
+        return None
+
+
+def remove_knots(
+    ap: Approximator,
+    knots: np.ndarray,
+    rank_coef: np.ndarray,
+    *,
+    exhaustive_below: int = 16,
+    minimax_iterations: int = 8,
+) -> tuple[Fit | None, RemovalLog]:
+    """Run rank / remove / approximate until no knot can go.
+
+    Parameters
+    ----------
+    ap : Approximator
+        The samples and tolerance every candidate is checked against.
+    knots : ndarray
+        Starting knot vector; its distinct interior values are where knots may be placed.
+    rank_coef : ndarray, shape (K, d)
+        Coefficients of the starting curve in tolerance units (ranked in iteration 0).
+    exhaustive_below : int
+        Knot vectors with at most this many interior knots try removal counts one by one.
+    minimax_iterations : int
+        Lawson re-weightings in the single-knot stage (0 for plain least squares).
+
+    Returns
+    -------
+    (Fit or None, RemovalLog)
+        The last passing fit (``None`` if no candidate ever passed) and the log.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 1, 200)
+    >>> ap = Approximator(t, np.c_[t ** 3 - t], np.array([1e-6]), order=4)
+    >>> knots = np.r_[[0.0] * 4, t[2:-2], [1.0] * 4]
+    >>> fit, log = remove_knots(ap, knots, ap.scaled)
+    >>> len(fit.coef)          # a cubic needs no interior knot
+    4
+    """
+    order = ap.order
+    pool = np.unique(knots[order : len(knots) - order])
+    log = RemovalLog()
+    fits_before = ap.fits
+    best: Fit | None = None
+    coef = rank_coef
+    while len(knots) > 2 * order:
+        candidates = _Candidates(ap, knots, removal_weights(knots, coef, order), pool)
+        fit = candidates.spread(gallop_up=log.iterations == 0)
+        if fit is None:
+            fit = candidates.lowest(exhaustive_below)
+        if fit is None:
+            fit = candidates.single(minimax_iterations)
+        if fit is None:
+            break
+        best, knots, coef = fit, fit.knots, fit.coef
+        log.iterations += 1
+        log.knots_left.append(len(knots) - 2 * order)
+    log.fits = ap.fits - fits_before
+    return best, log

@@ -1,0 +1,134 @@
+"""The result of a reduction and its JSON form."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.interpolate import BSpline
+
+from sketchanim.errors import InputError
+
+SCHEMA = "sketchanim.reduction"
+VERSION = 1
+
+
+@dataclass(frozen=True)
+class Reduction:
+    """A reduced curve and what it promises.
+
+    Attributes
+    ----------
+    spline : scipy.interpolate.BSpline
+        The curve; evaluates to shape (m,) for a scalar channel, (m, d) otherwise.
+    tol : ndarray, shape (d,)
+        Tolerance per channel.
+    max_error : ndarray, shape (d,)
+        Largest |spline(t_i) - x_i| over the samples, per channel: at most ``tol``.
+    n_samples : int
+        Samples reduced (after exact duplicates were dropped).
+    method : str
+        ``"global"`` (more to come).
+    timings : dict
+        Seconds spent, by phase (``total`` at least).
+    report : dict
+        What happened: duplicates dropped, iterations, least-squares fits, ...
+
+    Examples
+    --------
+    >>> import sketchanim
+    >>> t = np.linspace(0, 1, 50)
+    >>> r = sketchanim.reduce(t, np.sin(t), 1e-3)
+    >>> r2 = Reduction.from_json(r.to_json())
+    >>> r2.n_coefficients == r.n_coefficients, bool(np.allclose(r2.spline(t), r.spline(t)))
+    (True, True)
+    """
+
+    spline: BSpline
+    tol: np.ndarray
+    max_error: np.ndarray
+    n_samples: int
+    method: str
+    timings: dict[str, float] = field(default_factory=dict)
+    report: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def order(self) -> int:
+        """Spline order (degree + 1)."""
+        return int(self.spline.k) + 1
+
+    @property
+    def n_coefficients(self) -> int:
+        """Number of control points."""
+        return len(self.spline.c)
+
+    @property
+    def ratio(self) -> float:
+        """Samples per control point."""
+        return self.n_samples / self.n_coefficients
+
+    def to_json(self) -> str:
+        """The reduction as a JSON document (schema ``sketchanim.reduction``, version 1)."""
+        c = np.asarray(self.spline.c)
+        doc = {
+            "schema": SCHEMA,
+            "version": VERSION,
+            "order": self.order,
+            "knots": np.asarray(self.spline.t).tolist(),
+            "coefficients": c.tolist(),
+            "scalar": c.ndim == 1,
+            "tol": self.tol.tolist(),
+            "max_error": self.max_error.tolist(),
+            "n_samples": self.n_samples,
+            "method": self.method,
+            "timings": self.timings,
+            "report": self.report,
+        }
+        return json.dumps(doc, indent=1)
+
+    @classmethod
+    def from_json(cls, text: str, *, source: str = "<json>") -> Reduction:
+        """Read a document written by :meth:`to_json`; errors name ``source`` and the field."""
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError as err:
+            raise InputError(f"{source}, line {err.lineno}: not JSON ({err.msg})") from None
+        if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
+            raise InputError(f"{source}: not a {SCHEMA} document")
+        if doc.get("version") != VERSION:
+            raise InputError(f"{source}: version {doc.get('version')!r}, this reader knows {VERSION}")
+
+        def field_array(name: str, ndim: tuple[int, ...]) -> np.ndarray:
+            try:
+                arr = np.asarray(doc[name], dtype=float)
+            except KeyError:
+                raise InputError(f"{source}: field {name!r} is missing") from None
+            except (TypeError, ValueError):
+                raise InputError(f"{source}: field {name!r} must be numbers") from None
+            if arr.ndim not in ndim or not np.all(np.isfinite(arr)):
+                raise InputError(f"{source}: field {name!r} must be a finite array of {ndim[0]}-D")
+            return arr
+
+        knots = field_array("knots", (1,))
+        coef = field_array("coefficients", (1, 2))
+        tol = field_array("tol", (1,))
+        max_error = field_array("max_error", (1,))
+        order = doc.get("order")
+        if not isinstance(order, int) or order < 2:
+            raise InputError(f"{source}: field 'order' must be an integer >= 2")
+        if len(knots) != len(coef) + order or np.any(np.diff(knots) < 0):
+            raise InputError(f"{source}: field 'knots' must be non-decreasing, {len(coef) + order} long")
+        n_samples = doc.get("n_samples")
+        if not isinstance(n_samples, int) or n_samples < 1:
+            raise InputError(f"{source}: field 'n_samples' must be a positive integer")
+        return cls(
+            spline=BSpline(knots, coef, order - 1),
+            tol=tol,
+            max_error=max_error,
+            n_samples=n_samples,
+            method=str(doc.get("method", "global")),
+            timings=dict(doc.get("timings") or {}),
+            report=dict(doc.get("report") or {}),
+        )
