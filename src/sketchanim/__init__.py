@@ -8,7 +8,7 @@
 """
 
 from sketchanim.errors import ArgumentError, FileFormatError, InputError, SampleError, ToleranceUnreachableError
-from sketchanim.reduce import Reduction, reduce
+from sketchanim.reducer import Reduction, reduce
 
 __all__ = [
     "ArgumentError",

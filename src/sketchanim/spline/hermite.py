@@ -99,7 +99,7 @@ def to_hermite(spline: BSpline) -> HermiteKeys:
     gaps = np.abs(starts[1:] - ends[:-1]) > 1e-9 * max(float(np.abs(p).max()), np.finfo(float).tiny)
     jumps = np.flatnonzero(np.any(gaps, axis=tuple(range(1, gaps.ndim))))
     if jumps.size:
-        raise ArgumentError("spline", f"jumps in value at t={bez.breaks[jumps[0] + 1]!r}")
+        raise ArgumentError("spline", f"jumps in value at t={float(bez.breaks[jumps[0] + 1]):g}")
     out_t = 3.0 * (p[:, 1] - p[:, 0]) / h
     in_t = 3.0 * (p[:, 3] - p[:, 2]) / h
     values = np.concatenate([starts, ends[-1:]])

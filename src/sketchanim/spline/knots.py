@@ -136,12 +136,13 @@ def elevate_degree(spline: BSpline, times: int = 1) -> BSpline:
     interior = counts[1:-1]
     if interior.size and interior.max() >= order:
         bad = values[1:-1][np.argmax(interior)]
-        raise ArgumentError("spline", f"jumps in value at t={bad!r}; elevate each continuous piece")
+        raise ArgumentError("spline", f"jumps in value at t={float(bad):g}; elevate each continuous piece")
     if times == 0:
         return spline
     new_t = np.repeat(values, counts + times)
     new_order = order + times
-    sites = greville(new_t, new_order)
+    # Averages of repeated end knots can round just outside the span: clip them back.
+    sites = np.clip(greville(new_t, new_order), new_t[0], new_t[-1])
     c = np.asarray(spline.c, dtype=float)
     elevated = make_interp_spline(sites, spline(sites), k=new_order - 1, t=new_t)
     return BSpline(new_t, elevated.c.reshape((len(elevated.c),) + c.shape[1:]), new_order - 1, spline.extrapolate)

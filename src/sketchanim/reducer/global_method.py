@@ -13,9 +13,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import BSpline
 
-from sketchanim.reduce.approximate import Approximator
-from sketchanim.reduce.lm import remove_knots
-from sketchanim.reduce.starts import sample_knots
+from sketchanim.reducer.approximate import Approximator
+from sketchanim.reducer.lm import remove_knots
+from sketchanim.reducer.starts import sample_knots
 from sketchanim.spline import elevate_degree
 
 STARTS = ("paper", "lm")
@@ -43,7 +43,7 @@ class GlobalOptions:
     start: str = "paper"
     split: float = 0.1
     minimax_iterations: int = 8
-    exhaustive_below: int = 16
+    exhaustive_below: int = 32
     coarse_samples: int | None = 8192
 
 

@@ -28,8 +28,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sketchanim.reduce.approximate import Approximator, Fit
-from sketchanim.reduce.rank import removal_weights
+from sketchanim.reducer.approximate import Approximator, Fit
+from sketchanim.reducer.rank import removal_weights
+
+#: Knots removed in one round of the *lowest* family are at least this many places apart.
+SEPARATION = 2
 
 
 @dataclass
@@ -41,16 +44,37 @@ class RemovalLog:
     knots_left: list[int] = field(default_factory=list)
 
 
+def _slack(times: np.ndarray, knots: np.ndarray, order: int, residual: np.ndarray) -> np.ndarray:
+    """Per interior knot j, the least slack (1 - error, in tolerances) of the current fit
+    over the samples that the coefficients changed by removing j act on."""
+    j = np.arange(order, len(knots) - order)
+    lo = np.searchsorted(times, knots[j - order], side="left")
+    hi = np.searchsorted(times, knots[j + order], side="right")
+    slack = 1.0 - residual
+    bounds = np.stack([lo, np.maximum(hi, lo + 1)], axis=1).ravel()
+    bounds = np.minimum(bounds, len(times))
+    padded = np.r_[slack, np.inf]
+    return np.minimum.reduceat(padded, bounds)[::2]
+
+
 class _Candidates:
     """Knot vectors derived from one ranking of the current curve."""
 
-    def __init__(self, ap: Approximator, knots: np.ndarray, weights: np.ndarray, pool: np.ndarray) -> None:
+    def __init__(self, ap: Approximator, knots: np.ndarray, weights: np.ndarray, pool: np.ndarray,
+                 residual: np.ndarray | None) -> None:
         self.ap = ap
         self.order = ap.order
         self.ends = (knots[: self.order], knots[len(knots) - self.order :])
         self.inner = knots[self.order : len(knots) - self.order]
         self.weights = weights
         self.pool = pool
+        # Removal order: how far removing a knot moves the curve, against the room the
+        # current fit leaves there (without a fit yet, all the tolerance is room).
+        if residual is None:
+            self.keys = weights
+        else:
+            room = _slack(ap.times, knots, self.order, residual)
+            self.keys = weights / np.maximum(room, 1e-12)
 
     def _test(self, inner: np.ndarray, minimax: int = 0) -> Fit | None:
         fit = self.ap.fit(np.concatenate([self.ends[0], inner, self.ends[1]]), minimax_iterations=minimax)
@@ -114,11 +138,19 @@ class _Candidates:
         return cache[ok]
 
     def lowest(self, exhaustive_below: int) -> Fit | None:
-        ranked = np.argsort(self.weights, kind="stable")
-        n = len(ranked)
+        # Lowest weights first, skipping the neighbours of knots already picked, so each
+        # removal's local change is measured on a curve its neighbours still hold.
+        picked: list[int] = []
+        taken = np.zeros(len(self.weights) + 2, dtype=bool)
+        for j in np.argsort(self.keys, kind="stable"):
+            if not taken[j - SEPARATION + 1 : j + SEPARATION + 2].any():
+                picked.append(int(j))
+                taken[j + 1] = True
+        order = np.asarray(picked, dtype=np.intp)
+        n = len(order)
 
         def removing(r: int) -> Fit | None:
-            return self._test(self.inner[np.sort(ranked[r:])])
+            return self._test(np.delete(self.inner, order[:r]))
 
         best = None
         if n <= exhaustive_below:
@@ -139,7 +171,7 @@ class _Candidates:
         return best
 
     def single(self, minimax: int) -> Fit | None:
-        for j in np.argsort(self.weights, kind="stable"):
+        for j in np.argsort(self.keys, kind="stable"):
             fit = self._test(np.delete(self.inner, j), minimax)
             if fit is not None:
                 return fit
@@ -151,7 +183,7 @@ def remove_knots(
     knots: np.ndarray,
     rank_coef: np.ndarray,
     *,
-    exhaustive_below: int = 16,
+    exhaustive_below: int = 32,
     minimax_iterations: int = 8,
 ) -> tuple[Fit | None, RemovalLog]:
     """Run rank / remove / approximate until no knot can go.
@@ -190,11 +222,12 @@ def remove_knots(
     best: Fit | None = None
     coef = rank_coef
     while len(knots) > 2 * order:
-        candidates = _Candidates(ap, knots, removal_weights(knots, coef, order), pool)
+        candidates = _Candidates(ap, knots, removal_weights(knots, coef, order), pool,
+                                 None if best is None else best.residual)
         fit = candidates.spread(gallop_up=log.iterations == 0)
         if fit is None:
             fit = candidates.lowest(exhaustive_below)
-        if fit is None:
+        if fit is None and len(knots) - 2 * order <= exhaustive_below:
             fit = candidates.single(minimax_iterations)
         if fit is None:
             break

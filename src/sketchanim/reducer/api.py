@@ -9,11 +9,11 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
-from sketchanim.reduce.approximate import Approximator
-from sketchanim.reduce.conditioning import Samples, check_order, condition
-from sketchanim.reduce.global_method import STARTS, GlobalOptions, reduce_global
-from sketchanim.reduce.result import Reduction
-from sketchanim.reduce.starts import polynomial_through, sample_knots
+from sketchanim.reducer.approximate import Approximator
+from sketchanim.reducer.conditioning import Samples, check_order, condition
+from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
+from sketchanim.reducer.result import Reduction
+from sketchanim.reducer.starts import polynomial_through, sample_knots
 
 METHODS = ("global",)
 
@@ -50,7 +50,7 @@ def reduce(
     start: str = "paper",
     split: float = 0.1,
     minimax_iterations: int = 8,
-    exhaustive_below: int = 16,
+    exhaustive_below: int = 32,
     coarse_samples: int | None = 8192,
 ) -> Reduction:
     """Reduce sampled motion to a B-spline that keeps every sample's value and time.

@@ -35,11 +35,14 @@ class Fit:
         Coefficients in tolerance units, around the samples' centre.
     error : float
         Largest |fit - sample| / tol over all samples and channels.
+    residual : ndarray, shape (n,)
+        Per sample, the largest |fit - sample| / tol over channels.
     """
 
     knots: np.ndarray
     coef: np.ndarray
     error: float
+    residual: np.ndarray
 
     @property
     def passes(self) -> bool:
@@ -101,12 +104,12 @@ class Approximator:
             except LinAlgError:
                 return best
             resid = np.abs(design @ coef - self.scaled)
-            error = float(resid.max())
+            per_sample = np.maximum.reduce(resid, axis=1) if resid.shape[1] > 1 else resid[:, 0]
+            error = float(per_sample.max())
             if best is None or error < best.error:
-                best = Fit(kn, coef, error)
+                best = Fit(kn, coef, error, per_sample)
             if best.passes or best.error > minimax_reach:
                 break
-            per_sample = np.maximum.reduce(resid, axis=1) if resid.shape[1] > 1 else resid[:, 0]
             weights = weights * np.maximum(per_sample, 1e-3 * error)
             weights *= len(weights) / weights.sum()
         return best

@@ -1,6 +1,6 @@
 """Knot-removal reducers: samples in, compact B-splines within tolerance out."""
 
-from sketchanim.reduce.api import METHODS, reduce
-from sketchanim.reduce.result import Reduction
+from sketchanim.reducer.api import METHODS, reduce
+from sketchanim.reducer.result import Reduction
 
 __all__ = ["METHODS", "Reduction", "reduce"]

@@ -67,8 +67,8 @@ def check_tolerance(tol: ArrayLike, dim: int) -> np.ndarray:
     array([0.5, 0.5, 0.5])
     """
     arr = np.asarray(tol, dtype=float)
-    if arr.ndim == 0:
-        arr = np.full(dim, float(arr))
+    if arr.size == 1 and arr.ndim <= 1:
+        arr = np.full(dim, float(arr.reshape(())))
     if arr.shape != (dim,):
         raise ArgumentError("tol", f"needs 1 or {dim} values (one per channel), got {arr.size}")
     bad = np.flatnonzero(~np.isfinite(arr) | (arr <= 0))
@@ -133,23 +133,23 @@ def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_sample
 
     bad_t = np.flatnonzero(~np.isfinite(t))
     if bad_t.size:
-        raise SampleError(f"time is {t[bad_t[0]]!r}", index=int(bad_t[0]), field="time")
+        raise SampleError(f"time is {float(t[bad_t[0]])!r}", index=int(bad_t[0]), field="time")
     bad_x = np.argwhere(~np.isfinite(x))
     if bad_x.size:
         i, j = bad_x[0]
-        raise SampleError(f"value is {x[i, j]!r}", index=int(i), field=f"channel {j}")
+        raise SampleError(f"value is {float(x[i, j])!r}", index=int(i), field=f"channel {j}")
 
     dt = np.diff(t)
     back = np.flatnonzero(dt < 0)
     if back.size:
         i = int(back[0]) + 1
-        raise SampleError(f"time goes backwards ({t[i]!r} after {t[i - 1]!r})", index=i, field="time")
+        raise SampleError(f"time goes backwards ({float(t[i])!r} after {float(t[i - 1])!r})", index=i, field="time")
     same_t = np.flatnonzero(dt == 0)
     conflicting = same_t[np.any(x[same_t] != x[same_t + 1], axis=1)]
     if conflicting.size:
         i = int(conflicting[0]) + 1
         raise SampleError(
-            f"same time {t[i]!r} as sample {i - 1} but different values", index=i, field="time"
+            f"same time {float(t[i])!r} as sample {i - 1} but different values", index=i, field="time"
         )
     keep = np.ones(len(t), dtype=bool)
     keep[same_t + 1] = False

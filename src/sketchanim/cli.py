@@ -1,0 +1,87 @@
+"""The ``sketchanim`` command line."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from sketchanim.errors import InputError, SampleError
+from sketchanim.io.atomic import write_atomic
+from sketchanim.io.csvio import read_samples_csv
+from sketchanim.reducer import METHODS, Reduction, reduce
+
+app = typer.Typer(
+    help="Sketch 3D animations: reduce performed motion to compact B-splines within tolerance.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+console = Console()
+errors = Console(stderr=True)
+
+
+@app.callback()
+def main() -> None:
+    """sketchanim command line."""
+
+
+def _tolerances(text: str) -> list[float]:
+    try:
+        return [float(part) for part in text.split(",")]
+    except ValueError:
+        raise InputError(f"--tol: expected a number or comma-separated numbers, got {text!r}") from None
+
+
+def summary_table(reduction: Reduction, channels: list[str], seconds: float) -> Table:
+    """The report printed after a reduction."""
+    table = Table(title=f"{reduction.n_samples} samples -> {reduction.n_coefficients} control points "
+                        f"(ratio {reduction.ratio:.1f}:1, order {reduction.order}, {seconds * 1e3:.1f} ms)")
+    table.add_column("channel")
+    table.add_column("tolerance", justify="right")
+    table.add_column("max error", justify="right")
+    table.add_column("max error / tol", justify="right")
+    for name, tol, err in zip(channels, reduction.tol, reduction.max_error):
+        table.add_row(name, f"{tol:.6g}", f"{err:.6g}", f"{err / tol:.3f}")
+    return table
+
+
+@app.command("reduce")
+def reduce_command(
+    input: Annotated[Path, typer.Argument(help="CSV: time in seconds, then one column per channel.")],
+    tol: Annotated[str, typer.Option("--tol", help="Tolerance: one value, or one per channel (comma-separated).")],
+    output: Annotated[Optional[Path], typer.Option("-o", "--output", help="Write the spline JSON here.")] = None,
+    order: Annotated[int, typer.Option(help="Spline order (4: cubic).")] = 4,
+    method: Annotated[str, typer.Option(help=f"One of: {', '.join(METHODS)}.")] = "global",
+    start: Annotated[str, typer.Option(help="Starting curve: paper or lm.")] = "paper",
+    plot: Annotated[Optional[Path], typer.Option(help="Draw components, control points and errors to this PNG.")] = None,
+) -> None:
+    """Reduce a CSV of samples to a B-spline; print the report, write JSON and plot."""
+    try:
+        table = read_samples_csv(input)
+        clock = time.perf_counter()
+        try:
+            reduction = reduce(table.times, table.values, _tolerances(tol), order=order, method=method, start=start)
+        except SampleError as err:
+            if err.index is None:
+                raise
+            raise InputError(f"{input}, line {table.lines[err.index]}: {err}") from None
+        seconds = time.perf_counter() - clock
+    except InputError as err:
+        errors.print(f"[red]error:[/red] {err}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
+    console.print(summary_table(reduction, table.channels, seconds))
+    if reduction.report.get("duplicates_dropped"):
+        console.print(f"dropped {reduction.report['duplicates_dropped']} exact duplicate samples")
+    if output is not None:
+        write_atomic(output, reduction.to_json())
+        console.print(f"wrote {output}")
+    if plot is not None:
+        from sketchanim.plot import plot_reduction
+
+        plot_reduction(table.times, table.values, reduction, plot, table.channels, title=str(input))
+        console.print(f"wrote {plot}")

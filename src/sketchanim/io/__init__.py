@@ -1,0 +1,1 @@
+"""Files: sample tables in, reductions and reports out (every writer atomic)."""

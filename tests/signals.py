@@ -1,0 +1,50 @@
+"""Random motion-like signals for property tests: smooth motion with noise, steps,
+pauses, spikes and irregular sampling, at any magnitude."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from hypothesis import strategies as st
+
+
+@dataclass
+class Signal:
+    times: np.ndarray
+    values: np.ndarray
+    tol: np.ndarray
+
+
+@st.composite
+def signals(draw, max_n: int = 300, dims: tuple[int, int] = (1, 4), min_n: int = 2) -> Signal:
+    n = draw(st.integers(min_n, max_n))
+    dim = draw(st.integers(*dims))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    irregular = draw(st.booleans())
+    steps = rng.lognormal(0.0, 0.6, n - 1) if irregular else np.ones(n - 1)
+    times = np.r_[0.0, np.cumsum(steps)] * draw(st.sampled_from([1e-3, 1 / 60, 1.0, 30.0]))
+    times += draw(st.sampled_from([0.0, 12.5, 1.6e9]))  # clocks that do not start at 0
+    u = np.linspace(0, 1, n)
+    values = np.zeros((n, dim))
+    for j in range(dim):
+        for _ in range(rng.integers(1, 4)):
+            values[:, j] += rng.normal() * np.sin(2 * np.pi * rng.uniform(0.2, 4) * u + rng.uniform(0, 6))
+    if draw(st.booleans()):
+        values += rng.normal(0, draw(st.sampled_from([1e-3, 1e-2, 0.1])), values.shape)
+    if draw(st.booleans()):                       # steps
+        at = rng.integers(0, n, rng.integers(1, 3))
+        for a in at:
+            values[a:] += rng.normal(0, 1, dim)
+    if draw(st.booleans()) and n > 10:            # a pause: hold still
+        a = rng.integers(0, n - 5)
+        values[a : a + rng.integers(3, max(4, n // 3))] = values[a]
+    if draw(st.booleans()):                       # spikes
+        at = rng.integers(0, n, rng.integers(1, 4))
+        values[at] += rng.normal(0, 2, (len(at), dim))
+    scale = 10.0 ** draw(st.integers(-9, 9))
+    values *= scale
+    spread = np.ptp(values, axis=0)
+    spread[spread == 0] = scale
+    tol = spread * 10.0 ** rng.uniform(-3, -0.5, dim)
+    return Signal(times, values, tol)
