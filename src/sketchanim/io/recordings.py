@@ -173,3 +173,18 @@ def read_bvh_motion(path: str | os.PathLike[str]) -> BvhMotion:
     if len(rows) != n_frames:
         raise FileFormatError(str(path), f"MOTION says {n_frames} frames but has {len(rows)} (truncated?)")
     return BvhMotion(channels, frame_time, np.asarray(rows).reshape(n_frames, len(channels)))
+
+
+def read_lasa(path: str | os.PathLike[str]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The demonstrations of one LASA handwriting shape (.mat): ``[(times, positions (n, 2)), ...]``.
+
+    Positions are in millimetres, times in seconds.
+    """
+    from scipy.io import loadmat
+
+    try:
+        mat = loadmat(str(path), squeeze_me=True, struct_as_record=False)
+        demos = np.atleast_1d(mat["demos"])
+        return [(np.asarray(d.t, dtype=float), np.asarray(d.pos, dtype=float).T) for d in demos]
+    except (OSError, KeyError, AttributeError, ValueError) as err:
+        raise FileFormatError(str(path), f"not a LASA handwriting file ({err})") from None

@@ -114,6 +114,47 @@ class Approximator:
             weights *= len(weights) / weights.sum()
         return best
 
+    def without_knot(self, fit: Fit, index: int, radius: int | None = None) -> Fit | None:
+        """``fit`` with knot ``fit.knots[index]`` removed, re-fitting only nearby coefficients.
+
+        Removing a knot changes only the B-splines around it, so only the ``radius``
+        (default: the order) coefficients on either side of them are re-fitted, by least
+        squares on the samples they act on, with the others held. Those samples are
+        checked; every other sample keeps its value. ``None`` if the local problem has
+        too little data or the result misses the tolerance.
+        """
+        k = self.order
+        r = k if radius is None else radius
+        knots = np.delete(fit.knots, index)
+        n_coef = len(knots) - k
+        # New coefficient i is old i (i < index - k) or old i + 1 (i >= index); the k in
+        # between, and `r` more on either side, are re-fitted.
+        coef = np.delete(fit.coef, index - k, axis=0)
+        lo, hi = max(index - k - r, 0), min(index - 1 + r, n_coef - 1)
+        s0 = np.searchsorted(self.times, knots[lo], side="left")
+        s1 = np.searchsorted(self.times, knots[hi + k], side="right")
+        if s1 - s0 < hi - lo + 1:
+            return None
+        self.fits += 1
+        # B-splines depend only on their own knots: the local span gives the same basis
+        # for every coefficient that acts on these samples (columns first .. ).
+        first = max(lo - k + 1, 0)
+        design = BSpline.design_matrix(self.times[s0:s1], knots[first : min(hi + 2 * k, len(knots))],
+                                       k - 1, extrapolate=True).toarray()
+        local = coef[first : first + design.shape[1]]
+        free = slice(lo - first, hi - first + 1)
+        target = self.scaled[s0:s1] - design @ local + design[:, free] @ local[free]
+        solution, _, rank, _ = np.linalg.lstsq(design[:, free], target, rcond=None)
+        if rank < hi - lo + 1:
+            return None
+        coef[lo : hi + 1] = solution
+        resid = np.abs(design @ coef[first : first + design.shape[1]] - self.scaled[s0:s1]).max(axis=1)
+        if resid.max() > PASS:
+            return None
+        residual = fit.residual.copy()
+        residual[s0:s1] = resid
+        return Fit(knots, coef, float(residual.max()), residual)
+
     def spline(self, fit: Fit) -> BSpline:
         """The fit as a spline in the caller's units."""
         return BSpline(fit.knots, fit.coef * self.tol + self.center, self.order - 1)
@@ -126,16 +167,19 @@ class Approximator:
         first = design.indices[::k]
         basis = design.data.reshape(-1, k)
         starts = np.flatnonzero(np.r_[True, first[1:] != first[:-1]])
-        group = first[starts]
         weighted = basis * weights[:, None]
-        gram = np.add.reduceat(np.einsum("na,nb->nab", weighted, basis), starts, axis=0)
+        # Sums over each knot interval (indexed by its first coefficient), zero where an
+        # interval holds no sample, so the bands below are contiguous slice additions.
+        intervals = n_coef - k + 1
+        gram = np.zeros((intervals, k, k))
+        gram[first[starts]] = np.add.reduceat(np.einsum("na,nb->nab", weighted, basis), starts, axis=0)
+        moments = np.zeros((intervals, k, self.scaled.shape[1]))
+        moments[first[starts]] = np.add.reduceat(np.einsum("na,nd->nad", weighted, self.scaled), starts, axis=0)
         # Upper banded form for solveh_banded: ab[k-1-d, j] = N[j-d, j].
         ab = np.zeros((k, n_coef))
-        for d in range(k):
-            for a in range(k - d):
-                ab[k - 1 - d, group + a + d] += gram[:, a, a + d]
         rhs = np.zeros((n_coef, self.scaled.shape[1]))
-        moments = np.add.reduceat(np.einsum("na,nd->nad", weighted, self.scaled), starts, axis=0)
         for a in range(k):
-            rhs[group + a] += moments[:, a]
+            rhs[a : a + intervals] += moments[:, a]
+            for d in range(k - a):
+                ab[k - 1 - d, a + d : a + d + intervals] += gram[:, a, a + d]
         return solveh_banded(ab, rhs, check_finite=False)

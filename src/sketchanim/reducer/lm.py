@@ -16,8 +16,12 @@ Candidates, tried in this order until one has fewer knots than the current curve
    smallest passing ``m`` is found by galloping and bisection.
 2. *lowest*: drop the ``r`` lowest-weight knots, the largest ``r`` that passes
    (bisection for long knot vectors; counts 1, 2, ... for short ones, as 2.2.1 argues).
-3. *single*: each knot alone, lowest weight first, fitted with Lawson re-weighting (a
-   near-minimax fit), so that knots go that a plain least-squares fit would keep.
+3. *single*: knots one at a time, lowest first (at most ``exhaustive_below`` or an
+   eighth of the knots per round, skipping knots that failed while nothing near them
+   changed), each kept out if the curve still passes without it and those already out.
+   Short knot vectors re-fit globally with Lawson re-weighting (a near-minimax fit), so
+   that knots go that a plain least-squares fit would keep; long ones re-fit only the
+   coefficients near the knot, and check only the samples those act on.
 
 The loop stops when no candidate removes a knot.
 """
@@ -33,6 +37,8 @@ from sketchanim.reducer.rank import removal_weights
 
 #: Knots removed in one round of the *lowest* family are at least this many places apart.
 SEPARATION = 2
+#: Removal weights below this many rounding units of the largest coefficient are noise.
+ROUNDING_UNITS = 64
 
 
 @dataclass
@@ -71,10 +77,10 @@ class _Candidates:
         # Removal order: how far removing a knot moves the curve, against the room the
         # current fit leaves there (without a fit yet, all the tolerance is room).
         if residual is None:
-            self.keys = weights
+            self.keys = self.weights
         else:
             room = _slack(ap.times, knots, self.order, residual)
-            self.keys = weights / np.maximum(room, 1e-12)
+            self.keys = self.weights / np.maximum(room, 1e-12)
 
     def _test(self, inner: np.ndarray, minimax: int = 0) -> Fit | None:
         fit = self.ap.fit(np.concatenate([self.ends[0], inner, self.ends[1]]), minimax_iterations=minimax)
@@ -160,7 +166,9 @@ class _Candidates:
                     break
                 best = fit
             return best
-        lo, hi = 0, n
+        # Bisect for the largest passing count, once the smallest one is known to pass.
+        best = removing(1)
+        lo, hi = (1, n) if best is not None else (0, 0)
         while lo < hi:
             mid = (lo + hi + 1) // 2
             fit = removing(mid)
@@ -170,12 +178,50 @@ class _Candidates:
                 hi = mid - 1
         return best
 
-    def single(self, minimax: int) -> Fit | None:
-        for j in np.argsort(self.keys, kind="stable"):
-            fit = self._test(np.delete(self.inner, j), minimax)
+    def single(self, base: Fit | None, limit: int, minimax: int,
+               failed: np.ndarray) -> tuple[Fit | None, np.ndarray]:
+        """Try knots one at a time, lowest key first, skipping the values in ``failed``,
+        keeping each removal that still passes with those kept before it.
+
+        Short knot vectors re-fit globally (with ``minimax`` Lawson steps); long ones,
+        given the current ``base`` fit, re-fit only around the knot.
+        Returns the last passing fit and the knot values whose removal failed.
+        """
+        ranked = np.argsort(self.keys, kind="stable")
+        ranked = ranked[~np.isin(self.inner[ranked], failed)][:limit]
+        local = base is not None and minimax == 0
+        removed: list[int] = []
+        misses: list[float] = []
+        best = base if local else None
+        for j in ranked:
+            if local:
+                assert best is not None
+                # the knot's index in the current vector (last of equal values)
+                index = int(np.searchsorted(best.knots, self.inner[j], side="right")) - 1
+                fit = self.ap.without_knot(best, index)
+            else:
+                fit = self._test(np.delete(self.inner, removed + [int(j)]), minimax)
             if fit is not None:
-                return fit
-        return None
+                removed.append(int(j))
+                best = fit
+            else:
+                misses.append(float(self.inner[j]))
+        return (best if removed else None), np.asarray(misses)
+
+
+def _still_failed(failed: np.ndarray, old_inner: np.ndarray, new_inner: np.ndarray, order: int) -> np.ndarray:
+    """Failed knot values whose neighbourhood (``order`` knots either side) lost no knot."""
+    gone = np.flatnonzero(~np.isin(old_inner, new_inner))
+    if gone.size == 0 or failed.size == 0:
+        return failed
+    lo = old_inner[np.maximum(gone - order, 0)]
+    hi = old_inner[np.minimum(gone + order, len(old_inner) - 1)]
+    near = np.zeros(len(failed), dtype=bool)
+    pos = np.searchsorted(lo, failed, side="right") - 1
+    ok = pos >= 0
+    near[ok] = failed[ok] <= hi[pos[ok]]  # intervals are sorted, so the last one starting
+    # at or before a value reaches furthest
+    return failed[~near]
 
 
 def remove_knots(
@@ -197,7 +243,9 @@ def remove_knots(
     rank_coef : ndarray, shape (K, d)
         Coefficients of the starting curve in tolerance units (ranked in iteration 0).
     exhaustive_below : int
-        Knot vectors with at most this many interior knots try removal counts one by one.
+        Knot vectors with at most this many interior knots try removal counts one by one
+        and fit single-knot removals globally with Lawson re-weighting; it is also the
+        least number of single knots tried per round.
     minimax_iterations : int
         Lawson re-weightings in the single-knot stage (0 for plain least squares).
 
@@ -221,16 +269,25 @@ def remove_knots(
     fits_before = ap.fits
     best: Fit | None = None
     coef = rank_coef
+    failed = np.zeros(0)
     while len(knots) > 2 * order:
-        candidates = _Candidates(ap, knots, removal_weights(knots, coef, order), pool,
-                                 None if best is None else best.residual)
+        # Weights at rounding level (flat stretches) are set to zero, so that their order
+        # is by position and the same at any magnitude.
+        weights = removal_weights(knots, coef, order)
+        floor = ROUNDING_UNITS * np.finfo(float).eps * np.abs(coef).max(initial=0.0)
+        weights[weights <= floor] = 0.0
+        candidates = _Candidates(ap, knots, weights, pool, None if best is None else best.residual)
         fit = candidates.spread(gallop_up=log.iterations == 0)
         if fit is None:
             fit = candidates.lowest(exhaustive_below)
-        if fit is None and len(knots) - 2 * order <= exhaustive_below:
-            fit = candidates.single(minimax_iterations)
+        if fit is None:
+            short = len(knots) - 2 * order <= exhaustive_below
+            limit = max(exhaustive_below, (len(knots) - 2 * order) // 8)
+            fit, misses = candidates.single(best, limit, minimax_iterations if short else 0, failed)
+            failed = np.union1d(failed, misses)
         if fit is None:
             break
+        failed = _still_failed(failed, candidates.inner, fit.knots[order : len(fit.knots) - order], order)
         best, knots, coef = fit, fit.knots, fit.coef
         log.iterations += 1
         log.knots_left.append(len(knots) - 2 * order)

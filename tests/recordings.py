@@ -1,0 +1,53 @@
+"""Real recordings for tests: ../shared/data (beside the repo) and LASA handwriting
+(fetched by scripts/setup into .cache/lasa). Each case: name, times, values, tolerance."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from sketchanim.io.csvio import read_samples_csv
+from sketchanim.io.recordings import read_bvh_motion, read_lasa, read_svc, read_tum
+
+LASA = Path(__file__).resolve().parents[1] / ".cache" / "lasa"
+POSITIONS = ("Xposition", "Yposition", "Zposition")
+
+
+def moving_root(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Times and positions of the first BVH joint whose position channels move."""
+    motion = read_bvh_motion(path)
+    joints = dict.fromkeys(j for j, c in motion.channels if c == "Xposition")
+    for joint in joints:
+        pos = motion.columns(joint, POSITIONS)
+        if np.ptp(pos, axis=0).max() > 0:
+            return motion.times, pos
+    raise ValueError(f"{path}: no moving joint")
+
+
+def shared_cases(data: Path) -> list[tuple[str, np.ndarray, np.ndarray, float]]:
+    """Every channel group worth reducing in ../shared/data, with a working tolerance."""
+    cases = []
+    t, pos, quat = read_tum(data / "camera" / "freiburg1_xyz-groundtruth.txt")
+    cases += [("tum positions (m)", t, pos, 0.005), ("tum quaternion components", t, quat, 0.005)]
+    pen = read_svc(data / "pen" / "HC-female__00026_w.cz.fnusa.10_1.svc",
+                   columns=("y", "x", "t", "down", "azimuth", "altitude", "pressure"), time_scale=1e-3)
+    cases.append(("PaHaW pen (tablet units)", pen["t"], np.c_[pen["x"], pen["y"]], 10.0))
+    pen = read_svc(data / "pen" / "bdalab_signal.svc",
+                   columns=("x", "y", "t", "down", "azimuth", "altitude", "pressure"), time_scale=1.0)
+    cases.append(("BDALab pen (mm)", pen["t"], np.c_[pen["x"], pen["y"]], 0.1))
+    for bvh in sorted((data / "bvh").glob("*.bvh")):
+        t, pos = moving_root(bvh)
+        cases.append((f"{bvh.name} root", t, pos, 0.5))
+    hand = np.loadtxt(data / "hand6dof" / "li_square_right_2_2.csv", delimiter=",")
+    cases.append(("6-DoF hand position (mm)", hand[:, 7], hand[:, 1:4], 0.5))
+    imu = read_samples_csv(data / "imu" / "ngimu_quaternion.csv")
+    cases.append(("NGIMU quaternion components", imu.times, imu.values, 0.01))
+    return cases
+
+
+def lasa_cases() -> list[tuple[str, np.ndarray, np.ndarray, float]]:
+    """All 210 LASA pen demonstrations (30 shapes x 7), tolerance 0.5 mm."""
+    return [(f"LASA {mat.stem} #{i}", t, pos, 0.5)
+            for mat in sorted(LASA.glob("*.mat"))
+            for i, (t, pos) in enumerate(read_lasa(mat))]

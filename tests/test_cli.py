@@ -1,0 +1,84 @@
+"""`sketchanim reduce` end to end: report, JSON, plot, and errors that name file and line."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from sketchanim.cli import app
+from sketchanim.reducer import Reduction
+
+from recordings import shared_cases
+
+REPO = Path(__file__).resolve().parents[1]
+runner = CliRunner()
+
+
+def test_reduce_example_writes_json_and_plot(tmp_path):
+    out, png = tmp_path / "take.json", tmp_path / "take.png"
+    res = runner.invoke(app, ["reduce", str(REPO / "examples" / "sketched_path.csv"), "--tol", "0.01",
+                              "-o", str(out), "--plot", str(png)])
+    assert res.exit_code == 0, res.output
+    assert "720 samples" in res.output and "max error" in res.output
+    r = Reduction.from_json(out.read_text(), source=str(out))
+    data = np.loadtxt(REPO / "examples" / "sketched_path.csv", delimiter=",", skiprows=1)
+    assert np.all(np.abs(r.spline(data[:, 0]) - data[:, 1:]) <= 0.01)
+    assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_per_channel_tolerances(tmp_path):
+    csv = tmp_path / "s.csv"
+    t = np.linspace(0, 2, 300)
+    np.savetxt(csv, np.c_[t, np.sin(3 * t), 100 * np.cos(t)], delimiter=",")
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.001,0.5", "-o", str(tmp_path / "o.json")])
+    assert res.exit_code == 0, res.output
+    r = Reduction.from_json((tmp_path / "o.json").read_text())
+    assert r.tol.tolist() == [0.001, 0.5]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("t,x\n0,1\n1,oops\n", "line 3: column 2 is not a number: 'oops'"),
+        ("t,x\n0,1\n1,2,3\n", "line 3: 3 columns, expected 2"),
+        ("t,x\n0,1\n2,2\n1,3\n", "line 4: sample 2, time: time goes backwards"),
+        ("t,x\n0,1\n1,nan\n", "line 3: column 2 is 'nan'"),
+        ("t,x\n", "has no samples"),
+    ],
+)
+def test_bad_csv_is_named_by_file_and_line(tmp_path, text, message):
+    csv = tmp_path / "bad.csv"
+    csv.write_text(text)
+    out = tmp_path / "out.json"
+    out.write_text("previous result")
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.1", "-o", str(out)])
+    assert res.exit_code == 2
+    assert str(csv) in res.output and message in res.output
+    assert "Traceback" not in res.output
+    assert out.read_text() == "previous result"      # nothing saved is lost
+
+
+def test_bad_tolerance_is_named(tmp_path):
+    csv = tmp_path / "s.csv"
+    csv.write_text("0,1\n1,2\n2,4\n")
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0"])
+    assert res.exit_code == 2 and "tol: channel 0 tolerance must be finite and > 0" in res.output
+
+
+def test_console_script_runs_on_a_real_recording(data_dir, tmp_path):
+    name, t, pos, tol = shared_cases(data_dir)[0]
+    csv = tmp_path / "camera.csv"
+    np.savetxt(csv, np.c_[t, pos], delimiter=",", header="t,x,y,z", comments="", fmt="%.9g")
+    exe = Path(sys.executable).with_name("sketchanim")
+    done = subprocess.run([str(exe), "reduce", str(csv), "--tol", str(tol), "-o", str(tmp_path / "c.json"),
+                           "--plot", str(tmp_path / "c.png")], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    back = np.loadtxt(csv, delimiter=",", skiprows=1)
+    r = Reduction.from_json((tmp_path / "c.json").read_text())
+    assert np.all(np.abs(r.spline(back[:, 0]) - back[:, 1:]) <= tol)
+    assert r.n_coefficients < len(back) / 10
