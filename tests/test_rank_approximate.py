@@ -77,3 +77,28 @@ def test_minimax_reweighting_never_makes_the_fit_worse(seed):
     plain = ap.fit(knots)
     lawson = ap.fit(knots, minimax_iterations=10, minimax_reach=np.inf)
     assert lawson.error <= plain.error
+
+
+@given(st.integers(0, 2**32 - 1), st.integers(2, 5), st.integers(1, 3))
+def test_local_knot_removal_reports_the_truth_and_touches_only_its_window(seed, order, dim):
+    rng = np.random.default_rng(seed)
+    t = np.sort(rng.uniform(0, 10, 400))
+    x = np.cumsum(rng.normal(0, 0.05, (400, dim)), axis=0)
+    knots = np.r_[[t[0]] * order, np.quantile(t, np.linspace(0, 1, 40)[1:-1]), [t[-1]] * order]
+    tol = np.full(dim, 0.5)
+    ap = Approximator(t, x, tol, order)
+    base = ap.fit(knots, minimax_iterations=0)
+    if not base.passes:
+        return
+    for index in rng.choice(np.arange(order, len(knots) - order), 8, replace=False):
+        fit = ap.without_knot(base, int(index))
+        if fit is None:
+            continue
+        assert np.array_equal(fit.knots, np.delete(knots, index))
+        truth = np.abs(ap.spline(fit)(t) - x).max(axis=1) / 0.5
+        assert np.allclose(fit.residual, truth, atol=1e-9) and truth.max() <= 1.0
+        # coefficients far from the knot are those of the base fit
+        far_left = int(index) - 2 * order - 1
+        if far_left > 0:
+            assert np.array_equal(fit.coef[:far_left], base.coef[:far_left])
+        assert np.array_equal(fit.coef[int(index) + order :], base.coef[int(index) + order + 1 :])

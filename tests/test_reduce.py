@@ -124,6 +124,9 @@ def test_bad_samples_are_named(times, values, tol, match, index):
         ({"method": "magic"}, "method"),
         ({"start": "middle"}, "start"),
         ({"split": 1.0}, "split"),
+        ({"minimax_iterations": -1}, "minimax_iterations"),
+        ({"exhaustive_below": 2.5}, "exhaustive_below"),
+        ({"coarse_samples": 3}, "coarse_samples"),
         ({"values": [[1, 2], [3, 4], [5, 6]]}, "values"),
         ({"values": [["a", "b"]] * 4}, "values"),
         ({"times": [[0, 1, 2, 3]]}, "times"),
@@ -156,6 +159,7 @@ def test_json_round_trip(sig):
         (lambda d: d.update(knots=d["knots"][::-1]), "'knots' must be non-decreasing"),
         (lambda d: d.update(coefficients="x"), "'coefficients' must be numbers"),
         (lambda d: d.update(order=0), "'order'"),
+        (lambda d: d.update(tol=[0.1, 0.1]), r"'tol' and 'max_error' need one value per channel \(1\)"),
     ],
 )
 def test_json_errors_name_the_field(edit, match):

@@ -112,8 +112,10 @@ def reduce(
         raise ArgumentError("start", f"must be one of {', '.join(STARTS)}, got {start!r}")
     if not 0.0 <= split < 1.0:
         raise ArgumentError("split", f"must be in [0, 1), got {split!r}")
-    if isinstance(minimax_iterations, bool) or not isinstance(minimax_iterations, int) or minimax_iterations < 0:
-        raise ArgumentError("minimax_iterations", f"must be an integer >= 0, got {minimax_iterations!r}")
+    for name, value, least in (("minimax_iterations", minimax_iterations, 0), ("exhaustive_below", exhaustive_below, 0),
+                               ("coarse_samples", 2 * order if coarse_samples is None else coarse_samples, 2 * order)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < least:
+            raise ArgumentError(name, f"must be an integer >= {least}, got {value!r}")
     samples = condition(times, values, tol)
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped, "start": start}
     if samples.n < order:

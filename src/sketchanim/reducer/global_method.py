@@ -8,7 +8,7 @@ way the answer is checked against all samples by the caller.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.interpolate import BSpline
@@ -55,7 +55,6 @@ class GlobalLog:
     fits: int = 0
     coarse_pass: bool = False
     coarse_accepted: bool = False
-    knots_left: list[int] = field(default_factory=list)
 
 
 def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
@@ -65,7 +64,6 @@ def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
     fit, run = remove_knots(ap, knots, ap.scaled, exhaustive_below=opts.exhaustive_below,
                             minimax_iterations=opts.minimax_iterations)
     log.iterations += run.iterations
-    log.knots_left += run.knots_left
     if fit is None:
         fit = ap.fit(knots)
     log.fits += ap.fits
@@ -85,7 +83,6 @@ def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
                             minimax_iterations=opts.minimax_iterations)
     log.iterations += run.iterations
     log.fits += ap.fits
-    log.knots_left += run.knots_left
     return raised if fit is None else ap.spline(fit)
 
 

@@ -28,7 +28,7 @@ The loop stops when no candidate removes a knot.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -43,11 +43,10 @@ ROUNDING_UNITS = 64
 
 @dataclass
 class RemovalLog:
-    """What one run of the loop did: iterations, fits solved, interior knots left after each."""
+    """What one run of the loop did: iterations (rounds that removed knots), fits solved."""
 
     iterations: int = 0
     fits: int = 0
-    knots_left: list[int] = field(default_factory=list)
 
 
 def _slack(times: np.ndarray, knots: np.ndarray, order: int, residual: np.ndarray) -> np.ndarray:
@@ -290,6 +289,5 @@ def remove_knots(
         failed = _still_failed(failed, candidates.inner, fit.knots[order : len(fit.knots) - order], order)
         best, knots, coef = fit, fit.knots, fit.coef
         log.iterations += 1
-        log.knots_left.append(len(knots) - 2 * order)
     log.fits = ap.fits - fits_before
     return best, log

@@ -120,6 +120,9 @@ class Reduction:
             raise InputError(f"{source}: field 'order' must be an integer >= 2")
         if len(knots) != len(coef) + order or np.any(np.diff(knots) < 0):
             raise InputError(f"{source}: field 'knots' must be non-decreasing, {len(coef) + order} long")
+        dim = 1 if coef.ndim == 1 else coef.shape[1]
+        if len(tol) != dim or len(max_error) != dim:
+            raise InputError(f"{source}: fields 'tol' and 'max_error' need one value per channel ({dim})")
         n_samples = doc.get("n_samples")
         if not isinstance(n_samples, int) or n_samples < 1:
             raise InputError(f"{source}: field 'n_samples' must be a positive integer")
