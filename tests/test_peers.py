@@ -45,3 +45,10 @@ def test_benchmark_script_prints_its_table():
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert "SISL s1940" in done.stdout and "control points vs SISL's best" in done.stdout
+
+
+def test_fitpack_search_is_stopped_at_its_time_limit(spiral):
+    t, x, tol = spiral
+    with pytest.raises(fitpack.PeerTimeout) as info:
+        fitpack.make_splprep_within(t, x, tol, limit_s=0.001)
+    assert info.value.limit_s == 0.001

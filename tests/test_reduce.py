@@ -47,6 +47,17 @@ def test_coarse_first_pass_keeps_the_guarantee(sig, order):
     _check_guarantee(r, sig.times, sig.values, sig.tol)
 
 
+def test_dense_noisy_take_repairs_the_coarse_curve():
+    # The thinned copy misses some noise extremes; the repair refines knots there.
+    rng = np.random.default_rng(7)
+    t = np.linspace(0.0, 60.0, 6000)
+    x = np.c_[np.sin(t / 5), 0.02 * t] + rng.normal(0.0, 0.01, (len(t), 2))
+    r = sketchanim.reduce(t, x, 0.035, coarse_samples=1000)
+    assert r.report["coarse_outcome"] == "repaired"
+    _check_guarantee(r, t, x, np.array([0.035, 0.035]))
+    assert r.n_coefficients < 100
+
+
 @settings(max_examples=25)
 @given(signals(max_n=150), st.integers(-9, 9))
 def test_any_magnitude_works_alike(sig, exponent):

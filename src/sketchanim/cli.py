@@ -37,10 +37,15 @@ def _tolerances(text: str) -> list[float]:
         raise InputError(f"--tol: expected a number or comma-separated numbers, got {text!r}") from None
 
 
-def summary_table(reduction: Reduction, channels: list[str], seconds: float) -> Table:
-    """The report printed after a reduction."""
-    table = Table(title=f"{reduction.n_samples} samples -> {reduction.n_coefficients} control points "
-                        f"(ratio {reduction.ratio:.1f}:1, order {reduction.order}, {seconds * 1e3:.1f} ms)")
+def summary_line(reduction: Reduction, seconds: float) -> str:
+    """One line: samples, control points, ratio, order, time."""
+    return (f"{reduction.n_samples} samples -> {reduction.n_coefficients} control points "
+            f"(ratio {reduction.ratio:.1f}:1, order {reduction.order}, {seconds * 1e3:.1f} ms)")
+
+
+def summary_table(reduction: Reduction, channels: list[str]) -> Table:
+    """Per channel: tolerance, max error at the samples, and their ratio."""
+    table = Table()
     table.add_column("channel")
     table.add_column("tolerance", justify="right")
     table.add_column("max error", justify="right")
@@ -74,7 +79,8 @@ def reduce_command(
     except InputError as err:
         errors.print(f"[red]error:[/red] {err}", highlight=False, soft_wrap=True)
         raise typer.Exit(2) from None
-    console.print(summary_table(reduction, table.channels, seconds))
+    console.print(summary_line(reduction, seconds))
+    console.print(summary_table(reduction, table.channels))
     if reduction.report.get("duplicates_dropped"):
         console.print(f"dropped {reduction.report['duplicates_dropped']} exact duplicate samples")
     if output is not None:

@@ -125,7 +125,7 @@ def reduce(
         opts = GlobalOptions(start, split, minimax_iterations, exhaustive_below, coarse_samples)
         spline, log = reduce_global(samples.times, samples.values, samples.tol, order, opts)
         report.update(iterations=log.iterations, fits=log.fits, coarse_pass=log.coarse_pass,
-                      coarse_accepted=log.coarse_accepted)
+                      coarse_outcome=log.coarse_outcome)
     spline, max_error, fell_back = _guaranteed(spline, samples, order)
     if fell_back:
         report["note"] = "rounding broke the bound: kept the interpolant"

@@ -1,9 +1,11 @@
 """The global method: Lyche-Morken knot removal over the whole take, from either start.
 
 For dense takes (far more samples than the curve will need knots) a coarse pass first
-reduces an evenly thinned copy of the samples; its curve is then checked, and if need
-be re-fitted, against every sample. Only if that fails does the full pass run. Either
-way the answer is checked against all samples by the caller.
+reduces an evenly thinned copy of the samples; its curve is then checked against every
+sample, and where it misses (noise extremes the thinned copy did not hold), knots are
+added at those samples, the curve re-fitted on all samples, and the removal loop run
+again from there. Only if that repair fails does the full pass run. Either way the
+answer is checked against all samples by the caller.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import BSpline
 
-from sketchanim.reducer.approximate import Approximator
+from sketchanim.reducer.approximate import PASS, Approximator
 from sketchanim.reducer.lm import remove_knots
 from sketchanim.reducer.starts import sample_knots
 from sketchanim.spline import elevate_degree
@@ -54,7 +56,9 @@ class GlobalLog:
     iterations: int = 0
     fits: int = 0
     coarse_pass: bool = False
-    coarse_accepted: bool = False
+    #: how a coarse pass ended: "held" (its curve held at every sample), "repaired",
+    #: or "full pass" (the repair failed and all samples were reduced from the start)
+    coarse_outcome: str | None = None
 
 
 def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
@@ -86,6 +90,40 @@ def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
     return raised if fit is None else ap.spline(fit)
 
 
+def _repair(coarse: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
+            opts: GlobalOptions, log: GlobalLog, rounds: int = 32) -> BSpline | None:
+    """Make the coarse pass's curve hold at every sample: refine the knots where it
+    misses and re-fit, a few rounds; then remove what is not needed.
+    ``None`` if it still misses."""
+    ap = Approximator(times, values, tol, order)
+    pool = np.unique(sample_knots(times, order)[order:-order])
+    knots = coarse.t
+    fit = None
+    for _ in range(rounds):
+        fit = ap.fit(knots)
+        if fit is None or fit.passes:
+            break
+        # Halve the knot intervals holding a miss and their neighbours (at the nearest
+        # sample time), so the spacing there shrinks each round until the curve follows.
+        breaks = np.unique(knots)
+        hit = np.searchsorted(breaks, times[fit.residual > PASS], side="right") - 1
+        hit = np.unique(np.clip(np.concatenate([hit - 1, hit, hit + 1]), 0, len(breaks) - 2))
+        middles = 0.5 * (breaks[hit] + breaks[hit + 1])
+        nearest = pool[np.clip(np.searchsorted(pool, middles), 0, len(pool) - 1)]
+        extra = np.setdiff1d(nearest, knots)
+        if extra.size == 0:
+            break
+        knots = np.sort(np.concatenate([knots, extra]))
+    if fit is None or not fit.passes:
+        log.fits += ap.fits
+        return None
+    fit, run = remove_knots(ap, fit.knots, fit.coef, exhaustive_below=opts.exhaustive_below,
+                            minimax_iterations=opts.minimax_iterations, pool=pool, start=fit)
+    log.iterations += run.iterations
+    log.fits += ap.fits
+    return ap.spline(fit)
+
+
 def reduce_global(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
                   opts: GlobalOptions) -> tuple[BSpline, GlobalLog]:
     """Reduce checked samples (shape (n,), (n, d)) to a spline within ``tol`` of each.
@@ -109,12 +147,11 @@ def reduce_global(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order:
         idx = np.unique(np.r_[np.arange(0, n, step), n - 1])
         coarse = run(times[idx], values[idx], tol, order, opts, log)
         if np.all(np.abs(coarse(times) - values) <= tol):
-            log.coarse_accepted = True
+            log.coarse_outcome = "held"
             return coarse, log
-        ap = Approximator(times, values, tol, order)
-        fit = ap.fit(coarse.t, minimax_iterations=max(opts.minimax_iterations, 1))
-        log.fits += ap.fits
-        if fit is not None and fit.passes:
-            log.coarse_accepted = True
-            return ap.spline(fit), log
+        repaired = _repair(coarse, times, values, tol, order, opts, log)
+        if repaired is not None:
+            log.coarse_outcome = "repaired"
+            return repaired, log
+        log.coarse_outcome = "full pass"
     return run(times, values, tol, order, opts, log), log

@@ -230,6 +230,8 @@ def remove_knots(
     *,
     exhaustive_below: int = 32,
     minimax_iterations: int = 8,
+    pool: np.ndarray | None = None,
+    start: Fit | None = None,
 ) -> tuple[Fit | None, RemovalLog]:
     """Run rank / remove / approximate until no knot can go.
 
@@ -247,6 +249,11 @@ def remove_knots(
         least number of single knots tried per round.
     minimax_iterations : int
         Lawson re-weightings in the single-knot stage (0 for plain least squares).
+    pool : ndarray, optional
+        Where spread knots may be placed (default: the distinct interior knots given).
+    start : Fit, optional
+        A passing fit on ``knots`` (with ``rank_coef`` its coefficients) to improve on:
+        its residuals guide the first round, which then looks for small changes.
 
     Returns
     -------
@@ -263,10 +270,11 @@ def remove_knots(
     4
     """
     order = ap.order
-    pool = np.unique(knots[order : len(knots) - order])
+    if pool is None:
+        pool = np.unique(knots[order : len(knots) - order])
     log = RemovalLog()
     fits_before = ap.fits
-    best: Fit | None = None
+    best = start
     coef = rank_coef
     failed = np.zeros(0)
     while len(knots) > 2 * order:
@@ -276,7 +284,7 @@ def remove_knots(
         floor = ROUNDING_UNITS * np.finfo(float).eps * np.abs(coef).max(initial=0.0)
         weights[weights <= floor] = 0.0
         candidates = _Candidates(ap, knots, weights, pool, None if best is None else best.residual)
-        fit = candidates.spread(gallop_up=log.iterations == 0)
+        fit = candidates.spread(gallop_up=best is None)
         if fit is None:
             fit = candidates.lowest(exhaustive_below)
         if fit is None:
