@@ -37,6 +37,16 @@ def test_every_sample_is_within_tolerance(sig, order):
 def test_lm_start_keeps_the_guarantee(sig, order, split):
     r = sketchanim.reduce(sig.times, sig.values, sig.tol, order=order, start="lm", split=split)
     _check_guarantee(r, sig.times, sig.values, sig.tol)
+    assert r.n_coefficients <= max(len(sig.times), order)
+
+
+def test_lm_start_never_returns_more_control_points_than_samples():
+    # Ten jumpy samples: the raised linear curve has 19 coefficients and nothing can go.
+    t = np.arange(10) * 1e-3
+    x = np.array([-0.35, 0.75, 0.25, -0.35, -1.19, 1.0, 0.32, -1.13, -4.84, 0.16])
+    r = sketchanim.reduce(t, x, 0.007, order=3, start="lm")
+    _check_guarantee(r, t, x, np.array([0.007]))
+    assert r.n_coefficients <= 10
 
 
 @settings(max_examples=25)

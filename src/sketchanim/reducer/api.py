@@ -9,11 +9,10 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
-from sketchanim.reducer.approximate import Approximator
 from sketchanim.reducer.conditioning import Samples, check_order, condition
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.result import Reduction
-from sketchanim.reducer.starts import polynomial_through, sample_knots
+from sketchanim.reducer.starts import interpolant, polynomial_through
 
 METHODS = ("global",)
 
@@ -27,17 +26,15 @@ def _guaranteed(spline: BSpline, samples: Samples, order: int) -> tuple[BSpline,
     err = _errors(spline, samples)
     if np.all(err <= samples.tol):
         return spline, err, False
-    ap = Approximator(samples.times, samples.values, samples.tol, order)
-    fit = ap.fit(sample_knots(samples.times, order))
-    interpolant = ap.spline(fit) if fit is not None else spline
-    err = _errors(interpolant, samples)
+    exact = interpolant(samples.times, samples.values, order) or spline
+    err = _errors(exact, samples)
     if not np.all(err <= samples.tol):
         j = int(np.argmax(err / samples.tol))
         raise ToleranceUnreachableError(
             f"tol: channel {j} tolerance {samples.tol[j]!r} is below what floating point can "
             f"resolve for these values (the interpolant misses by {err[j]!r})"
         )
-    return interpolant, err, True
+    return exact, err, True
 
 
 def reduce(

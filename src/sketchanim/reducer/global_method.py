@@ -17,7 +17,7 @@ from scipy.interpolate import BSpline
 
 from sketchanim.reducer.approximate import PASS, Approximator
 from sketchanim.reducer.lm import remove_knots
-from sketchanim.reducer.starts import sample_knots
+from sketchanim.reducer.starts import interpolant, sample_knots
 from sketchanim.spline import elevate_degree
 
 STARTS = ("paper", "lm")
@@ -87,7 +87,12 @@ def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
                             minimax_iterations=opts.minimax_iterations)
     log.iterations += run.iterations
     log.fits += ap.fits
-    return raised if fit is None else ap.spline(fit)
+    result = raised if fit is None else ap.spline(fit)
+    # The raised linear curve has order - 1 coefficients per piece: never return more
+    # coefficients than samples when the samples' own interpolant needs one each.
+    if len(result.c) > len(times):
+        result = interpolant(times, values, order) or result
+    return result
 
 
 def _repair(coarse: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,

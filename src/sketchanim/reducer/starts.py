@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import BSpline, make_interp_spline
 
+from sketchanim.reducer.approximate import Approximator
 from sketchanim.spline import elevate_degree
 
 
@@ -39,3 +40,16 @@ def polynomial_through(times: np.ndarray, values: np.ndarray, order: int) -> BSp
     n = len(times)
     line = make_interp_spline(times, values, k=n - 1, t=np.r_[[times[0]] * n, [times[-1]] * n])
     return elevate_degree(line, order - n)
+
+
+def interpolant(times: np.ndarray, values: np.ndarray, order: int) -> BSpline | None:
+    """The spline of ``order`` through every sample, on :func:`sample_knots` (one
+    coefficient per sample); ``None`` if the system is singular.
+
+    >>> t = np.linspace(0, 1, 6); x = np.c_[np.sin(t)]
+    >>> bool(np.allclose(interpolant(t, x, 4)(t), x))
+    True
+    """
+    ap = Approximator(times, values, np.ones(values.shape[1]), order)
+    fit = ap.fit(sample_knots(times, order))
+    return None if fit is None else ap.spline(fit)
