@@ -70,6 +70,21 @@ def test_bad_tolerance_is_named(tmp_path):
     assert res.exit_code == 2 and "tol: channel 0 tolerance must be finite and > 0" in res.output
 
 
+def test_unwritable_output_is_reported(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    res = runner.invoke(app, ["reduce", str(REPO / "examples" / "sketched_path.csv"), "--tol", "0.01",
+                              "-o", str(blocker / "out.json")])
+    assert res.exit_code == 2 and "cannot write" in res.output and "Traceback" not in res.output
+
+
+def test_brackets_in_messages_survive(tmp_path):
+    csv = tmp_path / "s.csv"
+    csv.write_text("t,x\n0,[bold]\n")
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.1"])
+    assert res.exit_code == 2 and "'[bold]'" in res.output
+
+
 def test_console_script_runs_on_a_real_recording(data_dir, tmp_path):
     name, t, pos, tol = shared_cases(data_dir)[0]
     csv = tmp_path / "camera.csv"

@@ -9,6 +9,7 @@ from typing import Annotated, Optional
 import typer
 from rich.console import Console
 from rich.table import Table
+from rich.text import Text
 
 from sketchanim.errors import InputError, SampleError
 from sketchanim.io.atomic import write_atomic
@@ -77,17 +78,24 @@ def reduce_command(
             raise InputError(f"{input}, line {table.lines[err.index]}: {err}") from None
         seconds = time.perf_counter() - clock
     except InputError as err:
-        errors.print(f"[red]error:[/red] {err}", highlight=False, soft_wrap=True)
-        raise typer.Exit(2) from None
+        _fail(str(err))
     console.print(summary_line(reduction, seconds))
     console.print(summary_table(reduction, table.channels))
     if reduction.report.get("duplicates_dropped"):
         console.print(f"dropped {reduction.report['duplicates_dropped']} exact duplicate samples")
-    if output is not None:
-        write_atomic(output, reduction.to_json())
-        console.print(f"wrote {output}")
-    if plot is not None:
-        from sketchanim.plot import plot_reduction
+    try:
+        if output is not None:
+            write_atomic(output, reduction.to_json())
+            console.print(f"wrote {output}")
+        if plot is not None:
+            from sketchanim.plot import plot_reduction
 
-        plot_reduction(table.times, table.values, reduction, plot, table.channels, title=str(input))
-        console.print(f"wrote {plot}")
+            plot_reduction(table.times, table.values, reduction, plot, table.channels, title=str(input))
+            console.print(f"wrote {plot}")
+    except OSError as err:
+        _fail(f"{err.filename or output}: cannot write ({err.strerror})")
+
+
+def _fail(message: str) -> None:
+    errors.print(Text.assemble(("error: ", "red"), message), soft_wrap=True)
+    raise typer.Exit(2)
