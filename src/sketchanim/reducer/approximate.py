@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 from scipy.linalg import LinAlgError, solveh_banded
+from scipy.sparse import csr_array
 
 #: A fit passes when every scaled error is at most this (a hair under one tolerance,
 #: so that rounding in the final evaluation cannot push a sample over).
@@ -159,7 +160,7 @@ class Approximator:
         """The fit as a spline in the caller's units."""
         return BSpline(fit.knots, fit.coef * self.tol + self.center, self.order - 1)
 
-    def _solve(self, design: object, weights: np.ndarray, n_coef: int) -> np.ndarray:
+    def _solve(self, design: csr_array, weights: np.ndarray, n_coef: int) -> np.ndarray:
         # `design` is scipy's CSR design matrix: row i holds the `order` non-zero basis
         # values of sample i, in consecutive columns from first[i]. Samples are sorted, so
         # rows sharing a first column are contiguous and summed with one reduceat.
