@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import BSpline
 
-from sketchanim.reducer.approximate import PASS, Approximator
+from sketchanim.reducer.approximate import PASS, Approximator, Fit
 from sketchanim.reducer.lm import remove_knots
 from sketchanim.reducer.starts import interpolant, sample_knots
 from sketchanim.spline import elevate_degree
@@ -61,13 +61,20 @@ class GlobalLog:
     coarse_outcome: str | None = None
 
 
+def _remove(ap: Approximator, knots: np.ndarray, coef: np.ndarray, opts: GlobalOptions, log: GlobalLog,
+            pool: np.ndarray | None = None, start: Fit | None = None) -> Fit | None:
+    """:func:`remove_knots` with these options, its rounds counted in ``log``."""
+    fit, run = remove_knots(ap, knots, coef, exhaustive_below=opts.exhaustive_below,
+                            minimax_iterations=opts.minimax_iterations, pool=pool, start=start)
+    log.iterations += run.iterations
+    return fit
+
+
 def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
            opts: GlobalOptions, log: GlobalLog) -> BSpline:
     ap = Approximator(times, values, tol, order)
     knots = sample_knots(times, order)
-    fit, run = remove_knots(ap, knots, ap.scaled, exhaustive_below=opts.exhaustive_below,
-                            minimax_iterations=opts.minimax_iterations)
-    log.iterations += run.iterations
+    fit = _remove(ap, knots, ap.scaled, opts, log)
     if fit is None:
         fit = ap.fit(knots)
     log.fits += ap.fits
@@ -82,10 +89,7 @@ def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
         linear = _paper(times, values, opts.split * tol, 2, opts, log)
     raised = elevate_degree(linear, order - 2)
     ap = Approximator(times, linear(times), (1.0 - opts.split) * tol, order)
-    fit, run = remove_knots(ap, raised.t, (raised.c - ap.center) / ap.tol,
-                            exhaustive_below=opts.exhaustive_below,
-                            minimax_iterations=opts.minimax_iterations)
-    log.iterations += run.iterations
+    fit = _remove(ap, raised.t, (raised.c - ap.center) / ap.tol, opts, log)
     log.fits += ap.fits
     result = raised if fit is None else ap.spline(fit)
     # The raised linear curve has order - 1 coefficients per piece: never return more
@@ -122,9 +126,7 @@ def _repair(coarse: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndar
     if fit is None or not fit.passes:
         log.fits += ap.fits
         return None
-    fit, run = remove_knots(ap, fit.knots, fit.coef, exhaustive_below=opts.exhaustive_below,
-                            minimax_iterations=opts.minimax_iterations, pool=pool, start=fit)
-    log.iterations += run.iterations
+    fit = _remove(ap, fit.knots, fit.coef, opts, log, pool=pool, start=fit)
     log.fits += ap.fits
     return ap.spline(fit)
 
