@@ -33,7 +33,12 @@ class SampleTable:
     lines: np.ndarray
 
 
-def _number(text: str) -> float | None:
+def parse_number(text: str) -> float | None:
+    """``text`` as a float, or ``None`` if it is not a number.
+
+    >>> parse_number(" 1e-3"), parse_number("x")
+    (0.001, None)
+    """
     try:
         return float(text)
     except ValueError:
@@ -71,7 +76,7 @@ def read_samples_csv(path: str | os.PathLike[str]) -> SampleTable:
                 if not cells or not "".join(cells).strip() or cells[0].lstrip().startswith("#"):
                     continue
                 cells = [c.strip() for c in cells]
-                parsed = [_number(c) for c in cells]
+                parsed = [parse_number(c) for c in cells]
                 if width is None:
                     width = len(cells)
                     if width < 2:

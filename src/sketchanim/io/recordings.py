@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from sketchanim.errors import FileFormatError
+from sketchanim.io.csvio import parse_number
 
 
 def _lines(path: str | os.PathLike[str]) -> list[str]:
@@ -27,24 +28,14 @@ def _lines(path: str | os.PathLike[str]) -> list[str]:
 
 def _numbers(path: str | os.PathLike[str], line_no: int, text: str, width: int | None) -> list[float]:
     parts = text.replace(",", " ").split()
-    try:
-        row = [float(p) for p in parts]
-    except ValueError:
-        bad = next(p for p in parts if not _is_float(p))
-        raise FileFormatError(str(path), f"not a number: {bad!r}", line=line_no) from None
+    row = [parse_number(p) for p in parts]
+    if None in row:
+        raise FileFormatError(str(path), f"not a number: {parts[row.index(None)]!r}", line=line_no)
     if width is not None and len(row) != width:
         raise FileFormatError(str(path), f"{len(row)} values, expected {width}", line=line_no)
     if not np.all(np.isfinite(row)):
         raise FileFormatError(str(path), "value is not finite", line=line_no)
-    return row
-
-
-def _is_float(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
+    return row  # type: ignore[return-value]
 
 
 def read_tum(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
