@@ -14,8 +14,10 @@ Candidates, tried in this order until one has fewer knots than the current curve
    starting knot positions (the sample times), not only the surviving ones, so the
    first, coarse guess is corrected once the curve's weights become informative. The
    smallest passing ``m`` is found by galloping and bisection.
-2. *lowest*: drop the ``r`` lowest-weight knots, the largest ``r`` that passes
-   (bisection for long knot vectors; counts 1, 2, ... for short ones, as 2.2.1 argues).
+2. *lowest*: drop the ``r`` knots with the lowest keys (weight / the room the current
+   fit leaves near the knot), never two neighbours in one round, the largest ``r``
+   that passes (bisection for long knot vectors; counts 1, 2, ... for short ones, as
+   2.2.1 argues).
 3. *single*: knots one at a time, lowest first (at most ``exhaustive_below`` or an
    eighth of the knots per round, skipping knots that failed while nothing near them
    changed), each kept out if the curve still passes without it and those already out.
@@ -218,8 +220,8 @@ def _still_failed(failed: np.ndarray, old_inner: np.ndarray, new_inner: np.ndarr
     near = np.zeros(len(failed), dtype=bool)
     pos = np.searchsorted(lo, failed, side="right") - 1
     ok = pos >= 0
-    near[ok] = failed[ok] <= hi[pos[ok]]  # intervals are sorted, so the last one starting
-    # at or before a value reaches furthest
+    # Intervals are sorted, so the last one starting at or before a value reaches furthest.
+    near[ok] = failed[ok] <= hi[pos[ok]]
     return failed[~near]
 
 
