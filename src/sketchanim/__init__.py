@@ -8,14 +8,16 @@
 """
 
 from sketchanim.errors import ArgumentError, FileFormatError, InputError, SampleError, ToleranceUnreachableError
-from sketchanim.reducer import Reduction, reduce
+from sketchanim.reducer import Piece, Reduction, StreamReducer, reduce
 
 __all__ = [
     "ArgumentError",
     "FileFormatError",
     "InputError",
+    "Piece",
     "Reduction",
     "SampleError",
+    "StreamReducer",
     "ToleranceUnreachableError",
     "reduce",
 ]

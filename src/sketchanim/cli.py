@@ -64,6 +64,7 @@ def reduce_command(
     order: Annotated[int, typer.Option(help="Spline order (4: cubic).")] = 4,
     method: Annotated[str, typer.Option(help=f"One of: {', '.join(METHODS)}.")] = "global",
     start: Annotated[str, typer.Option(help="Starting curve: paper or lm.")] = "paper",
+    window: Annotated[int, typer.Option(help="Knots per window of the incremental method.")] = 20,
     plot: Annotated[Optional[Path], typer.Option(help="Draw components, control points and errors to this PNG.")] = None,
 ) -> None:
     """Reduce a CSV of samples to a B-spline; print the report, write JSON and plot."""
@@ -71,7 +72,8 @@ def reduce_command(
         table = read_samples_csv(input)
         clock = time.perf_counter()
         try:
-            reduction = reduce(table.times, table.values, _tolerances(tol), order=order, method=method, start=start)
+            reduction = reduce(table.times, table.values, _tolerances(tol), order=order, method=method, start=start,
+                               window=window)
         except SampleError as err:
             if err.index is None:
                 raise
@@ -94,6 +96,29 @@ def reduce_command(
             console.print(f"wrote {plot}")
     except OSError as err:
         _fail(f"{err.filename or output}: cannot write ({err.strerror})")
+
+
+@app.command("paper")
+def paper_command(
+    output: Annotated[Path, typer.Option("-o", "--output", help="Folder for the PNG plots.")] = Path("out/paper"),
+    data: Annotated[Path, typer.Option(help="Recordings folder; its camera path runs beside the synthetic takes.")]
+    = Path("../shared/data"),
+) -> None:
+    """Re-run the paper's section 2.2 experiments; print tables 8 and 10 and write the figures."""
+    from sketchanim.paper import run
+
+    try:
+        tables = run(output, data if data.is_dir() else None)
+    except OSError as err:
+        _fail(f"{err.filename or output}: cannot write ({err.strerror})")
+    for name, rows in tables.items():
+        table = Table(title=name if name != "spiral" else "spiral, window 10, tol (0.1, 0.1): figures 1 and 2")
+        for column in rows[0]:
+            table.add_column(column, justify="right")
+        for row in rows:
+            table.add_row(*(f"{v:.1f}" if isinstance(v, float) else str(v) for v in row.values()))
+        console.print(table)
+    console.print(f"wrote the figures to {output}/")
 
 
 def _fail(message: str) -> None:

@@ -2,5 +2,6 @@
 
 from sketchanim.reducer.api import METHODS, reduce
 from sketchanim.reducer.result import Reduction
+from sketchanim.reducer.stream import Piece, StreamReducer
 
-__all__ = ["METHODS", "Reduction", "reduce"]
+__all__ = ["METHODS", "Piece", "Reduction", "StreamReducer", "reduce"]

@@ -13,8 +13,9 @@ from sketchanim.reducer.conditioning import Samples, check_order, condition
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.starts import interpolant, polynomial_through
+from sketchanim.reducer.stream import StreamReducer
 
-METHODS = ("global",)
+METHODS = ("global", "incremental")
 
 
 def _errors(spline: BSpline, samples: Samples) -> np.ndarray:
@@ -49,6 +50,8 @@ def reduce(
     minimax_iterations: int = 8,
     exhaustive_below: int = 32,
     coarse_samples: int | None = 8192,
+    window: int = 20,
+    constraints: str = "end",
 ) -> Reduction:
     """Reduce sampled motion to a B-spline that keeps every sample's value and time.
 
@@ -66,8 +69,10 @@ def reduce(
         Tolerance per channel, in the channel's units.
     order : int
         Spline order, degree + 1 (4: cubic).
-    method : {"global"}
-        Lyche-Morken knot removal over the whole take.
+    method : {"global", "incremental"}
+        Lyche-Morken knot removal over the whole take, or the incremental method
+        (windows of ``window`` knots, as :class:`StreamReducer` does while samples
+        arrive; the same spline as streaming these samples with its defaults).
     start : {"paper", "lm"}
         Starting curve: the samples as control polygon, or LM's reduced
         piecewise-linear interpolant raised to ``order``.
@@ -80,6 +85,8 @@ def reduce(
     coarse_samples : int or None
         Takes longer than twice this are first reduced from about this many evenly
         spaced samples (then checked against all); ``None`` always uses all samples.
+    window, constraints : int, str
+        Window size and variant of the incremental method (see :class:`StreamReducer`).
 
     Returns
     -------
@@ -115,7 +122,16 @@ def reduce(
             raise ArgumentError(name, f"must be an integer >= {least}, got {value!r}")
     samples = condition(times, values, tol)
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped, "start": start}
-    if samples.n < order:
+    if method == "incremental":
+        stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints)
+        stream.extend(samples.times, samples.values)
+        streamed = stream.finish()
+        spline = BSpline(streamed.spline.t, np.asarray(streamed.spline.c).reshape(-1, samples.dim),
+                         streamed.spline.k)
+        report.update(streamed.report)
+        report.pop("duplicates_dropped")
+        del report["start"]
+    elif samples.n < order:
         spline = polynomial_through(samples.times, samples.values, order)
         report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"
     else:

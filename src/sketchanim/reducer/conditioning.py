@@ -131,31 +131,78 @@ def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_sample
         raise ArgumentError("values", "has no channels")
     tol_arr = check_tolerance(tol, x.shape[1])
 
-    bad_t = np.flatnonzero(~np.isfinite(t))
-    if bad_t.size:
-        raise SampleError(f"time is {float(t[bad_t[0]])!r}", index=int(bad_t[0]), field="time")
-    bad_x = np.argwhere(~np.isfinite(x))
-    if bad_x.size:
-        i, j = bad_x[0]
-        raise SampleError(f"value is {float(x[i, j])!r}", index=int(i), field=f"channel {j}")
-
-    dt = np.diff(t)
-    back = np.flatnonzero(dt < 0)
-    if back.size:
-        i = int(back[0]) + 1
-        raise SampleError(f"time goes backwards ({float(t[i])!r} after {float(t[i - 1])!r})", index=i, field="time")
-    same_t = np.flatnonzero(dt == 0)
-    conflicting = same_t[np.any(x[same_t] != x[same_t + 1], axis=1)]
-    if conflicting.size:
-        i = int(conflicting[0]) + 1
-        raise SampleError(
-            f"same time {float(t[i])!r} as sample {i - 1} but different values", index=i, field="time"
-        )
-    keep = np.ones(len(t), dtype=bool)
-    keep[same_t + 1] = False
+    keep, error = scan(t, x)
+    if error is not None:
+        raise error
     t, x = t[keep], x[keep]
     if len(t) < min_samples:
         raise SampleError(
             f"{len(t)} distinct samples, at least {min_samples} needed", index=None, field="times"
         )
-    return Samples(t, np.ascontiguousarray(x), tol_arr, scalar, int(same_t.size))
+    return Samples(t, np.ascontiguousarray(x), tol_arr, scalar, int(np.count_nonzero(~keep)))
+
+
+def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
+         previous: tuple[float, np.ndarray] | None = None) -> tuple[np.ndarray, SampleError | None]:
+    """Find the first bad sample of a batch, and the exact duplicates before it.
+
+    Parameters
+    ----------
+    times : ndarray, shape (n,)
+    values : ndarray, shape (n, d)
+    offset : int
+        Index of ``times[0]`` in the whole stream, for error messages.
+    previous : (time, values) or None
+        The last sample accepted before this batch, if any.
+
+    Returns
+    -------
+    keep : ndarray of bool, shape (m,)
+        For the good prefix ``times[:m]`` (all of them when there is no error): False
+        at exact duplicates of the sample before.
+    error : SampleError or None
+        What is wrong with sample ``offset + m``, if anything: a NaN or infinite time or
+        value, time going backwards, or the same time as the sample before with
+        different values.
+
+    Examples
+    --------
+    >>> keep, err = scan(np.array([0.0, 1.0, 1.0, 0.5]), np.array([[0.0], [1.0], [1.0], [2.0]]))
+    >>> keep.tolist(), str(err)
+    ([True, True, False], 'sample 3, time: time goes backwards (0.5 after 1.0)')
+    """
+    t = np.asarray(times, dtype=float)
+    x = np.asarray(values, dtype=float)
+    if previous is not None:
+        t = np.r_[previous[0], t]
+        x = np.vstack([previous[1][None, :], x])
+    start = 0 if previous is None else 1
+    problems: list[tuple[int, SampleError]] = []
+    bad_t = np.flatnonzero(~np.isfinite(t[start:]))
+    if bad_t.size:
+        i = int(bad_t[0]) + start
+        problems.append((i, SampleError(f"time is {float(t[i])!r}", index=i - start + offset, field="time")))
+    bad_x = np.argwhere(~np.isfinite(x[start:]))
+    if bad_x.size:
+        i, j = int(bad_x[0][0]) + start, int(bad_x[0][1])
+        problems.append((i, SampleError(f"value is {float(x[i, j])!r}", index=i - start + offset,
+                                        field=f"channel {j}")))
+    dt = np.diff(t)
+    back = np.flatnonzero(dt < 0)
+    if back.size:
+        i = int(back[0]) + 1
+        problems.append((i, SampleError(f"time goes backwards ({float(t[i])!r} after {float(t[i - 1])!r})",
+                                        index=i - start + offset, field="time")))
+    same_t = np.flatnonzero(dt == 0)
+    conflicting = same_t[np.any(x[same_t] != x[same_t + 1], axis=1)]
+    if conflicting.size:
+        i = int(conflicting[0]) + 1
+        what = f"sample {i - 1 - start + offset}" if i - 1 >= start else "the sample before"
+        problems.append((i, SampleError(f"same time {float(t[i])!r} as {what} but different values",
+                                        index=i - start + offset, field="time")))
+    end, error = len(t), None
+    if problems:
+        end, error = min(problems, key=lambda p: p[0])
+    keep = np.ones(len(t), dtype=bool)
+    keep[same_t + 1] = False
+    return keep[start:end], error

@@ -30,7 +30,7 @@ class Reduction:
     n_samples : int
         Samples reduced (after exact duplicates were dropped).
     method : str
-        ``"global"`` (more to come).
+        ``"global"`` or ``"incremental"``.
     timings : dict
         Seconds spent, by phase (``total`` at least).
     report : dict

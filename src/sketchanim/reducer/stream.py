@@ -1,0 +1,491 @@
+"""The incremental reducer: samples in as they arrive, finished curve pieces out.
+
+The paper's windowed Lyche-Morken (section 2.2), with its guarantee made exact. Every
+sample time is a knot of the initial curve. Once ``2k + m`` knots follow the start of the
+window (``k`` the order, ``m`` the window), the ``m`` knots after the first ``k`` (past
+context, already reduced) are candidates; the last ``k`` (future context) are not. The
+window's coefficients are fitted by least squares to the raw samples under them, the
+curve left of the window held, and knots are removed while every one of those samples
+stays within tolerance. Then the window start moves past the surviving candidates, so
+each knot is considered once, and the coefficients left behind are final.
+
+What is kept is bounded whatever the take's length: the raw samples from the window's
+start on (a removal that would put more than ``max_span`` samples between two knots is
+refused, so the past context holds at most ``order * max_span``), the knots and
+coefficients of the window, and optionally the finished curve (``keep``).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.interpolate import BSpline
+
+from sketchanim.errors import ArgumentError
+from sketchanim.reducer import window_kernel
+from sketchanim.reducer.conditioning import check_order, check_tolerance, scan
+from sketchanim.reducer.result import Reduction
+from sketchanim.reducer.starts import polynomial_through
+from sketchanim.spline import insert_knots
+
+#: Window constraint variants of the paper's figures 1 and 2.
+CONSTRAINTS = ("end", "none", "pin", "pin+end")
+REFERENCES = ("samples", "curve")
+
+
+@dataclass(frozen=True)
+class Piece:
+    """A finished stretch of the curve: nothing later changes it.
+
+    Attributes
+    ----------
+    knots : ndarray, shape (n + order,)
+    coef : ndarray, shape (n, d)
+        B-spline coefficients in the caller's units. The piece is the spline they
+        define, on ``[start, end]``; consecutive pieces share ``order - 1``
+        coefficients and join with the curve's continuity.
+    """
+
+    knots: np.ndarray
+    coef: np.ndarray
+
+    @property
+    def order(self) -> int:
+        """Spline order."""
+        return len(self.knots) - len(self.coef)
+
+    @property
+    def start(self) -> float:
+        """Time where the piece starts."""
+        return float(self.knots[self.order - 1])
+
+    @property
+    def end(self) -> float:
+        """Time where the piece ends (the next piece starts there)."""
+        return float(self.knots[len(self.coef)])
+
+    @property
+    def spline(self) -> BSpline:
+        """The piece as a scipy spline, valid on ``[start, end]``."""
+        return BSpline(self.knots, self.coef, self.order - 1)
+
+
+@dataclass
+class StreamStats:
+    """What the reducer did so far.
+
+    Window times and removal counts are kept for the most recent ``history`` windows
+    (so memory stays flat on endless streams); the counters cover the whole stream.
+    """
+
+    history: int = 65536
+    windows: int = 0
+    fits: int = 0
+    removed: int = 0
+    samples: int = 0
+    duplicates_dropped: int = 0
+    start_misses: int = 0
+    max_window_seconds: float = 0.0
+    total_window_seconds: float = 0.0
+    _seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    _removed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+
+    def __post_init__(self) -> None:
+        self._seconds = np.zeros(self.history)
+        self._removed = np.zeros(self.history, dtype=np.int32)
+
+    def record(self, seconds: float, removed: int, fits: int) -> None:
+        """Count one window."""
+        slot = self.windows % self.history
+        self._seconds[slot] = seconds
+        self._removed[slot] = removed
+        self.windows += 1
+        self.fits += fits
+        self.removed += removed
+        self.total_window_seconds += seconds
+        self.max_window_seconds = max(self.max_window_seconds, seconds)
+
+    @property
+    def window_seconds(self) -> np.ndarray:
+        """Wall time of the recent windows, oldest first."""
+        n = min(self.windows, self.history)
+        if self.windows <= self.history:
+            return self._seconds[:n].copy()
+        slot = self.windows % self.history
+        return np.r_[self._seconds[slot:], self._seconds[:slot]]
+
+    @property
+    def removed_per_window(self) -> np.ndarray:
+        """Knots removed by each of the recent windows, oldest first."""
+        n = min(self.windows, self.history)
+        if self.windows <= self.history:
+            return self._removed[:n].copy()
+        slot = self.windows % self.history
+        return np.r_[self._removed[slot:], self._removed[:slot]]
+
+    def percentile_ms(self, q: float) -> float:
+        """Percentile ``q`` (0-100) of the recent windows' wall time, in milliseconds."""
+        times = self.window_seconds
+        return float(np.percentile(times, q) * 1e3) if len(times) else 0.0
+
+
+class StreamReducer:
+    """Reduce samples while they arrive, a window of knots at a time.
+
+    Parameters
+    ----------
+    dim : int
+        Channels per sample.
+    tol : float or array_like, shape (dim,)
+        Tolerance per channel: every sample ends within it of the curve at its own time.
+    order : int
+        Spline order (4: cubic).
+    window : int
+        Candidate knots per window (the paper's m), at least ``max(1, order // 2)``.
+    constraints : {"end", "none", "pin", "pin+end"}
+        How a window meets its neighbours. The curve left of the window is always held
+        exactly (its coefficients are final), so a window never moves finished samples.
+        ``end``: the samples under the future context must stay within ``end_tol``
+        tolerances, which leaves the next window room to remove knots. ``none``: no
+        more. ``pin`` and ``pin+end`` are the paper's variants: also hold the first
+        ``order`` coefficients of the window at the previous window's values (their
+        B-splines still change as knots go, so this costs control points; measured
+        by ``sketchanim paper``). The tolerance holds in every variant.
+    end_tol : float
+        Share of the tolerance for the future context with ``end`` and ``pin+end``,
+        in (0, 1].
+    reference : {"samples", "curve"}
+        Fit and check against the raw samples (the guarantee), or, as the paper did,
+        against the window's starting curve, so that errors can creep across windows
+        (for reproducing the paper; ``max_error`` then tells the truth).
+    max_span : int or None
+        Most samples allowed between two knots; bounds memory and window time.
+        Default ``max(64, 8 * window)``.
+    exhaustive_below : int
+        Windows with fewer candidates try every removal count; larger ones bisect.
+    minimax_iterations : int
+        Lawson re-weightings when a fit misses by a little (0: plain least squares).
+    keep : bool
+        Keep the finished curve so that :meth:`finish` can return it; with False only
+        :attr:`on_piece` sees it and memory stays flat however long the take.
+    on_piece : callable or None
+        Called with each finished :class:`Piece`, in time order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 10, 1201)
+    >>> pieces = []
+    >>> sr = StreamReducer(2, 0.01, window=20, on_piece=pieces.append)
+    >>> for ti, xi in zip(t, np.c_[np.sin(t), np.cos(t)]):
+    ...     sr.push(ti, xi)
+    >>> len(pieces) > 0, pieces[-1].end < 10.0          # finished while samples arrive
+    (True, True)
+    >>> r = sr.finish()
+    >>> bool(np.all(r.max_error <= 0.01)), r.n_coefficients < 40
+    (True, True)
+    """
+
+    def __init__(
+        self,
+        dim: int,
+        tol: float | ArrayLike,
+        *,
+        order: int = 4,
+        window: int = 20,
+        constraints: str = "end",
+        end_tol: float = 0.5,
+        reference: str = "samples",
+        max_span: int | None = None,
+        exhaustive_below: int = 32,
+        minimax_iterations: int = 2,
+        keep: bool = True,
+        on_piece: Callable[[Piece], object] | None = None,
+    ) -> None:
+        if isinstance(dim, bool) or not isinstance(dim, (int, np.integer)) or dim < 1:
+            raise ArgumentError("dim", f"must be an integer >= 1, got {dim!r}")
+        self.dim = int(dim)
+        self.tol = check_tolerance(tol, self.dim)
+        self.order = k = check_order(order)
+        self.window = _positive_int("window", window, max(1, k // 2))
+        if constraints not in CONSTRAINTS:
+            raise ArgumentError("constraints", f"must be one of {', '.join(CONSTRAINTS)}, got {constraints!r}")
+        if reference not in REFERENCES:
+            raise ArgumentError("reference", f"must be one of {', '.join(REFERENCES)}, got {reference!r}")
+        if not 0.0 < end_tol <= 1.0:
+            raise ArgumentError("end_tol", f"must be in (0, 1], got {end_tol!r}")
+        self.constraints = constraints
+        self.end_tol = float(end_tol) if constraints.endswith("end") else 1.0
+        self.reference = reference
+        self.max_span = _positive_int("max_span", max(64, 8 * self.window) if max_span is None else max_span, 2)
+        self.exhaustive_below = _positive_int("exhaustive_below", exhaustive_below, 0)
+        self.minimax_iterations = _positive_int("minimax_iterations", minimax_iterations, 0)
+        self.keep = keep
+        self.on_piece = on_piece
+        self.stats = StreamStats()
+        #: Most raw samples ever held: the past context, the window and its tail.
+        self.buffer_bound = k * self.max_span + self.window + 2 * k
+        self._bt = np.empty(self.buffer_bound)
+        self._bx = np.empty((self.buffer_bound, self.dim))
+        self._bn = 0
+        self._origin: float | None = None
+        self._center = np.zeros(self.dim)
+        self._previous: tuple[float, np.ndarray] | None = None
+        self._pushed = 0
+        # Knots from the first that acts on the window (local index k - 1 is the window
+        # start), through the end of the last window; coefficients of the first 2k - 1.
+        self._kt = np.zeros(2 * k - 1)
+        self._kc = np.zeros((2 * k - 1, self.dim))
+        self._pinned = False
+        self._tail: tuple[np.ndarray, np.ndarray] | None = None
+        self._held: tuple[np.ndarray, np.ndarray] | None = None
+        self._max_error = np.zeros(self.dim)
+        self._final_knots: list[np.ndarray] = []
+        self._final_coef: list[np.ndarray] = []
+        self._closed = False
+
+    # -- input -------------------------------------------------------------------------
+
+    def push(self, t: float, x: ArrayLike) -> None:
+        """Add one sample (time in seconds, ``dim`` values).
+
+        Raises :class:`~sketchanim.errors.SampleError` (naming the sample's index in the
+        stream) for a NaN or infinite time or value, or time going backwards; the
+        reducer is unchanged by a bad sample and takes the next one.
+        """
+        self.extend(np.array([t], dtype=float), np.asarray(x, dtype=float).reshape(1, -1))
+
+    def extend(self, times: ArrayLike, values: ArrayLike) -> None:
+        """Add samples ``times`` (n,) and ``values`` (n, dim) in time order.
+
+        If one is bad, the samples before it are taken, then the error is raised
+        (naming its index in the stream); the reducer stays usable.
+        """
+        if self._closed:
+            raise ArgumentError("push", "the stream is finished")
+        t = np.asarray(times, dtype=float).reshape(-1)
+        x = np.asarray(values, dtype=float)
+        if x.ndim == 1 and self.dim == 1:
+            x = x[:, None]
+        if x.ndim != 2 or x.shape != (len(t), self.dim):
+            raise ArgumentError("values", f"needs shape ({len(t)}, {self.dim}), got {x.shape}")
+        keep, error = scan(t, x, offset=self._pushed, previous=self._previous)
+        good = len(keep)
+        if good:
+            self._pushed += good
+            self._previous = (float(t[good - 1]), x[good - 1].copy())
+            self.stats.duplicates_dropped += int(good - np.count_nonzero(keep))
+            self._ingest(t[:good][keep], x[:good][keep])
+        if error is not None:
+            self._pushed += 1
+            raise error
+
+    def _ingest(self, t: np.ndarray, x: np.ndarray) -> None:
+        if not len(t):
+            return
+        if self._origin is None:
+            self._origin = float(t[0])
+            self._center = x[0].copy()
+            self._kt[:] = 0.0
+        t = t - self._origin
+        x = (x - self._center) / self.tol
+        done = 0
+        while done < len(t):
+            take = min(self.buffer_bound - self._bn, len(t) - done)
+            self._bt[self._bn : self._bn + take] = t[done : done + take]
+            self._bx[self._bn : self._bn + take] = x[done : done + take]
+            self._bn += take
+            done += take
+            self.stats.samples += take
+            while self._window_ready():
+                self._run_window(final=False)
+
+    # -- windows -----------------------------------------------------------------------
+
+    def _sample_knots(self) -> tuple[int, int]:
+        """Buffer indices [a, b) of the samples that are knots after the last window.
+
+        As in the paper's initial curve (knots t_3 .. t_n-2 for a cubic), the first
+        ``order // 2`` samples after the start and the last ``order - order // 2`` are
+        not knots: the knots then sit centred on the coefficients they separate, which
+        keeps the window's least squares well conditioned.
+        """
+        k, h = self.order, self.order // 2
+        a = int(np.searchsorted(self._bt[: self._bn], self._kt[-1], side="right"))
+        if not self._pinned:
+            a = h
+        return a, max(a, self._bn - (k - h))
+
+    def _needed(self) -> int:
+        """Sample knots the next window takes (the future context is ``order`` knots)."""
+        k = self.order
+        return max(0, 2 * k + self.window - (len(self._kt) - (k - 1)))
+
+    def _window_ready(self) -> bool:
+        a, b = self._sample_knots()
+        return self._bn - (self.order - self.order // 2) - a >= self._needed()
+
+    def _run_window(self, *, final: bool) -> None:
+        clock = time.perf_counter()
+        k, m = self.order, self.window
+        a, b = self._sample_knots()
+        if not final:
+            b = a + self._needed()
+        f0 = 2 * k - 1 if (self._pinned and self.constraints.startswith("pin")) else k - 1
+        f_back = 2 * k - 1 if self._pinned else f0
+        out = window_kernel.window_step(
+            k, self._kt, self._kc, self._bt, self._bx, self._bn, a, b, m, f0, f_back, self.end_tol, final,
+            self.max_span, self.exhaustive_below, self.minimax_iterations, self.reference == "curve")
+        if out[4] > window_kernel.PASS and self._tail is not None:
+            self.stats.start_misses += 1
+            out = self._restart(a, b, final)
+        knots, coef, removed, fits, start, advance, done, err = out
+        if not final:
+            self._kt = knots[advance : len(knots) - k]
+            self._kc = coef[advance : advance + 2 * k - 1]
+            self._tail = (knots[advance:], coef[advance:])
+            self._pinned = True
+        if done:
+            np.maximum(self._max_error, err * self.tol, out=self._max_error)
+            rest = self._bn - done
+            self._bt[:rest] = self._bt[done : self._bn]
+            self._bx[:rest] = self._bx[done : self._bn]
+            self._bn = rest
+        if advance > 0 and (self.keep or self.on_piece is not None):
+            self._emit(knots, coef, advance, final)
+        self.stats.record(time.perf_counter() - clock, removed, fits)
+
+    def _restart(self, a: int, b: int, final: bool) -> tuple:
+        """The window again, when no fit of it from the held curve stays in tolerance
+        (rare: wild samples right after the last window).
+
+        The last window's curve is kept exactly up to its last knot ``E``, which is
+        raised to multiplicity ``order - 1`` (a C0 join), and the curve after ``E``
+        starts afresh, as at the start of a take, through the samples after it. That
+        start always fits, so the guarantee holds; later windows remove the extra
+        copies of ``E`` where the tolerance allows.
+        """
+        k, h, m = self.order, self.order // 2, self.window
+        tail_knots, tail_coef = self._tail
+        end = self._kt[-1]
+        refined = insert_knots(BSpline(tail_knots, tail_coef, k - 1), [end] * (k - 2))
+        kt = np.asarray(refined.t)[: len(self._kt) + k - 2]
+        kc = np.asarray(refined.c)[: len(kt) - k + 1]
+        last = self._bn - (k - h)                  # the last sample that can be a knot
+        a = min(a - 1 + h, last)
+        b = last if final else max(a + 1, min(b, a + 2 * k + m - (len(kt) - (k - 1))))
+        return window_kernel.window_step(
+            k, np.ascontiguousarray(kt), np.ascontiguousarray(kc), self._bt, self._bx, self._bn, a,
+            min(b, last), m, len(kc), len(kc), self.end_tol, final, self.max_span,
+            self.exhaustive_below, self.minimax_iterations, self.reference == "curve")
+
+    def _emit(self, knots: np.ndarray, coef: np.ndarray, advance: int, final: bool) -> None:
+        """Hand out the ``advance`` window coefficients that just became final (held
+        back while they only close intervals of zero length, such as the clamped start)."""
+        k = self.order
+        stop = k - 1 + advance
+        if self.keep:
+            self._final_knots.append(knots[k - 1 : None if final else stop] + self._origin)
+            self._final_coef.append(coef[k - 1 : stop] * self.tol + self._center)
+        if self.on_piece is None:
+            return
+        piece_knots = knots[: stop + k] + self._origin
+        piece_coef = coef[:stop] * self.tol + self._center
+        if self._held is not None:
+            held_knots, held_coef = self._held
+            piece_knots = np.concatenate([held_knots, piece_knots])
+            piece_coef = np.concatenate([held_coef, piece_coef])
+            self._held = None
+        piece = Piece(piece_knots, piece_coef)
+        if piece.end > piece.start or final:
+            self.on_piece(piece)
+        else:
+            shared = len(piece_coef) - (k - 1)        # the next piece repeats the rest
+            self._held = (piece_knots[:shared], piece_coef[:shared])
+
+    # -- output ------------------------------------------------------------------------
+
+    @property
+    def buffered(self) -> int:
+        """Raw samples held now (at most :attr:`buffer_bound`)."""
+        return self._bn
+
+    @property
+    def max_error(self) -> np.ndarray:
+        """Largest |curve - sample| per channel over the samples finished so far."""
+        return self._max_error.copy()
+
+    def close(self) -> StreamStats:
+        """End the stream: reduce what is left and hand out the last pieces."""
+        if not self._closed:
+            self._closed = True
+            k = self.order
+            n = self.stats.samples
+            if n and n < k:
+                self._close_short()
+            elif n:
+                self._run_window(final=True)
+        return self.stats
+
+    def _close_short(self) -> None:
+        """Fewer samples than the order: the interpolating polynomial, all finished."""
+        k = self.order
+        t = self._bt[: self._bn] + self._origin
+        x = self._bx[: self._bn] * self.tol + self._center
+        if len(t) == 1:
+            t, x = np.r_[t, t + 1.0], np.vstack([x, x])
+        poly = polynomial_through(t, x, k)
+        piece = Piece(np.asarray(poly.t), np.asarray(poly.c))
+        if self.keep:
+            self._final_knots.append(piece.knots)
+            self._final_coef.append(piece.coef)
+        np.maximum(self._max_error, np.abs(poly(t) - x).max(axis=0), out=self._max_error)
+        self._bn = 0
+        if self.on_piece is not None:
+            self.on_piece(piece)
+
+    def finish(self) -> Reduction:
+        """End the stream (see :meth:`close`) and return the whole curve.
+
+        Raises :class:`~sketchanim.errors.ArgumentError` if ``keep`` is False (the
+        curve was only handed out piece by piece) or no sample came.
+        """
+        if not self.keep:
+            raise ArgumentError("keep", "is False: the curve went out piece by piece; call close()")
+        clock = time.perf_counter()
+        self.close()
+        if not self._final_coef:
+            raise ArgumentError("push", "no samples were pushed")
+        knots = np.concatenate(self._final_knots)
+        coef = np.concatenate(self._final_coef)
+        spline = BSpline(knots, coef[:, 0] if self.dim == 1 else coef, self.order - 1)
+        s = self.stats
+        report = {
+            "window": self.window,
+            "constraints": self.constraints,
+            "reference": self.reference,
+            "windows": s.windows,
+            "fits": s.fits,
+            "knots_removed": s.removed,
+            "duplicates_dropped": s.duplicates_dropped,
+            "start_misses": s.start_misses,
+            "max_span": self.max_span,
+        }
+        timings = {
+            "total": s.total_window_seconds + time.perf_counter() - clock,
+            "window_mean": s.total_window_seconds / max(s.windows, 1),
+            "window_p99": s.percentile_ms(99) / 1e3,
+            "window_max": s.max_window_seconds,
+        }
+        return Reduction(spline=spline, tol=self.tol.copy(), max_error=self.max_error, n_samples=s.samples,
+                         method="incremental", timings=timings, report=report)
+
+
+def _positive_int(name: str, value: object, least: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+        raise ArgumentError(name, f"must be an integer >= {least}, got {value!r}")
+    return int(value)

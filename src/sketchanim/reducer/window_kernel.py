@@ -1,0 +1,413 @@
+"""Compiled kernel of the incremental reducer: rank / remove / approximate in one window.
+
+One window of the incremental method (paper, section 2.2) is a small problem: a few
+dozen knots and the samples under them. Done with numpy and scipy calls, the overhead
+of each call (a few microseconds, dozens of calls per fit, several fits per window) is
+what costs, not the arithmetic; so the whole window runs in one function compiled by
+numba. Numba cannot call scipy's ``BSpline``, so the kernel carries its own basis
+evaluation (de Boor's triangle, tested against ``BSpline.design_matrix``) and a banded
+Cholesky solve of the normal equations (tested against ``scipy.linalg.solveh_banded``).
+
+Conventions of every function here: ``T`` is a local knot vector whose coefficient ``i``
+belongs to the B-spline on ``T[i] .. T[i + k]``; values ``xs`` are already divided by
+the tolerance, so every error is in tolerances and passes at :data:`PASS`; ``lim`` is a
+per-sample factor on the tolerance (1, or less where the window keeps slack).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from sketchanim.reducer.approximate import PASS
+
+#: Lawson re-weighting only starts when a fit misses by at most this (in tolerances).
+MINIMAX_REACH = 1.5
+
+
+@njit(cache=True, error_model="numpy")
+def basis_values(T: np.ndarray, k: int, span: int, x: float, out: np.ndarray, scratch: np.ndarray) -> None:
+    """Values at ``x`` of the ``k`` B-splines ``span - k + 1 .. span`` (``T[span] <= x <
+    T[span + 1]``), written to ``out``; ``scratch`` is (2, k) workspace."""
+    left = scratch[0]
+    right = scratch[1]
+    out[0] = 1.0
+    for j in range(1, k):
+        left[j] = x - T[span + 1 - j]
+        right[j] = T[span + j] - x
+        saved = 0.0
+        for r in range(j):
+            temp = out[r] / (right[r + 1] + left[j - r])
+            out[r] = saved + right[r + 1] * temp
+            saved = left[j - r] * temp
+        out[j] = saved
+
+
+@njit(cache=True, error_model="numpy")
+def design(T: np.ndarray, k: int, ts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Spans and basis values of sorted times ``ts`` on ``T`` (clamped at both ends):
+    ``first[s]`` is the index of the first non-zero B-spline at ``ts[s]`` and
+    ``rows[s]`` the ``k`` values from there."""
+    n = len(ts)
+    rows = np.empty((n, k))
+    first = np.empty(n, dtype=np.int64)
+    scratch = np.empty((2, k))
+    last_span = len(T) - k - 1
+    span = k - 1
+    for s in range(n):
+        while span < last_span and T[span + 1] <= ts[s]:
+            span += 1
+        basis_values(T, k, span, ts[s], rows[s], scratch)
+        first[s] = span - k + 1
+    return first, rows
+
+
+@njit(cache=True, error_model="numpy")
+def solve_banded_spd(band: np.ndarray, rhs: np.ndarray) -> bool:
+    """Solve ``M x = rhs`` in place for symmetric positive definite ``M`` of bandwidth
+    ``k`` held as ``band[i, i - j] = M[i, j]`` (``0 <= i - j < k``); ``band`` becomes its
+    Cholesky factor. False if ``M`` is not numerically positive definite."""
+    n, k = band.shape
+    for i in range(n):
+        for j in range(max(0, i - k + 1), i + 1):
+            s = band[i, i - j]
+            for m in range(max(0, i - k + 1), j):
+                s -= band[i, i - m] * band[j, j - m]
+            if i == j:
+                if not s > 1e-12 * band[i, 0]:    # band[i, 0] still holds M[i, i]
+                    return False
+                band[i, 0] = np.sqrt(s)
+            else:
+                band[i, i - j] = s / band[j, 0]
+    d = rhs.shape[1]
+    for i in range(n):
+        for c in range(d):
+            s = rhs[i, c]
+            for m in range(max(0, i - k + 1), i):
+                s -= band[i, i - m] * rhs[m, c]
+            rhs[i, c] = s / band[i, 0]
+    for i in range(n - 1, -1, -1):
+        for c in range(d):
+            s = rhs[i, c]
+            for m in range(i + 1, min(n, i + k)):
+                s -= band[m, m - i] * rhs[m, c]
+            rhs[i, c] = s / band[i, 0]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np.ndarray,
+        lim: np.ndarray, weights: np.ndarray, resid: np.ndarray) -> float:
+    """Least-squares fit of ``coef[f0:]`` to the samples with ``coef[:f0]`` held.
+
+    Writes the coefficients into ``coef`` and each sample's largest channel error,
+    divided by its ``lim``, into ``resid``; returns the largest such ratio (``inf`` when
+    the free coefficients are not determined by the samples)."""
+    first, rows = design(T, k, ts)
+    nc = len(T) - k
+    nu = nc - f0
+    d = xs.shape[1]
+    band = np.zeros((nu, k))
+    rhs = np.zeros((nu, d))
+    target = np.empty(d)
+    for s in range(len(ts)):
+        f = first[s]
+        for c in range(d):
+            target[c] = xs[s, c]
+        for r in range(k):
+            if f + r < f0:
+                for c in range(d):
+                    target[c] -= rows[s, r] * coef[f + r, c]
+        w = weights[s]
+        for r in range(k):
+            a = f + r - f0
+            if a < 0:
+                continue
+            wb = w * rows[s, r]
+            for c in range(d):
+                rhs[a, c] += wb * target[c]
+            for q in range(max(0, f0 - f), r + 1):
+                band[a, r - q] += wb * rows[s, q]
+    if nu > 0:
+        if not solve_banded_spd(band, rhs):
+            return np.inf
+        for i in range(nu):
+            for c in range(d):
+                coef[f0 + i, c] = rhs[i, c]
+    worst = 0.0
+    for s in range(len(ts)):
+        e = 0.0
+        f = first[s]
+        for c in range(d):
+            v = 0.0
+            for r in range(k):
+                v += rows[s, r] * coef[f + r, c]
+            e = max(e, abs(v - xs[s, c]))
+        resid[s] = e / lim[s]
+        worst = max(worst, resid[s])
+    return worst
+
+
+@njit(cache=True, error_model="numpy")
+def fit_minimax(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np.ndarray,
+                lim: np.ndarray, iterations: int) -> float:
+    """:func:`fit`, then up to ``iterations`` Lawson re-weightings while it misses by a
+    little (towards the minimax fit); ``coef`` ends as the best fit found."""
+    n = len(ts)
+    weights = np.ones(n)
+    resid = np.empty(n)
+    best = fit(T, k, coef, f0, ts, xs, lim, weights, resid)
+    if best <= PASS or iterations == 0 or best > MINIMAX_REACH:
+        return best
+    kept = coef.copy()
+    for _ in range(iterations):
+        err = best if best < np.inf else 1.0
+        total = 0.0
+        for s in range(n):
+            weights[s] *= max(resid[s], 1e-3 * err)
+            total += weights[s]
+        weights *= n / total
+        e = fit(T, k, coef, f0, ts, xs, lim, weights, resid)
+        if e < best:
+            best = e
+            kept[:] = coef
+        if best <= PASS:
+            break
+    coef[:] = kept
+    return best
+
+
+@njit(cache=True, error_model="numpy")
+def removal_weight(T: np.ndarray, k: int, coef: np.ndarray, j: int) -> float:
+    """Lyche-Morken weight of knot ``T[j]`` (see :mod:`.rank`, whose closed form this is)."""
+    a = np.ones(k)
+    b = np.ones(k)
+    for m in range(1, k):
+        i = j - k + m
+        span = T[i + k] - T[i]
+        alpha = (T[j] - T[i]) / span if span > 0 else 1.0
+        a[m] = alpha
+        b[m - 1] = 1.0 - alpha
+    v = np.empty(k + 1)
+    for r in range(k + 1):
+        p = -1.0 if r % 2 else 1.0
+        for m in range(r):
+            p *= a[m]
+        for m in range(r, k):
+            p *= b[m]
+        v[r] = p
+    norm2 = 0.0
+    vmax = 0.0
+    for r in range(k + 1):
+        norm2 += v[r] * v[r]
+        vmax = max(vmax, abs(v[r]))
+    if norm2 == 0.0:
+        return np.inf
+    proj = 0.0
+    for c in range(coef.shape[1]):
+        s = 0.0
+        for r in range(k + 1):
+            s += v[r] * coef[j - k + r, c]
+        proj = max(proj, abs(s))
+    return vmax * proj / norm2
+
+
+@njit(cache=True, error_model="numpy")
+def _admissible_order(T: np.ndarray, k: int, coef: np.ndarray, f0: int, cand: np.ndarray, counts: np.ndarray,
+                      max_span: int) -> np.ndarray:
+    """Candidate knots by increasing weight, leaving out any whose removal together with
+    the lighter ones before it would put more than ``max_span`` samples between two
+    remaining knots, and no more than leave the ``f0`` held coefficients. A prefix of
+    the result is the set "remove the j lightest"."""
+    idx = np.flatnonzero(cand)
+    w = np.empty(len(idx))
+    for q in range(len(idx)):
+        w[q] = removal_weight(T, k, coef, idx[q])
+    order = idx[np.argsort(w, kind="mergesort")]
+    removed = np.zeros(len(T), dtype=np.bool_)
+    out = np.empty(len(order), dtype=np.int64)
+    n = 0
+    for j in order:
+        # Knot j joins intervals j-1 and j, and any removed neighbours' runs.
+        total = counts[j - 1] + counts[j]
+        lo = j - 1
+        while removed[lo]:
+            lo -= 1
+            total += counts[lo]
+        hi = j + 1
+        while removed[hi]:
+            total += counts[hi]
+            hi += 1
+        if total <= max_span:
+            removed[j] = True
+            out[n] = j
+            n += 1
+    return out[: max(0, min(n, len(T) - k - f0))]
+
+
+@njit(cache=True, error_model="numpy")
+def _without(T: np.ndarray, k: int, coef: np.ndarray, f0: int, drop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Knot vector without the knots ``drop``, and a coefficient array holding the first
+    ``f0`` coefficients (those are unchanged by removing knots at index >= f0 + k)."""
+    keep = np.ones(len(T), dtype=np.bool_)
+    keep[drop] = False
+    T2 = T[keep]
+    c2 = np.zeros((len(T2) - k, coef.shape[1]))
+    c2[:f0] = coef[:f0]
+    return T2, c2
+
+
+@njit(cache=True, error_model="numpy")
+def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int, ts: np.ndarray,
+                  xs: np.ndarray, lim: np.ndarray, cand_lo: int, cand_hi: int, max_span: int,
+                  exhaustive_below: int, minimax_iterations: int, reference_curve: bool):
+    """Remove as many of the knots ``T[cand_lo:cand_hi]`` as the tolerance allows.
+
+    ``coef[:f0]`` is held (the curve left of the window, and pinned coefficients);
+    ``coef[f0:f_back]`` holds the previous window's values, used as held coefficients
+    only if no fit of the window from ``f0`` stays within tolerance. Rounds of: rank
+    the remaining candidates on the current fit; find the largest count ``j`` whose
+    ``j`` lightest knots can go (every count below ``exhaustive_below`` candidates, else
+    bisection); if none, try the knots one by one; stop when a round removes nothing.
+    Every accepted fit keeps every sample within ``lim`` tolerances.
+
+    With ``reference_curve`` (the paper's own check) fits and checks are against the
+    window's starting curve at the sample times instead of the samples.
+
+    Returns ``(T, coef, removed, fits, start_error)``: the reduced knots and fit, the
+    number of knots removed, the number of least-squares fits, and the starting
+    curve's error (> ``PASS`` means even the window's starting curve misses).
+    """
+    n = len(ts)
+    fits = 0
+    c = coef.copy()
+    start = fit_minimax(T, k, c, f0, ts, xs, lim, minimax_iterations)
+    fits += 1
+    if start > PASS and f_back > f0:
+        c2 = coef.copy()
+        back = fit_minimax(T, k, c2, f_back, ts, xs, lim, minimax_iterations)
+        fits += 1
+        if back < start:
+            start = back
+            c = c2
+    target = xs
+    if reference_curve:
+        first, rows = design(T, k, ts)
+        target = np.zeros_like(xs)
+        for s in range(n):
+            for r in range(k):
+                target[s] += rows[s, r] * c[first[s] + r]
+    cand = np.zeros(len(T), dtype=np.bool_)
+    cand[cand_lo:cand_hi] = True
+    removed = 0
+    if start > PASS:
+        return T, c, removed, fits, start
+    while cand.any():
+        counts = np.zeros(len(T), dtype=np.int64)
+        span = k - 1
+        for s in range(n):
+            while span < len(T) - k - 1 and T[span + 1] <= ts[s]:
+                span += 1
+            counts[span] += 1
+        order = _admissible_order(T, k, c, f0, cand, counts, max_span)
+        best_j = 0
+        best_T = T
+        best_c = c
+        # Largest j in [1, len(order)] whose j lightest knots can go.
+        lo, hi = 0, len(order)
+        exhaustive = np.sum(cand) < exhaustive_below
+        while hi > lo:
+            j = hi if exhaustive else (lo + hi + 1) // 2
+            T2, c2 = _without(T, k, c, f0, order[:j])
+            fits += 1
+            if fit_minimax(T2, k, c2, f0, ts, target, lim, minimax_iterations) <= PASS:
+                best_j, best_T, best_c = j, T2, c2
+                lo = j
+                if exhaustive:
+                    break
+            else:
+                hi = j - 1
+        if best_j == 0:
+            for q in range(1, len(order)):
+                T2, c2 = _without(T, k, c, f0, order[q:q + 1])
+                fits += 1
+                if fit_minimax(T2, k, c2, f0, ts, target, lim, 0) <= PASS:
+                    best_j, best_T, best_c = 1, T2, c2
+                    order = order[q:q + 1]
+                    break
+        if best_j == 0:
+            break
+        keep = np.ones(len(T), dtype=np.bool_)
+        keep[order[:best_j]] = False
+        cand = cand[keep]
+        T, c = best_T, best_c
+        removed += best_j
+    return T, c, removed, fits, start
+
+
+@njit(cache=True, error_model="numpy")
+def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarray) -> np.ndarray:
+    """|curve - sample| per sample and channel, shape (n, d)."""
+    first, rows = design(T, k, ts)
+    out = np.empty_like(xs)
+    for s in range(len(ts)):
+        for c in range(xs.shape[1]):
+            v = 0.0
+            for r in range(k):
+                v += rows[s, r] * coef[first[s] + r, c]
+            out[s, c] = abs(v - xs[s, c])
+    return out
+
+
+
+@njit(cache=True, error_model="numpy")
+def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.ndarray, bn: int, a: int,
+                b: int, m: int, f0: int, f_back: int, end_tol: float, final: bool, max_span: int,
+                exhaustive_below: int, minimax_iterations: int, reference_curve: bool):
+    """One window of the stream, from the held state to the next.
+
+    ``kt`` are the knots from the first that acts on the window through the end of
+    the last window, ``kc`` the coefficients of their first ``2k - 1`` B-splines, and
+    ``bt[:bn]``, ``bx[:bn]`` the held samples (scaled), of which ``a .. b - 1`` become
+    knots. A window takes the ``m`` knots after the past context as candidates; a
+    final one takes all of them and ends the curve at the last sample.
+
+    Returns ``(knots, coef, removed, fits, start_error, advance, done, max_error)``:
+    the window's reduced knots and coefficients (clamped at the last sample used), the
+    knots removed, the fits made, the starting curve's error, how many window
+    coefficients became final, how many held samples are finished (the first
+    ``done``), and their largest error per channel.
+    """
+    h = k // 2
+    used = b + k - h
+    nk = len(kt)
+    knots = np.empty(nk + (b - a) + k)
+    knots[:nk] = kt
+    knots[nk : nk + b - a] = bt[a:b]
+    knots[nk + b - a :] = bt[used - 1]
+    coef = np.zeros((len(knots) - k, bx.shape[1]))
+    coef[: len(kc)] = kc
+    cand_lo = 2 * k - 1
+    cand_hi = len(knots) - k if final else cand_lo + m
+    ts = bt[:used]
+    xs = bx[:used]
+    lim = np.ones(used)
+    if not final and end_tol < 1.0:
+        for s in range(used):
+            if ts[s] >= knots[cand_hi]:
+                lim[s] = end_tol
+    knots, coef, removed, fits, start = reduce_window(
+        knots, k, coef, f0, f_back, ts, xs, lim, cand_lo, cand_hi, max_span, exhaustive_below,
+        minimax_iterations, reference_curve)
+    if final:
+        advance = len(coef) - (k - 1)
+        done = bn
+    else:
+        advance = cand_hi - cand_lo - removed
+        done = np.searchsorted(bt[:bn], knots[advance + k - 1])
+    max_error = np.zeros(bx.shape[1])
+    if done > 0:
+        err = errors(knots, k, coef, bt[:done], bx[:done])
+        for c in range(bx.shape[1]):
+            max_error[c] = err[:, c].max()
+    return knots, coef, removed, fits, start, advance, done, max_error
