@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
-from sketchanim.reducer.conditioning import Samples, check_order, condition
+from sketchanim.reducer.conditioning import Samples, check_count, check_order, condition
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.starts import interpolant, polynomial_through
@@ -118,19 +118,18 @@ def reduce(
         raise ArgumentError("split", f"must be in [0, 1), got {split!r}")
     for name, value, least in (("minimax_iterations", minimax_iterations, 0), ("exhaustive_below", exhaustive_below, 0),
                                ("coarse_samples", 2 * order if coarse_samples is None else coarse_samples, 2 * order)):
-        if isinstance(value, bool) or not isinstance(value, int) or value < least:
-            raise ArgumentError(name, f"must be an integer >= {least}, got {value!r}")
+        check_count(name, value, least)
     samples = condition(times, values, tol)
-    report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped, "start": start}
+    report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped}
+    if method != "incremental":
+        report["start"] = start
     if method == "incremental":
         stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints)
         stream.extend(samples.times, samples.values)
         streamed = stream.finish()
         spline = BSpline(streamed.spline.t, np.asarray(streamed.spline.c).reshape(-1, samples.dim),
                          streamed.spline.k)
-        report.update(streamed.report)
-        report.pop("duplicates_dropped")
-        del report["start"]
+        report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
     elif samples.n < order:
         spline = polynomial_through(samples.times, samples.values, order)
         report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"

@@ -60,6 +60,17 @@ def check_order(order: object) -> int:
     return int(order)
 
 
+def check_count(name: str, value: object, least: int) -> int:
+    """Return ``value`` as an int >= ``least``, or raise :class:`ArgumentError` naming ``name``.
+
+    >>> check_count("window", 20, 1)
+    20
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+        raise ArgumentError(name, f"must be an integer >= {least}, got {value!r}")
+    return int(value)
+
+
 def check_tolerance(tol: ArrayLike, dim: int) -> np.ndarray:
     """Broadcast ``tol`` to shape (dim,) and check every entry is finite and positive.
 

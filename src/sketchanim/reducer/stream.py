@@ -27,7 +27,7 @@ from scipy.interpolate import BSpline
 
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer import window_kernel
-from sketchanim.reducer.conditioning import check_order, check_tolerance, scan
+from sketchanim.reducer.conditioning import check_count, check_order, check_tolerance, scan
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.starts import polynomial_through
 from sketchanim.spline import insert_knots
@@ -91,8 +91,8 @@ class StreamStats:
     start_misses: int = 0
     max_window_seconds: float = 0.0
     total_window_seconds: float = 0.0
-    _seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    _removed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+    _seconds: np.ndarray = field(init=False, repr=False)
+    _removed: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         self._seconds = np.zeros(self.history)
@@ -109,23 +109,22 @@ class StreamStats:
         self.total_window_seconds += seconds
         self.max_window_seconds = max(self.max_window_seconds, seconds)
 
+    def _recent(self, ring: np.ndarray) -> np.ndarray:
+        """The filled part of a ring of per-window values, oldest first."""
+        if self.windows <= self.history:
+            return ring[: self.windows].copy()
+        slot = self.windows % self.history
+        return np.r_[ring[slot:], ring[:slot]]
+
     @property
     def window_seconds(self) -> np.ndarray:
         """Wall time of the recent windows, oldest first."""
-        n = min(self.windows, self.history)
-        if self.windows <= self.history:
-            return self._seconds[:n].copy()
-        slot = self.windows % self.history
-        return np.r_[self._seconds[slot:], self._seconds[:slot]]
+        return self._recent(self._seconds)
 
     @property
     def removed_per_window(self) -> np.ndarray:
         """Knots removed by each of the recent windows, oldest first."""
-        n = min(self.windows, self.history)
-        if self.windows <= self.history:
-            return self._removed[:n].copy()
-        slot = self.windows % self.history
-        return np.r_[self._removed[slot:], self._removed[:slot]]
+        return self._recent(self._removed)
 
     def percentile_ms(self, q: float) -> float:
         """Percentile ``q`` (0-100) of the recent windows' wall time, in milliseconds."""
@@ -206,12 +205,10 @@ class StreamReducer:
         keep: bool = True,
         on_piece: Callable[[Piece], object] | None = None,
     ) -> None:
-        if isinstance(dim, bool) or not isinstance(dim, (int, np.integer)) or dim < 1:
-            raise ArgumentError("dim", f"must be an integer >= 1, got {dim!r}")
-        self.dim = int(dim)
+        self.dim = check_count("dim", dim, 1)
         self.tol = check_tolerance(tol, self.dim)
         self.order = k = check_order(order)
-        self.window = _positive_int("window", window, max(1, k // 2))
+        self.window = check_count("window", window, max(1, k // 2))
         if constraints not in CONSTRAINTS:
             raise ArgumentError("constraints", f"must be one of {', '.join(CONSTRAINTS)}, got {constraints!r}")
         if reference not in REFERENCES:
@@ -221,9 +218,9 @@ class StreamReducer:
         self.constraints = constraints
         self.end_tol = float(end_tol) if constraints.endswith("end") else 1.0
         self.reference = reference
-        self.max_span = _positive_int("max_span", max(64, 8 * self.window) if max_span is None else max_span, 2)
-        self.exhaustive_below = _positive_int("exhaustive_below", exhaustive_below, 0)
-        self.minimax_iterations = _positive_int("minimax_iterations", minimax_iterations, 0)
+        self.max_span = check_count("max_span", max(64, 8 * self.window) if max_span is None else max_span, 2)
+        self.exhaustive_below = check_count("exhaustive_below", exhaustive_below, 0)
+        self.minimax_iterations = check_count("minimax_iterations", minimax_iterations, 0)
         self.keep = keep
         self.on_piece = on_piece
         self.stats = StreamStats()
@@ -290,7 +287,6 @@ class StreamReducer:
         if self._origin is None:
             self._origin = float(t[0])
             self._center = x[0].copy()
-            self._kt[:] = 0.0
         t = t - self._origin
         x = (x - self._center) / self.tol
         done = 0
@@ -484,8 +480,3 @@ class StreamReducer:
         return Reduction(spline=spline, tol=self.tol.copy(), max_error=self.max_error, n_samples=s.samples,
                          method="incremental", timings=timings, report=report)
 
-
-def _positive_int(name: str, value: object, least: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
-        raise ArgumentError(name, f"must be an integer >= {least}, got {value!r}")
-    return int(value)

@@ -63,6 +63,17 @@ def design(T: np.ndarray, k: int, ts: np.ndarray) -> tuple[np.ndarray, np.ndarra
 
 
 @njit(cache=True, error_model="numpy")
+def evaluate(first: np.ndarray, rows: np.ndarray, coef: np.ndarray) -> np.ndarray:
+    """The curve at the samples of :func:`design`'s ``first`` and ``rows``, shape (n, d)."""
+    out = np.zeros((len(first), coef.shape[1]))
+    for s in range(len(first)):
+        for r in range(rows.shape[1]):
+            for c in range(coef.shape[1]):
+                out[s, c] += rows[s, r] * coef[first[s] + r, c]
+    return out
+
+
+@njit(cache=True, error_model="numpy")
 def solve_banded_spd(band: np.ndarray, rhs: np.ndarray) -> bool:
     """Solve ``M x = rhs`` in place for symmetric positive definite ``M`` of bandwidth
     ``k`` held as ``band[i, i - j] = M[i, j]`` (``0 <= i - j < k``); ``band`` becomes its
@@ -134,15 +145,12 @@ def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np
         for i in range(nu):
             for c in range(d):
                 coef[f0 + i, c] = rhs[i, c]
+    values = evaluate(first, rows, coef)
     worst = 0.0
     for s in range(len(ts)):
         e = 0.0
-        f = first[s]
         for c in range(d):
-            v = 0.0
-            for r in range(k):
-                v += rows[s, r] * coef[f + r, c]
-            e = max(e, abs(v - xs[s, c]))
+            e = max(e, abs(values[s, c] - xs[s, c]))
         resid[s] = e / lim[s]
         worst = max(worst, resid[s])
     return worst
@@ -293,10 +301,7 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     target = xs
     if reference_curve:
         first, rows = design(T, k, ts)
-        target = np.zeros_like(xs)
-        for s in range(n):
-            for r in range(k):
-                target[s] += rows[s, r] * c[first[s] + r]
+        target = evaluate(first, rows, c)
     cand = np.zeros(len(T), dtype=np.bool_)
     cand[cand_lo:cand_hi] = True
     removed = 0
@@ -349,15 +354,7 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
 def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarray) -> np.ndarray:
     """|curve - sample| per sample and channel, shape (n, d)."""
     first, rows = design(T, k, ts)
-    out = np.empty_like(xs)
-    for s in range(len(ts)):
-        for c in range(xs.shape[1]):
-            v = 0.0
-            for r in range(k):
-                v += rows[s, r] * coef[first[s] + r, c]
-            out[s, c] = abs(v - xs[s, c])
-    return out
-
+    return np.abs(evaluate(first, rows, coef) - xs)
 
 
 @njit(cache=True, error_model="numpy")
