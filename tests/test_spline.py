@@ -75,6 +75,12 @@ def test_insertion_matrix_rejects_knots_that_are_not_nested():
         insertion_matrix([0, 0, 0.5, 1, 1], [0, 0, 0.4, 1, 1], 2)
 
 
+def test_insertion_matrix_refuses_unclamped_knots():
+    # A piece cut from the middle of a curve: the Oslo rows near its ends are undefined.
+    with pytest.raises(ArgumentError, match="old_knots.*clamped"):
+        insertion_matrix([0, 1, 2, 3, 4, 5, 6, 7], [0, 1, 2, 3, 3.5, 4, 5, 6, 7], 4)
+
+
 @given(splines(), st.integers(1, 3))
 def test_degree_elevation_keeps_the_curve(spline, times):
     up = elevate_degree(spline, times)

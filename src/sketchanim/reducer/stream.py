@@ -23,14 +23,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.interpolate import BSpline
+from scipy.interpolate import BSpline, insert
 
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer import window_kernel
 from sketchanim.reducer.conditioning import check_count, check_order, check_tolerance, scan
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.starts import polynomial_through
-from sketchanim.spline import insert_knots
 
 #: Window constraint variants of the paper's figures 1 and 2.
 CONSTRAINTS = ("end", "none", "pin", "pin+end")
@@ -46,8 +45,8 @@ class Piece:
     knots : ndarray, shape (n + order,)
     coef : ndarray, shape (n, d)
         B-spline coefficients in the caller's units. The piece is the spline they
-        define, on ``[start, end]``; consecutive pieces share ``order - 1``
-        coefficients and join with the curve's continuity.
+        define, on ``[start, end]``; consecutive pieces share their coefficients
+        that act on both and join with the curve's continuity at the shared time.
     """
 
     knots: np.ndarray
@@ -72,6 +71,17 @@ class Piece:
     def spline(self) -> BSpline:
         """The piece as a scipy spline, valid on ``[start, end]``."""
         return BSpline(self.knots, self.coef, self.order - 1)
+
+    def trimmed(self) -> Piece:
+        """The same piece without trailing coefficients that act only after ``end``.
+
+        A piece that ends at a repeated knot (a C0 join) would otherwise end on an
+        interval of zero length, where a spline evaluator finds no curve.
+        """
+        k, n = self.order, len(self.coef)
+        while n > k and self.knots[n - 1] == self.knots[n]:
+            n -= 1
+        return Piece(self.knots[: n + k], self.coef[:n])
 
 
 @dataclass
@@ -368,8 +378,11 @@ class StreamReducer:
         k, h, m = self.order, self.order // 2, self.window
         tail_knots, tail_coef = self._tail
         end = self._kt[-1]
-        refined = insert_knots(BSpline(tail_knots, tail_coef, k - 1), [end] * (k - 2))
-        kt = np.asarray(refined.t)[: len(self._kt) + k - 2]
+        missing = k - 1 - int(np.count_nonzero(self._kt == end))
+        refined = BSpline(tail_knots, tail_coef, k - 1)
+        if missing > 0:
+            refined = insert(end, refined, m=missing)
+        kt = np.asarray(refined.t)[: len(self._kt) + max(missing, 0)]
         kc = np.asarray(refined.c)[: len(kt) - k + 1]
         last = self._bn - (k - h)                  # the last sample that can be a knot
         a = min(a - 1 + h, last)
@@ -398,7 +411,7 @@ class StreamReducer:
             self._held = None
         piece = Piece(piece_knots, piece_coef)
         if piece.end > piece.start or final:
-            self.on_piece(piece)
+            self.on_piece(piece.trimmed())
         else:
             shared = len(piece_coef) - (k - 1)        # the next piece repeats the rest
             self._held = (piece_knots[:shared], piece_coef[:shared])

@@ -14,7 +14,11 @@ from scipy.sparse import csr_array
 from sketchanim.errors import ArgumentError
 
 
-def _check_nested(coarse: np.ndarray, fine: np.ndarray) -> None:
+def _check_nested(coarse: np.ndarray, fine: np.ndarray, order: int) -> None:
+    for name, knots in (("old_knots", coarse), ("new_knots", fine)):
+        if len(knots) < 2 * order or knots[0] != knots[order - 1] or knots[-order] != knots[-1]:
+            raise ArgumentError(name, f"must be clamped (first and last {order} knots equal); "
+                                      "scipy.interpolate.insert refines other knot vectors")
     values, counts = np.unique(coarse, return_counts=True)
     fine_counts = np.searchsorted(fine, values, side="right") - np.searchsorted(fine, values, side="left")
     short = np.flatnonzero(fine_counts < counts)
@@ -34,8 +38,9 @@ def insertion_matrix(old_knots: ArrayLike, new_knots: ArrayLike, order: int) -> 
     Parameters
     ----------
     old_knots, new_knots : array_like
-        Non-decreasing knot vectors; ``new_knots`` contains every knot of ``old_knots``
-        with at least its multiplicity, and the same end knots.
+        Non-decreasing clamped knot vectors (first and last ``order`` knots equal);
+        ``new_knots`` contains every knot of ``old_knots`` with at least its
+        multiplicity, and the same end knots.
     order : int
         Spline order (degree + 1).
 
@@ -54,7 +59,7 @@ def insertion_matrix(old_knots: ArrayLike, new_knots: ArrayLike, order: int) -> 
     tau = np.asarray(old_knots, dtype=float)
     t = np.asarray(new_knots, dtype=float)
     k = order
-    _check_nested(tau, t)
+    _check_nested(tau, t, k)
     n_old = len(tau) - k
     n_new = len(t) - k
     rows = np.arange(n_new)
