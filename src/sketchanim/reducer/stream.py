@@ -211,7 +211,7 @@ class StreamReducer:
         reference: str = "samples",
         max_span: int | None = None,
         exhaustive_below: int = 32,
-        minimax_iterations: int = 2,
+        minimax_iterations: int = 1,
         keep: bool = True,
         on_piece: Callable[[Piece], object] | None = None,
     ) -> None:
@@ -228,6 +228,7 @@ class StreamReducer:
         self.constraints = constraints
         self.end_tol = float(end_tol) if constraints.endswith("end") else 1.0
         self.reference = reference
+        self._curve_reference = reference == "curve"
         self.max_span = check_count("max_span", max(64, 8 * self.window) if max_span is None else max_span, 2)
         self.exhaustive_below = check_count("exhaustive_below", exhaustive_below, 0)
         self.minimax_iterations = check_count("minimax_iterations", minimax_iterations, 0)
@@ -236,8 +237,14 @@ class StreamReducer:
         self.stats = StreamStats()
         #: Most raw samples ever held: the past context, the window and its tail.
         self.buffer_bound = k * self.max_span + self.window + 2 * k
-        self._bt = np.empty(self.buffer_bound)
-        self._bx = np.empty((self.buffer_bound, self.dim))
+        # The held samples are the first _bn of the views _bt, _bx, which slide along
+        # a store of twice the bound, so dropping finished samples copies nothing
+        # until the views reach the store's end.
+        self._store_t = np.empty(2 * self.buffer_bound)
+        self._store_x = np.empty((2 * self.buffer_bound, self.dim))
+        self._b0 = 0
+        self._bt = self._store_t[: self.buffer_bound]
+        self._bx = self._store_x[: self.buffer_bound]
         self._bn = 0
         self._origin: float | None = None
         self._center = np.zeros(self.dim)
@@ -248,6 +255,13 @@ class StreamReducer:
         self._kt = np.zeros(2 * k - 1)
         self._kc = np.zeros((2 * k - 1, self.dim))
         self._pinned = False
+        # Buffer index of the first sample that is not a knot yet. As in the paper's
+        # initial curve (knots t_3 .. t_n-2 for a cubic), the first ``order // 2``
+        # samples of the take and the last ``order - order // 2`` held are not knots:
+        # the knots then sit centred on the coefficients they separate, which keeps the
+        # window's least squares well conditioned.
+        self._next_knot = k // 2
+        self._free_tail = k - k // 2                # the last held samples not yet knots
         self._tail: tuple[np.ndarray, np.ndarray] | None = None
         self._held: tuple[np.ndarray, np.ndarray] | None = None
         self._max_error = np.zeros(self.dim)
@@ -307,63 +321,59 @@ class StreamReducer:
             self._bn += take
             done += take
             self.stats.samples += take
-            while self._window_ready():
+            while self._bn - self._free_tail - self._next_knot >= self._needed():
                 self._run_window(final=False)
 
     # -- windows -----------------------------------------------------------------------
-
-    def _sample_knots(self) -> tuple[int, int]:
-        """Buffer indices [a, b) of the samples that are knots after the last window.
-
-        As in the paper's initial curve (knots t_3 .. t_n-2 for a cubic), the first
-        ``order // 2`` samples after the start and the last ``order - order // 2`` are
-        not knots: the knots then sit centred on the coefficients they separate, which
-        keeps the window's least squares well conditioned.
-        """
-        k, h = self.order, self.order // 2
-        a = int(np.searchsorted(self._bt[: self._bn], self._kt[-1], side="right"))
-        if not self._pinned:
-            a = h
-        return a, max(a, self._bn - (k - h))
 
     def _needed(self) -> int:
         """Sample knots the next window takes (the future context is ``order`` knots)."""
         k = self.order
         return max(0, 2 * k + self.window - (len(self._kt) - (k - 1)))
 
-    def _window_ready(self) -> bool:
-        a, b = self._sample_knots()
-        return self._bn - (self.order - self.order // 2) - a >= self._needed()
-
     def _run_window(self, *, final: bool) -> None:
         clock = time.perf_counter()
         k, m = self.order, self.window
-        a, b = self._sample_knots()
-        if not final:
-            b = a + self._needed()
+        a = self._next_knot
+        b = max(a, self._bn - self._free_tail) if final else a + self._needed()
         f0 = 2 * k - 1 if (self._pinned and self.constraints.startswith("pin")) else k - 1
         f_back = 2 * k - 1 if self._pinned else f0
         out = window_kernel.window_step(
             k, self._kt, self._kc, self._bt, self._bx, self._bn, a, b, m, f0, f_back, self.end_tol, final,
-            self.max_span, self.exhaustive_below, self.minimax_iterations, self.reference == "curve")
-        if out[4] > window_kernel.PASS and self._tail is not None:
+            self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
+            self._origin, self.tol, self._center)
+        restarted = out[4] > window_kernel.PASS and self._tail is not None
+        if restarted:
             self.stats.start_misses += 1
             out = self._restart(a, b, final)
-        knots, coef, removed, fits, start, advance, done, err = out
+        knots, coef, removed, fits, start, advance, done, err, piece_knots, piece_coef = out
         if not final:
             self._kt = knots[advance : len(knots) - k]
             self._kc = coef[advance : advance + 2 * k - 1]
             self._tail = (knots[advance:], coef[advance:])
             self._pinned = True
+            # The window's last knot is its last sample knot.
+            self._next_knot = int(np.searchsorted(self._bt[: self._bn], self._kt[-1], side="right")) \
+                if restarted else b
         if done:
-            np.maximum(self._max_error, err * self.tol, out=self._max_error)
-            rest = self._bn - done
-            self._bt[:rest] = self._bt[done : self._bn]
-            self._bx[:rest] = self._bx[done : self._bn]
-            self._bn = rest
+            np.maximum(self._max_error, err, out=self._max_error)
+            self._drop(done)
+            self._next_knot -= done
         if advance > 0 and (self.keep or self.on_piece is not None):
-            self._emit(knots, coef, advance, final)
+            self._emit(piece_knots, piece_coef, final)
         self.stats.record(time.perf_counter() - clock, removed, fits)
+
+    def _drop(self, done: int) -> None:
+        """Forget the first ``done`` held samples (they are finished)."""
+        self._bn -= done
+        self._b0 += done
+        if self._b0 > self.buffer_bound:
+            live = slice(self._b0, self._b0 + self._bn)
+            self._store_t[: self._bn] = self._store_t[live]
+            self._store_x[: self._bn] = self._store_x[live]
+            self._b0 = 0
+        self._bt = self._store_t[self._b0 : self._b0 + self.buffer_bound]
+        self._bx = self._store_x[self._b0 : self._b0 + self.buffer_bound]
 
     def _restart(self, a: int, b: int, final: bool) -> tuple:
         """The window again, when no fit of it from the held curve stays in tolerance
@@ -384,34 +394,33 @@ class StreamReducer:
             refined = insert(end, refined, m=missing)
         kt = np.asarray(refined.t)[: len(self._kt) + max(missing, 0)]
         kc = np.asarray(refined.c)[: len(kt) - k + 1]
-        last = self._bn - (k - h)                  # the last sample that can be a knot
+        last = self._bn - self._free_tail          # the last sample that can be a knot
         a = min(a - 1 + h, last)
         b = last if final else max(a + 1, min(b, a + 2 * k + m - (len(kt) - (k - 1))))
         return window_kernel.window_step(
             k, np.ascontiguousarray(kt), np.ascontiguousarray(kc), self._bt, self._bx, self._bn, a,
             min(b, last), m, len(kc), len(kc), self.end_tol, final, self.max_span,
-            self.exhaustive_below, self.minimax_iterations, self.reference == "curve")
+            self.exhaustive_below, self.minimax_iterations, self._curve_reference, self._origin, self.tol, self._center)
 
-    def _emit(self, knots: np.ndarray, coef: np.ndarray, advance: int, final: bool) -> None:
-        """Hand out the ``advance`` window coefficients that just became final (held
-        back while they only close intervals of zero length, such as the clamped start)."""
+    def _emit(self, piece_knots: np.ndarray, piece_coef: np.ndarray, final: bool) -> None:
+        """Hand out the curve up to the window's last final coefficient (in the caller's
+        units; held back while it only closes intervals of zero length, such as the
+        clamped start). The coefficients after the first ``order - 1`` just became final."""
         k = self.order
-        stop = k - 1 + advance
         if self.keep:
-            self._final_knots.append(knots[k - 1 : None if final else stop] + self._origin)
-            self._final_coef.append(coef[k - 1 : stop] * self.tol + self._center)
+            self._final_knots.append(piece_knots[k - 1 : None if final else len(piece_coef)])
+            self._final_coef.append(piece_coef[k - 1 :])
         if self.on_piece is None:
             return
-        piece_knots = knots[: stop + k] + self._origin
-        piece_coef = coef[:stop] * self.tol + self._center
         if self._held is not None:
             held_knots, held_coef = self._held
             piece_knots = np.concatenate([held_knots, piece_knots])
             piece_coef = np.concatenate([held_coef, piece_coef])
             self._held = None
-        piece = Piece(piece_knots, piece_coef)
-        if piece.end > piece.start or final:
-            self.on_piece(piece.trimmed())
+        n = len(piece_coef)
+        if piece_knots[n] > piece_knots[k - 1] or final:
+            piece = Piece(piece_knots, piece_coef)
+            self.on_piece(piece.trimmed() if piece_knots[n - 1] == piece_knots[n] else piece)
         else:
             shared = len(piece_coef) - (k - 1)        # the next piece repeats the rest
             self._held = (piece_knots[:shared], piece_coef[:shared])

@@ -23,6 +23,9 @@ from sketchanim.reducer.approximate import PASS
 
 #: Lawson re-weighting only starts when a fit misses by at most this (in tolerances).
 MINIMAX_REACH = 1.5
+#: Knots whose removal weight is above this (in tolerances) are not tried: the window's
+#: refit seldom absorbs them, and trying costs a fit each (measured by bench_stream).
+WEIGHT_REACH = 2.5
 
 
 @njit(cache=True, error_model="numpy")
@@ -223,19 +226,21 @@ def removal_weight(T: np.ndarray, k: int, coef: np.ndarray, j: int) -> float:
 @njit(cache=True, error_model="numpy")
 def _admissible_order(T: np.ndarray, k: int, coef: np.ndarray, f0: int, cand: np.ndarray, counts: np.ndarray,
                       max_span: int) -> np.ndarray:
-    """Candidate knots by increasing weight, leaving out any whose removal together with
-    the lighter ones before it would put more than ``max_span`` samples between two
-    remaining knots, and no more than leave the ``f0`` held coefficients. A prefix of
-    the result is the set "remove the j lightest"."""
+    """Candidate knots by increasing weight up to :data:`WEIGHT_REACH`, leaving out any
+    whose removal together with the lighter ones before it would put more than
+    ``max_span`` samples between two remaining knots, and no more than leave the ``f0``
+    held coefficients. A prefix of the result is the set "remove the j lightest"."""
     idx = np.flatnonzero(cand)
     w = np.empty(len(idx))
     for q in range(len(idx)):
         w[q] = removal_weight(T, k, coef, idx[q])
-    order = idx[np.argsort(w, kind="mergesort")]
     removed = np.zeros(len(T), dtype=np.bool_)
-    out = np.empty(len(order), dtype=np.int64)
+    out = np.empty(len(idx), dtype=np.int64)
     n = 0
-    for j in order:
+    for q in np.argsort(w, kind="mergesort"):
+        if w[q] > WEIGHT_REACH:
+            break
+        j = idx[q]
         # Knot j joins intervals j-1 and j, and any removed neighbours' runs.
         total = counts[j - 1] + counts[j]
         lo = j - 1
@@ -360,7 +365,8 @@ def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarr
 @njit(cache=True, error_model="numpy")
 def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.ndarray, bn: int, a: int,
                 b: int, m: int, f0: int, f_back: int, end_tol: float, final: bool, max_span: int,
-                exhaustive_below: int, minimax_iterations: int, reference_curve: bool):
+                exhaustive_below: int, minimax_iterations: int, reference_curve: bool, origin: float,
+                scale: np.ndarray, center: np.ndarray):
     """One window of the stream, from the held state to the next.
 
     ``kt`` are the knots from the first that acts on the window through the end of
@@ -369,11 +375,14 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     knots. A window takes the ``m`` knots after the past context as candidates; a
     final one takes all of them and ends the curve at the last sample.
 
-    Returns ``(knots, coef, removed, fits, start_error, advance, done, max_error)``:
-    the window's reduced knots and coefficients (clamped at the last sample used), the
-    knots removed, the fits made, the starting curve's error, how many window
-    coefficients became final, how many held samples are finished (the first
-    ``done``), and their largest error per channel.
+    Returns ``(knots, coef, removed, fits, start_error, advance, done, max_error,
+    piece_knots, piece_coef)``: the window's reduced knots and coefficients (clamped at
+    the last sample used), the knots removed, the fits made, the starting curve's
+    error, how many window coefficients became final, how many held samples are
+    finished (the first ``done``), and their largest error per channel; then, in the
+    caller's units (``origin + t``, ``center + scale * x``), the max error and the
+    finished curve: the window's coefficients up to the last final one, with their
+    knots.
     """
     h = k // 2
     used = b + k - h
@@ -406,5 +415,8 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     if done > 0:
         err = errors(knots, k, coef, bt[:done], bx[:done])
         for c in range(bx.shape[1]):
-            max_error[c] = err[:, c].max()
-    return knots, coef, removed, fits, start, advance, done, max_error
+            max_error[c] = err[:, c].max() * scale[c]
+    stop = k - 1 + advance
+    piece_knots = knots[: stop + k] + origin
+    piece_coef = coef[:stop] * scale + center
+    return knots, coef, removed, fits, start, advance, done, max_error, piece_knots, piece_coef
