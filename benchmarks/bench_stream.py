@@ -11,6 +11,7 @@ import resource
 import sys
 import time
 import tracemalloc
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import sketchanim  # noqa: E402
 from peers import sisl  # noqa: E402
 
-console = Console()
+console = Console(width=max(Console().width, 120))
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 
 
@@ -39,12 +40,17 @@ def motion(n: int, seed: int = 0, start: int = 0) -> tuple[np.ndarray, np.ndarra
     return t, x + noise
 
 
+def chunks(n: int, chunk: int = 1000) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """The 3-D take of n samples, generated chunk by chunk (the whole take is never held)."""
+    for start in range(0, n, chunk):
+        yield motion(min(chunk, n - start), start=start)
+
+
 def stream(n: int, window: int, chunk: int = 1000) -> tuple[float, sketchanim.StreamReducer]:
     """Stream n samples in chunks generated on the fly (pieces dropped); wall seconds."""
     sr = sketchanim.StreamReducer(3, 0.01, window=window, keep=False, on_piece=lambda p: None)
     seconds = 0.0
-    for start in range(0, n, chunk):
-        t, x = motion(min(chunk, n - start), start=start)
+    for t, x in chunks(n, chunk):
         clock = time.perf_counter()
         sr.extend(t, x)
         seconds += time.perf_counter() - clock
@@ -62,6 +68,12 @@ def latency_table(n: int) -> None:
         s = sr.stats
         table.add_row(str(window), f"{s.windows:,}", f"{s.percentile_ms(50):.3f}", f"{s.percentile_ms(99):.3f}",
                       f"{1e3 * s.max_window_seconds:.2f}", f"{n / seconds:,.0f}", f"{s.samples - s.removed:,}")
+    t, x = map(np.concatenate, zip(*chunks(n)))
+    try:                       # the same take in one batch call to SISL (its own time, in C)
+        peer = sisl.s1961(t, x, np.full(3, 0.01), split=0.0)
+        table.add_row("SISL s1961, batch", "", "", "", "", f"{n / peer.seconds:,.0f}", f"{peer.n_coefficients:,}")
+    except Exception as err:   # the peer is optional: report, do not stop
+        table.add_row("SISL s1961, batch", "", "", "", "", f"n/a ({type(err).__name__})", "")
     console.print(table)
 
 

@@ -400,7 +400,8 @@ class StreamReducer:
         return window_kernel.window_step(
             k, np.ascontiguousarray(kt), np.ascontiguousarray(kc), self._bt, self._bx, self._bn, a,
             min(b, last), m, len(kc), len(kc), self.end_tol, final, self.max_span,
-            self.exhaustive_below, self.minimax_iterations, self._curve_reference, self._origin, self.tol, self._center)
+            self.exhaustive_below, self.minimax_iterations, self._curve_reference, self._origin, self.tol,
+            self._center)
 
     def _emit(self, piece_knots: np.ndarray, piece_coef: np.ndarray, final: bool) -> None:
         """Hand out the curve up to the window's last final coefficient (in the caller's

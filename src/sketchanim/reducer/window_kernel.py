@@ -379,10 +379,10 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     piece_knots, piece_coef)``: the window's reduced knots and coefficients (clamped at
     the last sample used), the knots removed, the fits made, the starting curve's
     error, how many window coefficients became final, how many held samples are
-    finished (the first ``done``), and their largest error per channel; then, in the
-    caller's units (``origin + t``, ``center + scale * x``), the max error and the
+    finished (the first ``done``) and their largest error per channel, and the
     finished curve: the window's coefficients up to the last final one, with their
-    knots.
+    knots. The error and the finished curve are in the caller's units (times
+    ``origin + t``, values ``center + scale * x``).
     """
     h = k // 2
     used = b + k - h
