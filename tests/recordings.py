@@ -51,3 +51,35 @@ def lasa_cases() -> list[tuple[str, np.ndarray, np.ndarray, float]]:
     return [(f"LASA {mat.stem} #{i}", t, pos, 0.5)
             for mat in sorted(LASA.glob("*.mat"))
             for i, (t, pos) in enumerate(read_lasa(mat))]
+
+
+def bvh_joint_rotations(path: Path, limit: int = 6) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """Up to ``limit`` joints of a BVH file whose rotation moves: name, times and
+    scalar-last quaternions (from each joint's own Euler channel order, intrinsic)."""
+    from scipy.spatial.transform import Rotation
+
+    motion = read_bvh_motion(path)
+    out = []
+    for joint in dict.fromkeys(j for j, _ in motion.channels):
+        names = tuple(c for j, c in motion.channels if j == joint and c.endswith("rotation"))
+        if len(names) != 3:
+            continue
+        angles = motion.columns(joint, names)
+        if np.ptp(angles, axis=0).max() < 1.0:              # degrees: a joint that barely moves
+            continue
+        quats = Rotation.from_euler("".join(n[0] for n in names).upper(), angles, degrees=True).as_quat()
+        out.append((f"{path.name} {joint}", motion.times, quats))
+        if len(out) == limit:
+            break
+    return out
+
+
+def rotation_cases(data: Path) -> list[tuple[str, np.ndarray, np.ndarray, bool]]:
+    """Real orientation channels in ../shared/data: name, times, quaternions, scalar_first."""
+    t, _, quat = read_tum(data / "camera" / "freiburg1_xyz-groundtruth.txt")
+    cases = [("tum camera", t, quat, False)]
+    imu = read_samples_csv(data / "imu" / "ngimu_quaternion.csv")
+    cases.append(("NGIMU", imu.times, imu.values, True))
+    for bvh in sorted((data / "bvh").glob("*.bvh")):
+        cases += [(name, times, quats, False) for name, times, quats in bvh_joint_rotations(bvh, limit=3)]
+    return cases

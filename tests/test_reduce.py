@@ -180,7 +180,8 @@ def test_json_round_trip(sig):
         (lambda d: d.update(knots=d["knots"][::-1]), "'knots' must be non-decreasing"),
         (lambda d: d.update(coefficients="x"), "'coefficients' must be numbers"),
         (lambda d: d.update(order=0), "'order'"),
-        (lambda d: d.update(tol=[0.1, 0.1]), r"'tol' and 'max_error' need one value per channel \(1\)"),
+        (lambda d: d.update(tol=[0.1, 0.1]), r"'tol' and 'max_error' need 1 value\(s\) for metric 'channels'"),
+        (lambda d: d.update(metric="rotation"), "'metric' must be 'channels', or 'rotation' with 4 channels"),
     ],
 )
 def test_json_errors_name_the_field(edit, match):

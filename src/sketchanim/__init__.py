@@ -8,6 +8,7 @@
 """
 
 from sketchanim.errors import ArgumentError, FileFormatError, InputError, SampleError, ToleranceUnreachableError
+from sketchanim.motion import RotationStream, reduce_rotations
 from sketchanim.reducer import Piece, Reduction, StreamReducer, reduce
 
 __all__ = [
@@ -16,9 +17,11 @@ __all__ = [
     "InputError",
     "Piece",
     "Reduction",
+    "RotationStream",
     "SampleError",
     "StreamReducer",
     "ToleranceUnreachableError",
     "reduce",
+    "reduce_rotations",
 ]
 __version__ = "0.1.0"

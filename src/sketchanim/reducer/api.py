@@ -11,6 +11,7 @@ from scipy.interpolate import BSpline
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
 from sketchanim.reducer.conditioning import Samples, check_count, check_order, condition
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
+from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.starts import interpolant, polynomial_through
 from sketchanim.reducer.stream import StreamReducer
@@ -18,21 +19,18 @@ from sketchanim.reducer.stream import StreamReducer
 METHODS = ("global", "incremental")
 
 
-def _errors(spline: BSpline, samples: Samples) -> np.ndarray:
-    return np.abs(spline(samples.times) - samples.values).max(axis=0)
-
-
-def _guaranteed(spline: BSpline, samples: Samples, order: int) -> tuple[BSpline, np.ndarray, bool]:
+def _guaranteed(spline: BSpline, samples: Samples, order: int, angle: float) -> tuple[BSpline, np.ndarray, bool]:
     """The spline if every sample is within tolerance, else the interpolant; or raise."""
-    err = _errors(spline, samples)
-    if np.all(err <= samples.tol):
+    bound = np.array([angle]) if angle else samples.tol
+    err = max_errors(spline(samples.times), samples.values, angle)
+    if np.all(err <= bound):
         return spline, err, False
     exact = interpolant(samples.times, samples.values, order) or spline
-    err = _errors(exact, samples)
-    if not np.all(err <= samples.tol):
-        j = int(np.argmax(err / samples.tol))
+    err = max_errors(exact(samples.times), samples.values, angle)
+    if not np.all(err <= bound):
+        j = int(np.argmax(err / bound))
         raise ToleranceUnreachableError(
-            f"tol: channel {j} tolerance {samples.tol[j]!r} is below what floating point can "
+            f"tol: channel {j} tolerance {bound[j]!r} is below what floating point can "
             f"resolve for these values (the interpolant misses by {err[j]!r})"
         )
     return exact, err, True
@@ -52,6 +50,7 @@ def reduce(
     coarse_samples: int | None = 8192,
     window: int = 20,
     constraints: str = "end",
+    angle: float | None = None,
 ) -> Reduction:
     """Reduce sampled motion to a B-spline that keeps every sample's value and time.
 
@@ -87,6 +86,11 @@ def reduce(
         spaced samples (then checked against all); ``None`` always uses all samples.
     window, constraints : int, str
         Window size and variant of the incremental method (see :class:`StreamReducer`).
+    angle : float or None
+        If given, the four channels are quaternions and each sample keeps its rotation
+        instead: the spline's value, normalised, within ``angle`` radians of it;
+        ``tol`` then only scales the fit. :func:`sketchanim.reduce_rotations` is the
+        front end for rotations.
 
     Returns
     -------
@@ -120,11 +124,16 @@ def reduce(
                                ("coarse_samples", 2 * order if coarse_samples is None else coarse_samples, 2 * order)):
         check_count(name, value, least)
     samples = condition(times, values, tol)
+    if angle is not None and (samples.dim != 4 or not 0.0 < angle <= np.pi):
+        raise ArgumentError("angle", f"needs 4 channels (a quaternion) and a value in (0, pi], got {angle!r} "
+                                     f"with {samples.dim} channels")
+    angle = float(angle or 0.0)
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped}
     if method != "incremental":
         report["start"] = start
     if method == "incremental":
-        stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints)
+        stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
+                               angle=angle or None)
         stream.extend(samples.times, samples.values)
         streamed = stream.finish()
         spline = BSpline(streamed.spline.t, np.asarray(streamed.spline.c).reshape(-1, samples.dim),
@@ -135,20 +144,21 @@ def reduce(
         report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"
     else:
         opts = GlobalOptions(start, split, minimax_iterations, exhaustive_below, coarse_samples)
-        spline, log = reduce_global(samples.times, samples.values, samples.tol, order, opts)
+        spline, log = reduce_global(samples.times, samples.values, samples.tol, order, opts, angle)
         report.update(iterations=log.iterations, fits=log.fits, coarse_pass=log.coarse_pass,
                       coarse_outcome=log.coarse_outcome)
-    spline, max_error, fell_back = _guaranteed(spline, samples, order)
+    spline, max_error, fell_back = _guaranteed(spline, samples, order, angle)
     if fell_back:
         report["note"] = "rounding broke the bound: kept the interpolant"
     if samples.scalar:
         spline = BSpline(spline.t, spline.c[:, 0], spline.k)
     return Reduction(
         spline=spline,
-        tol=samples.tol,
+        tol=np.array([angle]) if angle else samples.tol,
         max_error=max_error,
         n_samples=samples.n,
         method=method,
         timings={"total": time.perf_counter() - clock},
         report=report,
+        metric="rotation" if angle else "channels",
     )

@@ -20,6 +20,8 @@ from scipy.interpolate import BSpline
 from scipy.linalg import LinAlgError, solveh_banded
 from scipy.sparse import csr_array
 
+from sketchanim.reducer.metric import rotation_angle
+
 #: A fit passes when every scaled error is at most this (a hair under one tolerance,
 #: so that rounding in the final evaluation cannot push a sample over).
 PASS = 1.0 - 1e-9
@@ -64,6 +66,10 @@ class Approximator:
         Tolerance per channel; errors are reported in these units.
     order : int
         Spline order.
+    angle : float
+        If > 0, the values are quaternions and the error of a sample is the rotation
+        angle of the fit's normalised value from it, in units of ``angle`` (radians);
+        ``tol`` then only scales the least squares.
 
     Examples
     --------
@@ -74,12 +80,15 @@ class Approximator:
     (True, (5, 1))
     """
 
-    def __init__(self, times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int) -> None:
+    def __init__(self, times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, *,
+                 angle: float = 0.0) -> None:
         self.times = np.asarray(times, dtype=float)
         self.order = order
+        self.angle = angle
         self.tol = np.asarray(tol, dtype=float)
         self.center = 0.5 * (values.min(axis=0) + values.max(axis=0))
-        self.scaled = (np.asarray(values, dtype=float) - self.center) / self.tol
+        self.values = np.asarray(values, dtype=float)
+        self.scaled = (self.values - self.center) / self.tol
         self.fits = 0
 
     def fit(self, knots: ArrayLike, *, minimax_iterations: int = 0, minimax_reach: float = 1.5) -> Fit | None:
@@ -104,8 +113,7 @@ class Approximator:
                 coef = self._solve(design, weights, len(kn) - self.order)
             except LinAlgError:
                 return best
-            resid = np.abs(design @ coef - self.scaled)
-            per_sample = np.maximum.reduce(resid, axis=1) if resid.shape[1] > 1 else resid[:, 0]
+            per_sample = self._deviation(design @ coef, slice(None))
             error = float(per_sample.max())
             if best is None or error < best.error:
                 best = Fit(kn, coef, error, per_sample)
@@ -149,12 +157,19 @@ class Approximator:
         if rank < hi - lo + 1:
             return None
         coef[lo : hi + 1] = solution
-        resid = np.abs(design @ coef[first : first + design.shape[1]] - self.scaled[s0:s1]).max(axis=1)
+        resid = self._deviation(design @ coef[first : first + design.shape[1]], slice(s0, s1))
         if resid.max() > PASS:
             return None
         residual = fit.residual.copy()
         residual[s0:s1] = resid
         return Fit(knots, coef, float(residual.max()), residual)
+
+    def _deviation(self, fitted: np.ndarray, rows: slice) -> np.ndarray:
+        """Per sample of ``rows``, how far the scaled ``fitted`` values are from it, in
+        tolerances: the largest channel difference, or the rotation angle over ``angle``."""
+        if self.angle > 0:
+            return rotation_angle(fitted * self.tol + self.center, self.values[rows]) / self.angle
+        return np.abs(fitted - self.scaled[rows]).max(axis=1)
 
     def spline(self, fit: Fit) -> BSpline:
         """The fit as a spline in the caller's units."""

@@ -17,6 +17,7 @@ from scipy.interpolate import BSpline
 
 from sketchanim.reducer.approximate import PASS, Approximator, Fit
 from sketchanim.reducer.lm import remove_knots
+from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.starts import interpolant, sample_knots
 from sketchanim.spline import elevate_degree
 
@@ -70,9 +71,9 @@ def _remove(ap: Approximator, knots: np.ndarray, coef: np.ndarray, opts: GlobalO
     return fit
 
 
-def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
+def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float, order: int,
            opts: GlobalOptions, log: GlobalLog) -> BSpline:
-    ap = Approximator(times, values, tol, order)
+    ap = Approximator(times, values, tol, order, angle=angle)
     knots = sample_knots(times, order)
     fit = _remove(ap, knots, ap.scaled, opts, log)
     if fit is None:
@@ -81,14 +82,14 @@ def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
     return ap.spline(fit)
 
 
-def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
+def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float, order: int,
         opts: GlobalOptions, log: GlobalLog) -> BSpline:
     linear_knots = sample_knots(times, 2)
     linear = BSpline(linear_knots, values, 1)
     if opts.split > 0:
-        linear = _paper(times, values, opts.split * tol, 2, opts, log)
+        linear = _paper(times, values, opts.split * tol, opts.split * angle, 2, opts, log)
     raised = elevate_degree(linear, order - 2)
-    ap = Approximator(times, linear(times), (1.0 - opts.split) * tol, order)
+    ap = Approximator(times, linear(times), (1.0 - opts.split) * tol, order, angle=(1.0 - opts.split) * angle)
     fit = _remove(ap, raised.t, (raised.c - ap.center) / ap.tol, opts, log)
     log.fits += ap.fits
     result = raised if fit is None else ap.spline(fit)
@@ -99,12 +100,12 @@ def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
     return result
 
 
-def _repair(coarse: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
+def _repair(coarse: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float, order: int,
             opts: GlobalOptions, log: GlobalLog, rounds: int = 32) -> BSpline | None:
     """Make the coarse pass's curve hold at every sample: refine the knots where it
     misses and re-fit, a few rounds; then remove what is not needed.
     ``None`` if it still misses."""
-    ap = Approximator(times, values, tol, order)
+    ap = Approximator(times, values, tol, order, angle=angle)
     pool = np.unique(sample_knots(times, order)[order:-order])
     knots = coarse.t
     fit = None
@@ -132,9 +133,11 @@ def _repair(coarse: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndar
 
 
 def reduce_global(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
-                  opts: GlobalOptions) -> tuple[BSpline, GlobalLog]:
+                  opts: GlobalOptions, angle: float = 0.0) -> tuple[BSpline, GlobalLog]:
     """Reduce checked samples (shape (n,), (n, d)) to a spline within ``tol`` of each.
 
+    With ``angle > 0`` the four channels are quaternions and each sample's rotation is
+    kept within ``angle`` radians instead (:mod:`.metric`); ``tol`` then scales the fit.
     The caller verifies the guarantee on the returned spline.
 
     Examples
@@ -152,13 +155,13 @@ def reduce_global(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order:
         log.coarse_pass = True
         step = -(-n // opts.coarse_samples)
         idx = np.unique(np.r_[np.arange(0, n, step), n - 1])
-        coarse = run(times[idx], values[idx], tol, order, opts, log)
-        if np.all(np.abs(coarse(times) - values) <= tol):
+        coarse = run(times[idx], values[idx], tol, angle, order, opts, log)
+        if np.all(max_errors(coarse(times), values, angle) <= (angle or tol)):
             log.coarse_outcome = "held"
             return coarse, log
-        repaired = _repair(coarse, times, values, tol, order, opts, log)
+        repaired = _repair(coarse, times, values, tol, angle, order, opts, log)
         if repaired is not None:
             log.coarse_outcome = "repaired"
             return repaired, log
         log.coarse_outcome = "full pass"
-    return run(times, values, tol, order, opts, log), log
+    return run(times, values, tol, angle, order, opts, log), log

@@ -23,10 +23,12 @@ class Reduction:
     ----------
     spline : scipy.interpolate.BSpline
         The curve; evaluates to shape (m,) for a scalar channel, (m, d) otherwise.
-    tol : ndarray, shape (d,)
-        Tolerance per channel.
-    max_error : ndarray, shape (d,)
-        Largest |spline(t_i) - x_i| over the samples, per channel: at most ``tol``.
+    tol : ndarray, shape (d,) or (1,)
+        Tolerance per channel; with ``metric == "rotation"`` one angle in radians.
+    max_error : ndarray, shape (d,) or (1,)
+        Largest |spline(t_i) - x_i| over the samples, per channel: at most ``tol``;
+        with ``metric == "rotation"`` the largest rotation angle between the spline's
+        normalised value and the sample quaternion.
     n_samples : int
         Samples reduced (after exact duplicates were dropped).
     method : str
@@ -35,6 +37,8 @@ class Reduction:
         Seconds spent, by phase (``total`` at least).
     report : dict
         What happened: duplicates dropped, iterations, least-squares fits, ...
+    metric : {"channels", "rotation"}
+        What the tolerance bounds (see :mod:`sketchanim.reducer.metric`).
 
     Examples
     --------
@@ -53,6 +57,7 @@ class Reduction:
     method: str
     timings: dict[str, float] = field(default_factory=dict)
     report: dict[str, Any] = field(default_factory=dict)
+    metric: str = "channels"
 
     @property
     def order(self) -> int:
@@ -79,6 +84,7 @@ class Reduction:
             "knots": np.asarray(self.spline.t).tolist(),
             "coefficients": c.tolist(),
             "scalar": c.ndim == 1,
+            "metric": self.metric,
             "tol": self.tol.tolist(),
             "max_error": self.max_error.tolist(),
             "n_samples": self.n_samples,
@@ -121,8 +127,12 @@ class Reduction:
         if len(knots) != len(coef) + order or np.any(np.diff(knots) < 0):
             raise InputError(f"{source}: field 'knots' must be non-decreasing, {len(coef) + order} long")
         dim = 1 if coef.ndim == 1 else coef.shape[1]
-        if len(tol) != dim or len(max_error) != dim:
-            raise InputError(f"{source}: fields 'tol' and 'max_error' need one value per channel ({dim})")
+        metric = doc.get("metric", "channels")
+        if metric not in ("channels", "rotation") or (metric == "rotation" and dim != 4):
+            raise InputError(f"{source}: field 'metric' must be 'channels', or 'rotation' with 4 channels")
+        bounds = 1 if metric == "rotation" else dim
+        if len(tol) != bounds or len(max_error) != bounds:
+            raise InputError(f"{source}: fields 'tol' and 'max_error' need {bounds} value(s) for metric {metric!r}")
         n_samples = doc.get("n_samples")
         if not isinstance(n_samples, int) or n_samples < 1:
             raise InputError(f"{source}: field 'n_samples' must be a positive integer")
@@ -134,4 +144,5 @@ class Reduction:
             method=str(doc.get("method", "global")),
             timings=dict(doc.get("timings") or {}),
             report=dict(doc.get("report") or {}),
+            metric=metric,
         )

@@ -28,6 +28,7 @@ from scipy.interpolate import BSpline, insert
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer import window_kernel
 from sketchanim.reducer.conditioning import check_count, check_order, check_tolerance, scan
+from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.starts import polynomial_through
 
@@ -183,6 +184,11 @@ class StreamReducer:
         :attr:`on_piece` sees it and memory stays flat however long the take.
     on_piece : callable or None
         Called with each finished :class:`Piece`, in time order.
+    angle : float or None
+        If given, the four channels are a quaternion and what every sample keeps is its
+        rotation: the curve's value, normalised, within ``angle`` radians of it
+        (:mod:`.metric`); ``tol`` then only scales the fit (``sin(angle / 2)`` suits),
+        and :attr:`max_error` is that one angle.
 
     Examples
     --------
@@ -214,9 +220,14 @@ class StreamReducer:
         minimax_iterations: int = 1,
         keep: bool = True,
         on_piece: Callable[[Piece], object] | None = None,
+        angle: float | None = None,
     ) -> None:
         self.dim = check_count("dim", dim, 1)
         self.tol = check_tolerance(tol, self.dim)
+        if angle is not None and (self.dim != 4 or not 0.0 < angle <= np.pi):
+            raise ArgumentError("angle", f"needs 4 channels (a quaternion) and a value in (0, pi], got {angle!r} "
+                                         f"with {self.dim} channels")
+        self.angle = 0.0 if angle is None else float(angle)
         self.order = k = check_order(order)
         self.window = check_count("window", window, max(1, k // 2))
         if constraints not in CONSTRAINTS:
@@ -264,7 +275,7 @@ class StreamReducer:
         self._free_tail = k - k // 2                # the last held samples not yet knots
         self._tail: tuple[np.ndarray, np.ndarray] | None = None
         self._held: tuple[np.ndarray, np.ndarray] | None = None
-        self._max_error = np.zeros(self.dim)
+        self._max_error = np.zeros(1 if self.angle else self.dim)
         self._final_knots: list[np.ndarray] = []
         self._final_coef: list[np.ndarray] = []
         self._closed = False
@@ -305,6 +316,11 @@ class StreamReducer:
             self._pushed += 1
             raise error
 
+    def skip(self) -> None:
+        """Count one sample that the caller rejected before it reached the reducer, so
+        that the stream indices in later errors stay the caller's."""
+        self._pushed += 1
+
     def _ingest(self, t: np.ndarray, x: np.ndarray) -> None:
         if not len(t):
             return
@@ -341,7 +357,7 @@ class StreamReducer:
         out = window_kernel.window_step(
             k, self._kt, self._kc, self._bt, self._bx, self._bn, a, b, m, f0, f_back, self.end_tol, final,
             self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
-            self._origin, self.tol, self._center)
+            self._origin, self.tol, self._center, self.angle)
         restarted = out[4] > window_kernel.PASS and self._tail is not None
         if restarted:
             self.stats.start_misses += 1
@@ -401,7 +417,7 @@ class StreamReducer:
             k, np.ascontiguousarray(kt), np.ascontiguousarray(kc), self._bt, self._bx, self._bn, a,
             min(b, last), m, len(kc), len(kc), self.end_tol, final, self.max_span,
             self.exhaustive_below, self.minimax_iterations, self._curve_reference, self._origin, self.tol,
-            self._center)
+            self._center, self.angle)
 
     def _emit(self, piece_knots: np.ndarray, piece_coef: np.ndarray, final: bool) -> None:
         """Hand out the curve up to the window's last final coefficient (in the caller's
@@ -429,13 +445,19 @@ class StreamReducer:
     # -- output ------------------------------------------------------------------------
 
     @property
+    def pushed(self) -> int:
+        """Samples offered so far, good or bad: the stream index of the next one."""
+        return self._pushed
+
+    @property
     def buffered(self) -> int:
         """Raw samples held now (at most :attr:`buffer_bound`)."""
         return self._bn
 
     @property
     def max_error(self) -> np.ndarray:
-        """Largest |curve - sample| per channel over the samples finished so far."""
+        """Largest |curve - sample| per channel over the samples finished so far (with
+        ``angle``, the largest rotation angle, shape (1,))."""
         return self._max_error.copy()
 
     def close(self) -> StreamStats:
@@ -462,7 +484,7 @@ class StreamReducer:
         if self.keep:
             self._final_knots.append(piece.knots)
             self._final_coef.append(piece.coef)
-        np.maximum(self._max_error, np.abs(poly(t) - x).max(axis=0), out=self._max_error)
+        np.maximum(self._max_error, max_errors(poly(t), x, self.angle), out=self._max_error)
         self._bn = 0
         if self.on_piece is not None:
             self.on_piece(piece)
@@ -500,6 +522,8 @@ class StreamReducer:
             "window_p99": s.percentile_ms(99) / 1e3,
             "window_max": s.max_window_seconds,
         }
-        return Reduction(spline=spline, tol=self.tol.copy(), max_error=self.max_error, n_samples=s.samples,
-                         method="incremental", timings=timings, report=report)
+        tol = np.array([self.angle]) if self.angle else self.tol.copy()
+        return Reduction(spline=spline, tol=tol, max_error=self.max_error, n_samples=s.samples,
+                         method="incremental", timings=timings, report=report,
+                         metric="rotation" if self.angle else "channels")
 

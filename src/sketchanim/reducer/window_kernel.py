@@ -77,6 +77,23 @@ def evaluate(first: np.ndarray, rows: np.ndarray, coef: np.ndarray) -> np.ndarra
 
 
 @njit(cache=True, error_model="numpy")
+def rotation_angle(v: np.ndarray, x: np.ndarray, scale: np.ndarray, center: np.ndarray) -> float:
+    """Rotation angle (radians) between the quaternions ``center + scale * v`` and
+    ``center + scale * x`` (any norm, either sign): twice the angle between the lines
+    they span. The sine comes from Lagrange's identity, exact for small angles."""
+    dot = 0.0
+    cross2 = 0.0
+    for i in range(4):
+        p_i = center[i] + scale[i] * v[i]
+        q_i = center[i] + scale[i] * x[i]
+        dot += p_i * q_i
+        for j in range(i + 1, 4):
+            w = p_i * (center[j] + scale[j] * x[j]) - (center[j] + scale[j] * v[j]) * q_i
+            cross2 += w * w
+    return 2.0 * np.arctan2(np.sqrt(cross2), abs(dot))
+
+
+@njit(cache=True, error_model="numpy")
 def solve_banded_spd(band: np.ndarray, rhs: np.ndarray) -> bool:
     """Solve ``M x = rhs`` in place for symmetric positive definite ``M`` of bandwidth
     ``k`` held as ``band[i, i - j] = M[i, j]`` (``0 <= i - j < k``); ``band`` becomes its
@@ -111,12 +128,15 @@ def solve_banded_spd(band: np.ndarray, rhs: np.ndarray) -> bool:
 
 @njit(cache=True, error_model="numpy")
 def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np.ndarray,
-        lim: np.ndarray, weights: np.ndarray, resid: np.ndarray) -> float:
+        lim: np.ndarray, weights: np.ndarray, resid: np.ndarray, metric: tuple) -> float:
     """Least-squares fit of ``coef[f0:]`` to the samples with ``coef[:f0]`` held.
 
-    Writes the coefficients into ``coef`` and each sample's largest channel error,
+    Writes the coefficients into ``coef`` and each sample's error in tolerances,
     divided by its ``lim``, into ``resid``; returns the largest such ratio (``inf`` when
-    the free coefficients are not determined by the samples)."""
+    the free coefficients are not determined by the samples). ``metric`` is ``(angle,
+    scale, center)``: with ``angle == 0`` the error is the largest channel difference
+    (each channel is scaled by its tolerance); with ``angle > 0`` the four channels are
+    a quaternion and the error is its rotation angle over ``angle``."""
     first, rows = design(T, k, ts)
     nc = len(T) - k
     nu = nc - f0
@@ -149,11 +169,15 @@ def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np
             for c in range(d):
                 coef[f0 + i, c] = rhs[i, c]
     values = evaluate(first, rows, coef)
+    angle, scale, center = metric
     worst = 0.0
     for s in range(len(ts)):
-        e = 0.0
-        for c in range(d):
-            e = max(e, abs(values[s, c] - xs[s, c]))
+        if angle > 0.0:
+            e = rotation_angle(values[s], xs[s], scale, center) / angle
+        else:
+            e = 0.0
+            for c in range(d):
+                e = max(e, abs(values[s, c] - xs[s, c]))
         resid[s] = e / lim[s]
         worst = max(worst, resid[s])
     return worst
@@ -161,13 +185,13 @@ def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np
 
 @njit(cache=True, error_model="numpy")
 def fit_minimax(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np.ndarray,
-                lim: np.ndarray, iterations: int) -> float:
+                lim: np.ndarray, iterations: int, metric: tuple) -> float:
     """:func:`fit`, then up to ``iterations`` Lawson re-weightings while it misses by a
     little (towards the minimax fit); ``coef`` ends as the best fit found."""
     n = len(ts)
     weights = np.ones(n)
     resid = np.empty(n)
-    best = fit(T, k, coef, f0, ts, xs, lim, weights, resid)
+    best = fit(T, k, coef, f0, ts, xs, lim, weights, resid, metric)
     if best <= PASS or iterations == 0 or best > MINIMAX_REACH:
         return best
     kept = coef.copy()
@@ -178,7 +202,7 @@ def fit_minimax(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray
             weights[s] *= max(resid[s], 1e-3 * err)
             total += weights[s]
         weights *= n / total
-        e = fit(T, k, coef, f0, ts, xs, lim, weights, resid)
+        e = fit(T, k, coef, f0, ts, xs, lim, weights, resid, metric)
         if e < best:
             best = e
             kept[:] = coef
@@ -273,7 +297,7 @@ def _without(T: np.ndarray, k: int, coef: np.ndarray, f0: int, drop: np.ndarray)
 @njit(cache=True, error_model="numpy")
 def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int, ts: np.ndarray,
                   xs: np.ndarray, lim: np.ndarray, cand_lo: int, cand_hi: int, max_span: int,
-                  exhaustive_below: int, minimax_iterations: int, reference_curve: bool):
+                  exhaustive_below: int, minimax_iterations: int, reference_curve: bool, metric: tuple):
     """Remove as many of the knots ``T[cand_lo:cand_hi]`` as the tolerance allows.
 
     ``coef[:f0]`` is held (the curve left of the window, and pinned coefficients);
@@ -294,11 +318,11 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     n = len(ts)
     fits = 0
     c = coef.copy()
-    start = fit_minimax(T, k, c, f0, ts, xs, lim, minimax_iterations)
+    start = fit_minimax(T, k, c, f0, ts, xs, lim, minimax_iterations, metric)
     fits += 1
     if start > PASS and f_back > f0:
         c2 = coef.copy()
-        back = fit_minimax(T, k, c2, f_back, ts, xs, lim, minimax_iterations)
+        back = fit_minimax(T, k, c2, f_back, ts, xs, lim, minimax_iterations, metric)
         fits += 1
         if back < start:
             start = back
@@ -330,7 +354,7 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
             j = hi if exhaustive else (lo + hi + 1) // 2
             T2, c2 = _without(T, k, c, f0, order[:j])
             fits += 1
-            if fit_minimax(T2, k, c2, f0, ts, target, lim, minimax_iterations) <= PASS:
+            if fit_minimax(T2, k, c2, f0, ts, target, lim, minimax_iterations, metric) <= PASS:
                 best_j, best_T, best_c = j, T2, c2
                 lo = j
                 if exhaustive:
@@ -341,7 +365,7 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
             for q in range(1, len(order)):
                 T2, c2 = _without(T, k, c, f0, order[q:q + 1])
                 fits += 1
-                if fit_minimax(T2, k, c2, f0, ts, target, lim, 0) <= PASS:
+                if fit_minimax(T2, k, c2, f0, ts, target, lim, 0, metric) <= PASS:
                     best_j, best_T, best_c = 1, T2, c2
                     order = order[q:q + 1]
                     break
@@ -356,17 +380,27 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
 
 
 @njit(cache=True, error_model="numpy")
-def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarray) -> np.ndarray:
-    """|curve - sample| per sample and channel, shape (n, d)."""
+def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarray, metric: tuple) -> np.ndarray:
+    """Largest error over the samples in the caller's units: per channel (shape (d,),
+    ``|curve - sample|``), or with an angle metric the rotation angle (shape (1,))."""
     first, rows = design(T, k, ts)
-    return np.abs(evaluate(first, rows, coef) - xs)
+    values = evaluate(first, rows, coef)
+    angle, scale, center = metric
+    out = np.zeros(1 if angle > 0.0 else xs.shape[1])
+    for s in range(len(ts)):
+        if angle > 0.0:
+            out[0] = max(out[0], rotation_angle(values[s], xs[s], scale, center))
+        else:
+            for c in range(xs.shape[1]):
+                out[c] = max(out[c], abs(values[s, c] - xs[s, c]) * scale[c])
+    return out
 
 
 @njit(cache=True, error_model="numpy")
 def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.ndarray, bn: int, a: int,
                 b: int, m: int, f0: int, f_back: int, end_tol: float, final: bool, max_span: int,
                 exhaustive_below: int, minimax_iterations: int, reference_curve: bool, origin: float,
-                scale: np.ndarray, center: np.ndarray):
+                scale: np.ndarray, center: np.ndarray, angle: float):
     """One window of the stream, from the held state to the next.
 
     ``kt`` are the knots from the first that acts on the window through the end of
@@ -382,8 +416,10 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     finished (the first ``done``) and their largest error per channel, and the
     finished curve: the window's coefficients up to the last final one, with their
     knots. The error and the finished curve are in the caller's units (times
-    ``origin + t``, values ``center + scale * x``).
+    ``origin + t``, values ``center + scale * x``); ``angle`` > 0 bounds the rotation
+    angle of quaternion samples instead of each channel (see :func:`fit`).
     """
+    metric = (angle, scale, center)
     h = k // 2
     used = b + k - h
     nk = len(kt)
@@ -404,18 +440,14 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
                 lim[s] = end_tol
     knots, coef, removed, fits, start = reduce_window(
         knots, k, coef, f0, f_back, ts, xs, lim, cand_lo, cand_hi, max_span, exhaustive_below,
-        minimax_iterations, reference_curve)
+        minimax_iterations, reference_curve, metric)
     if final:
         advance = len(coef) - (k - 1)
         done = bn
     else:
         advance = cand_hi - cand_lo - removed
         done = np.searchsorted(bt[:bn], knots[advance + k - 1])
-    max_error = np.zeros(bx.shape[1])
-    if done > 0:
-        err = errors(knots, k, coef, bt[:done], bx[:done])
-        for c in range(bx.shape[1]):
-            max_error[c] = err[:, c].max() * scale[c]
+    max_error = errors(knots, k, coef, bt[:done], bx[:done], metric)
     stop = k - 1 + advance
     piece_knots = knots[: stop + k] + origin
     piece_coef = coef[:stop] * scale + center
