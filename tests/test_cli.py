@@ -97,3 +97,48 @@ def test_console_script_runs_on_a_real_recording(data_dir, tmp_path):
     r = Reduction.from_json((tmp_path / "c.json").read_text())
     assert np.all(np.abs(r.spline(back[:, 0]) - back[:, 1:]) <= tol)
     assert r.n_coefficients < len(back) / 10
+
+
+def _pose_csv(tmp_path: Path, euler: bool = False) -> tuple[Path, np.ndarray, np.ndarray]:
+    from scipy.spatial.transform import Rotation
+
+    t = np.arange(480) / 120.0
+    rot = Rotation.from_rotvec(np.c_[np.sin(t), t, 0.3 * np.cos(t)])
+    cols = rot.as_euler("ZXY", degrees=True) if euler else rot.as_quat()
+    names = "rz,rx,ry" if euler else "qx,qy,qz,qw"
+    csv = tmp_path / "pose.csv"
+    np.savetxt(csv, np.c_[t, np.sin(t), np.cos(t), cols], delimiter=",", header=f"t,x,y,{names}", comments="",
+               fmt="%.12g")
+    return csv, t, rot.as_quat()
+
+
+@pytest.mark.parametrize("euler", [False, True])
+def test_rotation_columns_are_reduced_within_the_angle(tmp_path, euler):
+    from scipy.spatial.transform import Rotation
+
+    csv, t, quats = _pose_csv(tmp_path, euler)
+    out = tmp_path / "pose.json"
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.001", "--rot-cols", "rz,rx,ry" if euler else
+                              "qx,qy,qz,qw", "--rot-tol-deg", "0.2", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "rotation (degrees)" in res.output
+    position = Reduction.from_json(out.read_text())
+    rotation = Reduction.from_json((tmp_path / "pose.rotation.json").read_text())
+    assert position.spline(t).shape == (len(t), 2) and rotation.metric == "rotation"
+    curve = rotation.spline(t)
+    err = (Rotation.from_quat(curve / np.linalg.norm(curve, axis=1)[:, None]).inv() * Rotation.from_quat(quats))
+    assert np.degrees(err.magnitude()).max() <= 0.2
+
+
+def test_rotation_column_errors_are_named(tmp_path):
+    csv, _, _ = _pose_csv(tmp_path)
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.01", "--rot-cols", "qx,qy,qz,qq"])
+    assert res.exit_code == 2 and "--rot-cols" in res.output and "qq not in the file" in res.output
+    res = runner.invoke(app, ["reduce", str(csv), "--rot-cols", "qx,qy,qz,qw"])
+    assert res.exit_code == 2 and "--tol: needed for x, y" in res.output
+    lines = csv.read_text().splitlines()
+    lines[10] = ",".join(lines[10].split(",")[:3] + ["0", "0", "0", "0"])
+    csv.write_text("\n".join(lines) + "\n")
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.01", "--rot-cols", "qx,qy,qz,qw"])
+    assert res.exit_code == 2 and "line 11" in res.output and "quaternion: has norm 0" in res.output
+    assert "Traceback" not in res.output

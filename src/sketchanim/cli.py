@@ -2,18 +2,21 @@
 
 from __future__ import annotations
 
-import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Optional
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.table import Table
 from rich.text import Text
+from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import InputError, SampleError
 from sketchanim.io.atomic import write_atomic
-from sketchanim.io.csvio import read_samples_csv
+from sketchanim.io.csvio import SampleTable, read_samples_csv
+from sketchanim.motion import reduce_rotations
 from sketchanim.reducer import METHODS, Reduction, reduce
 
 app = typer.Typer(
@@ -44,55 +47,115 @@ def summary_line(reduction: Reduction, seconds: float) -> str:
             f"(ratio {reduction.ratio:.1f}:1, order {reduction.order}, {seconds * 1e3:.1f} ms)")
 
 
-def summary_table(reduction: Reduction, channels: list[str]) -> Table:
-    """Per channel: tolerance, max error at the samples, and their ratio."""
+def summary_table(reduction: Reduction, channels: list[str], scale: float = 1.0) -> Table:
+    """Per channel: tolerance, max error at the samples (both times ``scale``), and their ratio."""
     table = Table()
     table.add_column("channel")
     table.add_column("tolerance", justify="right")
     table.add_column("max error", justify="right")
     table.add_column("max error / tol", justify="right")
     for name, tol, err in zip(channels, reduction.tol, reduction.max_error):
-        table.add_row(name, f"{tol:.6g}", f"{err:.6g}", f"{err / tol:.3f}")
+        table.add_row(name, f"{tol * scale:.6g}", f"{err * scale:.6g}", f"{err / tol:.3f}")
     return table
+
+
+def _rotation_columns(table: SampleTable, names: str) -> list[int]:
+    wanted = [n.strip() for n in names.split(",")]
+    missing = [n for n in wanted if n not in table.channels]
+    if missing or len(wanted) not in (3, 4) or len(set(wanted)) != len(wanted):
+        raise InputError(f"--rot-cols: needs 4 distinct columns (a quaternion) or 3 (Euler angles in degrees) of "
+                         f"{', '.join(table.channels)}; got {names!r}"
+                         + (f" ({', '.join(missing)} not in the file)" if missing else ""))
+    return [table.channels.index(n) for n in wanted]
+
+
+def _euler_to_quaternions(degrees: np.ndarray, seq: str) -> np.ndarray:
+    """Scalar-last quaternions of Euler angles given in degrees, in ``seq`` order."""
+    if not np.all(np.isfinite(degrees)):
+        row = int(np.flatnonzero(~np.isfinite(degrees).all(axis=1))[0])
+        raise SampleError("Euler angle is not finite", index=row, field="--rot-cols")
+    try:
+        return Rotation.from_euler(seq, degrees, degrees=True).as_quat()
+    except ValueError as err:
+        raise InputError(f"--seq: {seq!r} is not an Euler sequence ({err})") from None
+
+
+def _on_lines(table: SampleTable, input: Path, run: Callable[[], Reduction]) -> Reduction:
+    """``run()``, with a rejected sample named by its file line."""
+    try:
+        return run()
+    except SampleError as err:
+        if err.index is None:
+            raise
+        raise InputError(f"{input}, line {table.lines[err.index]}: {err}") from None
+
+
+def _write(path: Path, reduction: Reduction) -> None:
+    write_atomic(path, reduction.to_json())
+    console.print(f"wrote {path}")
 
 
 @app.command("reduce")
 def reduce_command(
     input: Annotated[Path, typer.Argument(help="CSV: time in seconds, then one column per channel.")],
-    tol: Annotated[str, typer.Option("--tol", help="Tolerance: one value, or one per channel (comma-separated).")],
-    output: Annotated[Optional[Path], typer.Option("-o", "--output", help="Write the spline JSON here.")] = None,
+    tol: Annotated[Optional[str], typer.Option("--tol", help="Tolerance: one value, or one per channel "
+                                                "(comma-separated), for every column but the rotation's.")] = None,
+    output: Annotated[Optional[Path], typer.Option("-o", "--output", help="Write the spline JSON here (a rotation's "
+                                                   "goes beside it, as STEM.rotation.json).")] = None,
     order: Annotated[int, typer.Option(help="Spline order (4: cubic).")] = 4,
     method: Annotated[str, typer.Option(help=f"One of: {', '.join(METHODS)}.")] = "global",
     start: Annotated[str, typer.Option(help="Starting curve: paper or lm.")] = "paper",
     window: Annotated[int, typer.Option(help="Knots per window of the incremental method.")] = 20,
-    plot: Annotated[Optional[Path], typer.Option(help="Draw components, control points and errors to this PNG.")] = None,
+    plot: Annotated[Optional[Path], typer.Option(help="Draw components, control points and errors to this PNG "
+                                                 "(the columns reduced with --tol).")] = None,
+    rot_cols: Annotated[Optional[str], typer.Option("--rot-cols", help="Rotation columns: 4 (a quaternion, x,y,z,w "
+                                                    "unless --scalar-first) or 3 (Euler angles in degrees, --seq).")]
+    = None,
+    rot_tol_deg: Annotated[float, typer.Option("--rot-tol-deg", help="Largest rotation error, degrees.")] = 0.5,
+    rot_mode: Annotated[str, typer.Option("--rot-mode", help="Rotation curve: quaternion or euler.")] = "quaternion",
+    seq: Annotated[str, typer.Option(help="Euler sequence (scipy's: upper case intrinsic, as BVH's ZXY).")] = "ZXY",
+    scalar_first: Annotated[bool, typer.Option("--scalar-first", help="Quaternion columns are w,x,y,z.")] = False,
 ) -> None:
-    """Reduce a CSV of samples to a B-spline; print the report, write JSON and plot."""
+    """Reduce a CSV of samples to B-splines; print the report, write JSON and plot."""
     try:
         table = read_samples_csv(input)
-        clock = time.perf_counter()
-        try:
-            reduction = reduce(table.times, table.values, _tolerances(tol), order=order, method=method, start=start,
-                               window=window)
-        except SampleError as err:
-            if err.index is None:
-                raise
-            raise InputError(f"{input}, line {table.lines[err.index]}: {err}") from None
-        seconds = time.perf_counter() - clock
+        rot = _rotation_columns(table, rot_cols) if rot_cols else []
+        rest = [j for j in range(len(table.channels)) if j not in rot]
+        if rest and tol is None:
+            raise InputError(f"--tol: needed for {', '.join(table.channels[j] for j in rest)}")
+        reduction = rotation = None
+        if rest:
+            reduction = _on_lines(table, input, lambda: reduce(
+                table.times, table.values[:, rest], _tolerances(tol), order=order, method=method, start=start,
+                window=window))
+        if rot:
+            quaternion_cols = len(rot) == 4
+            rotation = _on_lines(table, input, lambda: reduce_rotations(
+                table.times,
+                table.values[:, rot] if quaternion_cols else _euler_to_quaternions(table.values[:, rot], seq),
+                rot_tol_deg, scalar_first=scalar_first and quaternion_cols, mode=rot_mode, seq=seq, method=method,
+                order=order, window=window))
     except InputError as err:
         _fail(str(err))
-    console.print(summary_line(reduction, seconds))
-    console.print(summary_table(reduction, table.channels))
-    if reduction.report.get("duplicates_dropped"):
-        console.print(f"dropped {reduction.report['duplicates_dropped']} exact duplicate samples")
+    if reduction is not None:
+        console.print(summary_line(reduction, reduction.timings["total"]))
+        console.print(summary_table(reduction, [table.channels[j] for j in rest]))
+        if reduction.report.get("duplicates_dropped"):
+            console.print(f"dropped {reduction.report['duplicates_dropped']} exact duplicate samples")
+    if rotation is not None:
+        console.print(f"rotation ({rot_mode}): {summary_line(rotation, rotation.timings['total'])}")
+        names = ["rotation"] if rotation.metric == "rotation" else ["first angle", "second angle", "third angle"]
+        console.print(summary_table(rotation, [f"{n} (degrees)" for n in names], scale=180 / np.pi))
     try:
-        if output is not None:
-            write_atomic(output, reduction.to_json())
-            console.print(f"wrote {output}")
-        if plot is not None:
+        if output is not None and reduction is not None:
+            _write(output, reduction)
+        if output is not None and rotation is not None:
+            _write(output.with_name(output.stem + ".rotation.json"), rotation)
+        if plot is not None and reduction is not None:
             from sketchanim.plot import plot_reduction
 
-            plot_reduction(table.times, table.values, reduction, plot, table.channels, title=str(input))
+            plot_reduction(table.times, table.values[:, rest], reduction, plot, [table.channels[j] for j in rest],
+                           title=str(input))
             console.print(f"wrote {plot}")
     except OSError as err:
         _fail(f"{err.filename or output}: cannot write ({err.strerror})")
