@@ -78,11 +78,12 @@ def test_every_sample_within_the_angle(stream, method: str, window: int) -> None
 
 
 @settings(max_examples=30)
-@given(rotation_streams(), st.lists(st.integers(1, 60), min_size=1, max_size=10), st.booleans())
-def test_streaming_rotations_equal_the_batch(stream, chunks: list[int], scalar_first: bool) -> None:
+@given(rotation_streams(), st.lists(st.integers(1, 60), min_size=1, max_size=10), st.booleans(),
+       st.sampled_from(["quaternion", "euler"]))
+def test_streaming_rotations_equal_the_batch(stream, chunks: list[int], scalar_first: bool, mode: str) -> None:
     t, q, tol = stream
-    batch = sketchanim.reduce_rotations(t, q, tol, method="incremental", scalar_first=scalar_first)
-    rs = sketchanim.RotationStream(tol, scalar_first=scalar_first)
+    batch = sketchanim.reduce_rotations(t, q, tol, method="incremental", scalar_first=scalar_first, mode=mode)
+    rs = sketchanim.RotationStream(tol, scalar_first=scalar_first, mode=mode)
     i, c = 0, 0
     while i < len(t):
         step = chunks[c % len(chunks)]
@@ -91,7 +92,7 @@ def test_streaming_rotations_equal_the_batch(stream, chunks: list[int], scalar_f
     r = rs.finish()
     np.testing.assert_array_equal(r.spline.t, batch.spline.t)
     np.testing.assert_array_equal(r.spline.c, batch.spline.c)
-    assert r.report["scalar_first"] is scalar_first
+    assert r.report["mode"] == mode
 
 
 def test_sign_flips_and_norms_do_not_change_the_curve() -> None:

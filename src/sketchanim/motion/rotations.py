@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer import Piece, Reduction, StreamReducer, reduce
+from sketchanim.reducer.stream import StreamStats
 from sketchanim.reducer.conditioning import check_tolerance
 
 #: What a rotation channel is reduced as.
@@ -97,9 +98,14 @@ def _unwrapped_euler(q: np.ndarray, seq: str, scalar_first: bool, previous: Arra
         angles = Rotation.from_quat(q, scalar_first=scalar_first).as_euler(seq)
     except ValueError as err:
         raise ArgumentError("seq", f"is not an Euler sequence ({err})") from None
-    if previous is None:
-        return np.unwrap(angles, axis=0)
-    return np.unwrap(np.vstack([np.asarray(previous, dtype=float).reshape(1, 3), angles]), axis=0)[1:]
+    # Whole turns added to each angle: an integer count, so that a stream unwrapped in
+    # pieces gives the same angles, to the bit, as the whole take at once.
+    turn = 2.0 * np.pi
+    turns = np.zeros_like(angles)
+    turns[1:] = np.cumsum(np.round((angles[:-1] - angles[1:]) / turn), axis=0)
+    if previous is not None:
+        turns += np.round((np.asarray(previous, dtype=float).reshape(1, 3) - angles[:1]) / turn)
+    return angles + turn * turns
 
 
 def _check_mode(mode: str, tol_deg: float) -> float:
@@ -223,7 +229,7 @@ class RotationStream:
         if len(values):
             self._last = values[-1].copy()
 
-    def close(self):
+    def close(self) -> StreamStats:
         """End the stream (see :meth:`StreamReducer.close`)."""
         return self.stream.close()
 
