@@ -144,7 +144,7 @@ def reduce_command(
             console.print(f"dropped {reduction.report['duplicates_dropped']} exact duplicate samples")
     if rotation is not None:
         console.print(f"rotation ({rot_mode}): {summary_line(rotation, rotation.timings['total'])}")
-        names = ["rotation"] if rotation.metric == "rotation" else ["first angle", "second angle", "third angle"]
+        names = ["rotation"] if rotation.metric == "rotation" else [f"{axis} angle" for axis in seq]
         console.print(summary_table(rotation, [f"{n} (degrees)" for n in names], scale=180 / np.pi))
     try:
         if output is not None and reduction is not None:

@@ -162,6 +162,11 @@ def reduce_rotations(times: ArrayLike, quats: ArrayLike, tol_deg: float, *, scal
     else:
         r = reduce(times, continuous_quaternions(quats), np.sin(angle / 2), method=method, order=order,
                    window=window, angle=angle)
+    return _described(r, mode, seq, scalar_first)
+
+
+def _described(r: Reduction, mode: str, seq: str, scalar_first: bool) -> Reduction:
+    """``r`` with its report saying how the rotation was read and reduced."""
     r.report.update(mode=mode, **({"seq": seq} if mode == "euler" else {"scalar_first": scalar_first}))
     return r
 
@@ -235,7 +240,4 @@ class RotationStream:
 
     def finish(self) -> Reduction:
         """End the stream and return the curve (as :func:`reduce_rotations` would)."""
-        r = self.stream.finish()
-        r.report.update(mode=self.mode, **({"seq": self.seq} if self.mode == "euler" else
-                                          {"scalar_first": self.scalar_first}))
-        return r
+        return _described(self.stream.finish(), self.mode, self.seq, self.scalar_first)

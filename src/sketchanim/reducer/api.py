@@ -29,8 +29,9 @@ def _guaranteed(spline: BSpline, samples: Samples, order: int, angle: float) -> 
     err = max_errors(exact(samples.times), samples.values, angle)
     if not np.all(err <= bound):
         j = int(np.argmax(err / bound))
+        what = "angle" if angle else f"tol: channel {j} tolerance"
         raise ToleranceUnreachableError(
-            f"tol: channel {j} tolerance {bound[j]!r} is below what floating point can "
+            f"{what} {bound[j]!r} is below what floating point can "
             f"resolve for these values (the interpolant misses by {err[j]!r})"
         )
     return exact, err, True

@@ -37,9 +37,10 @@ class Fit:
     coef : ndarray, shape (K, d)
         Coefficients in tolerance units, around the samples' centre.
     error : float
-        Largest |fit - sample| / tol over all samples and channels.
+        Largest error over all samples, in tolerances: |fit - sample| / tol over
+        channels, or the rotation angle over ``angle`` (see :class:`Approximator`).
     residual : ndarray, shape (n,)
-        Per sample, the largest |fit - sample| / tol over channels.
+        Per sample, that error.
     """
 
     knots: np.ndarray
