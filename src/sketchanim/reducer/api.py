@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
-from sketchanim.reducer.conditioning import Samples, check_count, check_order, condition
+from sketchanim.reducer.conditioning import Samples, check_angle, check_count, check_order, condition
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
@@ -125,10 +125,7 @@ def reduce(
                                ("coarse_samples", 2 * order if coarse_samples is None else coarse_samples, 2 * order)):
         check_count(name, value, least)
     samples = condition(times, values, tol)
-    if angle is not None and (samples.dim != 4 or not 0.0 < angle <= np.pi):
-        raise ArgumentError("angle", f"needs 4 channels (a quaternion) and a value in (0, pi], got {angle!r} "
-                                     f"with {samples.dim} channels")
-    angle = float(angle or 0.0)
+    angle = check_angle(angle, samples.dim)
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped}
     if method != "incremental":
         report["start"] = start

@@ -71,6 +71,21 @@ def check_count(name: str, value: object, least: int) -> int:
     return int(value)
 
 
+def check_angle(angle: float | None, dim: int) -> float:
+    """Return a rotation bound in radians, 0.0 for none; it needs 4 channels (a
+    quaternion) and a value in (0, pi].
+
+    >>> check_angle(None, 3), check_angle(0.1, 4)
+    (0.0, 0.1)
+    """
+    if angle is None:
+        return 0.0
+    if dim != 4 or not 0.0 < angle <= np.pi:
+        raise ArgumentError("angle", f"needs 4 channels (a quaternion) and a value in (0, pi], got {angle!r} "
+                                     f"with {dim} channels")
+    return float(angle)
+
+
 def check_tolerance(tol: ArrayLike, dim: int) -> np.ndarray:
     """Broadcast ``tol`` to shape (dim,) and check every entry is finite and positive.
 

@@ -27,7 +27,7 @@ from scipy.interpolate import BSpline, insert
 
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer import window_kernel
-from sketchanim.reducer.conditioning import check_count, check_order, check_tolerance, scan
+from sketchanim.reducer.conditioning import check_angle, check_count, check_order, check_tolerance, scan
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.starts import polynomial_through
@@ -224,10 +224,7 @@ class StreamReducer:
     ) -> None:
         self.dim = check_count("dim", dim, 1)
         self.tol = check_tolerance(tol, self.dim)
-        if angle is not None and (self.dim != 4 or not 0.0 < angle <= np.pi):
-            raise ArgumentError("angle", f"needs 4 channels (a quaternion) and a value in (0, pi], got {angle!r} "
-                                         f"with {self.dim} channels")
-        self.angle = 0.0 if angle is None else float(angle)
+        self.angle = check_angle(angle, self.dim)
         self.order = k = check_order(order)
         self.window = check_count("window", window, max(1, k // 2))
         if constraints not in CONSTRAINTS:
@@ -261,11 +258,11 @@ class StreamReducer:
         self._center = np.zeros(self.dim)
         self._previous: tuple[float, np.ndarray] | None = None
         self._pushed = 0
-        # Knots from the first that acts on the window (local index k - 1 is the window
-        # start), through the end of the last window; coefficients of the first 2k - 1.
-        self._kt = np.zeros(2 * k - 1)
-        self._kc = np.zeros((2 * k - 1, self.dim))
-        self._pinned = False
+        # What the last window left to the next: its knots from the first that acts on
+        # the next window (local index k - 1 is its start), through its clamped end, and
+        # their coefficients; before any window, a clamped start at time 0.
+        self._left = (np.zeros(3 * k - 1), np.zeros((2 * k - 1, self.dim)))
+        self._pinned = False                         # a window has run
         # Buffer index of the first sample that is not a knot yet. As in the paper's
         # initial curve (knots t_3 .. t_n-2 for a cubic), the first ``order // 2``
         # samples of the take and the last ``order - order // 2`` held are not knots:
@@ -273,7 +270,6 @@ class StreamReducer:
         # window's least squares well conditioned.
         self._next_knot = k // 2
         self._free_tail = k - k // 2                # the last held samples not yet knots
-        self._tail: tuple[np.ndarray, np.ndarray] | None = None
         self._held: tuple[np.ndarray, np.ndarray] | None = None
         self._max_error = np.zeros(1 if self.angle else self.dim)
         self._final_knots: list[np.ndarray] = []
@@ -342,6 +338,24 @@ class StreamReducer:
 
     # -- windows -----------------------------------------------------------------------
 
+    @property
+    def _kt(self) -> np.ndarray:
+        """The knots the next window starts from: through the last window's last knot."""
+        return self._left[0][: -self.order]
+
+    @property
+    def _kc(self) -> np.ndarray:
+        """The coefficients of the first ``2 * order - 1`` of them."""
+        return self._left[1][: 2 * self.order - 1]
+
+    def _step(self, kt: np.ndarray, kc: np.ndarray, a: int, b: int, f0: int, f_back: int, final: bool) -> tuple:
+        """One window from knots ``kt`` and coefficients ``kc`` (see
+        :func:`window_kernel.window_step`), with this reducer's settings."""
+        return window_kernel.window_step(
+            self.order, kt, kc, self._bt, self._bx, self._bn, a, b, self.window, f0, f_back, self.end_tol, final,
+            self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
+            self._origin, self.tol, self._center, self.angle)
+
     def _needed(self) -> int:
         """Sample knots the next window takes (the future context is ``order`` knots)."""
         k = self.order
@@ -349,24 +363,19 @@ class StreamReducer:
 
     def _run_window(self, *, final: bool) -> None:
         clock = time.perf_counter()
-        k, m = self.order, self.window
+        k = self.order
         a = self._next_knot
         b = max(a, self._bn - self._free_tail) if final else a + self._needed()
         f0 = 2 * k - 1 if (self._pinned and self.constraints.startswith("pin")) else k - 1
         f_back = 2 * k - 1 if self._pinned else f0
-        out = window_kernel.window_step(
-            k, self._kt, self._kc, self._bt, self._bx, self._bn, a, b, m, f0, f_back, self.end_tol, final,
-            self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
-            self._origin, self.tol, self._center, self.angle)
-        restarted = out[4] > window_kernel.PASS and self._tail is not None
+        out = self._step(self._kt, self._kc, a, b, f0, f_back, final)
+        restarted = out[4] > window_kernel.PASS and self._pinned
         if restarted:
             self.stats.start_misses += 1
             out = self._restart(a, b, final)
         knots, coef, removed, fits, start, advance, done, err, piece_knots, piece_coef = out
         if not final:
-            self._kt = knots[advance : len(knots) - k]
-            self._kc = coef[advance : advance + 2 * k - 1]
-            self._tail = (knots[advance:], coef[advance:])
+            self._left = (knots[advance:], coef[advance:])
             self._pinned = True
             # The window's last knot is its last sample knot.
             self._next_knot = int(np.searchsorted(self._bt[: self._bn], self._kt[-1], side="right")) \
@@ -402,10 +411,9 @@ class StreamReducer:
         copies of ``E`` where the tolerance allows.
         """
         k, h, m = self.order, self.order // 2, self.window
-        tail_knots, tail_coef = self._tail
         end = self._kt[-1]
         missing = k - 1 - int(np.count_nonzero(self._kt == end))
-        refined = BSpline(tail_knots, tail_coef, k - 1)
+        refined = BSpline(*self._left, k - 1)
         if missing > 0:
             refined = insert(end, refined, m=missing)
         kt = np.asarray(refined.t)[: len(self._kt) + max(missing, 0)]
@@ -413,11 +421,8 @@ class StreamReducer:
         last = self._bn - self._free_tail          # the last sample that can be a knot
         a = min(a - 1 + h, last)
         b = last if final else max(a + 1, min(b, a + 2 * k + m - (len(kt) - (k - 1))))
-        return window_kernel.window_step(
-            k, np.ascontiguousarray(kt), np.ascontiguousarray(kc), self._bt, self._bx, self._bn, a,
-            min(b, last), m, len(kc), len(kc), self.end_tol, final, self.max_span,
-            self.exhaustive_below, self.minimax_iterations, self._curve_reference, self._origin, self.tol,
-            self._center, self.angle)
+        return self._step(np.ascontiguousarray(kt), np.ascontiguousarray(kc), a, min(b, last), len(kc), len(kc),
+                          final)
 
     def _emit(self, piece_knots: np.ndarray, piece_coef: np.ndarray, final: bool) -> None:
         """Hand out the curve up to the window's last final coefficient (in the caller's
