@@ -24,16 +24,12 @@ from rich.console import Console
 from rich.table import Table
 
 import sketchanim
+from sketchanim.paper import spiral
 from peers import PeerResult, fitpack, sisl
 
 REPO = Path(__file__).resolve().parents[1]
 DATA = REPO.parent / "shared" / "data"
 sys.path.insert(0, str(REPO / "tests"))
-
-
-def spiral(n: int) -> tuple[np.ndarray, np.ndarray]:
-    t = np.linspace(0.0, 6.0 * np.pi, n)
-    return t, np.c_[t * np.cos(t), t * np.sin(t)]
 
 
 def cases(quick: bool) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]:

@@ -22,6 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 import sketchanim  # noqa: E402
+from sketchanim.paper import spiral  # noqa: E402
 from peers import sisl  # noqa: E402
 
 console = Console(width=max(Console().width, 120))
@@ -102,8 +103,7 @@ def memory_table(sizes: list[int]) -> None:
 
 
 def cases() -> list[tuple[str, np.ndarray, np.ndarray, float]]:
-    t = np.linspace(0, 6 * np.pi, 1001)
-    out = [("spiral, tol 0.1", t, np.c_[t * np.cos(t), t * np.sin(t)], 0.1)]
+    out = [("spiral, tol 0.1", *spiral(), 0.1)]
     t, x = motion(10_000, seed=3)
     out.append(("3-D take 10k, tol 0.01", t, x, 0.01))
     if DATA.is_dir():

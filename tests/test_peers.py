@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import sketchanim
+from sketchanim.paper import spiral as paper_spiral
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 sys.path.insert(0, str(BENCH))
@@ -20,8 +21,7 @@ from peers import fitpack, sisl  # noqa: E402
 
 @pytest.fixture(scope="module")
 def spiral():
-    t = np.linspace(0.0, 6.0 * np.pi, 1000)
-    return t, np.c_[t * np.cos(t), t * np.sin(t)], np.array([0.1, 0.1])
+    return *paper_spiral(1000), np.array([0.1, 0.1])
 
 
 def test_sisl_runs_and_we_need_no_more_control_points(spiral):

@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 import sketchanim
 from sketchanim.errors import ArgumentError, InputError, SampleError
+from sketchanim.paper import spiral
 from sketchanim.reducer import Reduction
 
 from signals import signals
@@ -82,8 +83,7 @@ def test_any_magnitude_works_alike(sig, exponent):
 
 def test_spiral_needs_no_more_control_points_than_sisl():
     # SISL s1961 / s1940 give 18 on this case (benchmarks/bench_global.py measures it).
-    t = np.linspace(0, 6 * np.pi, 1000)
-    x = np.c_[t * np.cos(t), t * np.sin(t)]
+    t, x = spiral(1000)
     r = sketchanim.reduce(t, x, 0.1)
     _check_guarantee(r, t, x, np.array([0.1, 0.1]))
     assert r.n_coefficients <= 18

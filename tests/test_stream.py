@@ -11,14 +11,10 @@ from scipy.linalg import solveh_banded
 
 import sketchanim
 from sketchanim.errors import ArgumentError, SampleError
+from sketchanim.paper import spiral
 from sketchanim.reducer import window_kernel
 from sketchanim.reducer.stream import CONSTRAINTS
 from signals import signals
-
-
-def spiral(n: int = 1001) -> tuple[np.ndarray, np.ndarray]:
-    t = np.linspace(0, 6 * np.pi, n)
-    return t, np.c_[t * np.cos(t), t * np.sin(t)]
 
 
 def within(spline: BSpline, t: np.ndarray, x: np.ndarray, tol: np.ndarray) -> bool:
