@@ -15,6 +15,9 @@ and the time of each mode, in one run on this machine.
   the same angular tolerance (a third of it always does, as the three axes' errors add);
 - components: the four quaternion components reduced as plain channels, each within
   sin(tol / 2), with no angle bound (measured as well).
+
+Every mode finds pauses and breaks (the default). A second table shows what they change
+in quaternion mode: control points and error with them and without, and what was found.
 """
 
 from __future__ import annotations
@@ -118,6 +121,29 @@ def main() -> None:
     console.print(table)
     console.print(f"quaternion mode needs no more points than Euler mode at the same geodesic bound on {wins} "
                   f"of {len(cases)} channels")
+    console.print(feature_table(cases, args.tol_deg, args.method))
+
+
+def feature_table(cases: list, tol: float, method: str) -> Table:
+    """Quaternion mode with pauses and breaks found (the default) and without."""
+    table = Table(title=f"pauses and breaks, quaternion mode at {tol} degrees, {method} method")
+    for column in ("channel", "points on", "points off", "on / off", "max err on (deg)", "max err off (deg)",
+                   "pauses", "paused s", "breaks"):
+        table.add_column(column, justify="left" if column == "channel" else "right")
+    sums = [0, 0]
+    for name, t, q, scalar_first in cases:
+        on, off = (sketchanim.reduce_rotations(t, q, tol, scalar_first=scalar_first, method=method, features=f)
+                   for f in (True, False))
+        pauses = [f for f in on.features if f.kind == "pause"]
+        sums[0] += on.n_coefficients
+        sums[1] += off.n_coefficients
+        table.add_row(name, str(on.n_coefficients), str(off.n_coefficients),
+                      f"{on.n_coefficients / off.n_coefficients:.2f}",
+                      f"{geodesic_deg(on.spline(t), q, scalar_first):.3f}",
+                      f"{geodesic_deg(off.spline(t), q, scalar_first):.3f}", str(len(pauses)),
+                      f"{sum(f.end - f.start for f in pauses):.1f}", str(len(on.features) - len(pauses)))
+    table.add_row("total", str(sums[0]), str(sums[1]), f"{sums[0] / sums[1]:.2f}", "", "", "", "", "")
+    return table
 
 
 if __name__ == "__main__":

@@ -48,3 +48,50 @@ def signals(draw, max_n: int = 300, dims: tuple[int, int] = (1, 4), min_n: int =
     spread[spread == 0] = scale
     tol = spread * 10.0 ** rng.uniform(-3, -0.5, dim)
     return Signal(times, values, tol)
+
+
+@dataclass
+class Performance(Signal):
+    """A :class:`Signal` with planted holds (time spans) and corners (times)."""
+
+    holds: list[tuple[float, float]]
+    corners: list[float]
+
+
+@st.composite
+def performances(draw, dims: tuple[int, int] = (1, 3)) -> Performance:
+    """Motion in stretches: holds, straight moves and arcs, joined where the velocity
+    jumps (corners), sampled at 60-240 Hz, maybe jittered and noisy."""
+    dim = draw(st.integers(*dims))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    rate = draw(st.sampled_from([60.0, 120.0, 240.0]))
+    kinds = draw(st.lists(st.sampled_from(["hold", "line", "arc"]), min_size=1, max_size=6))
+    durations = rng.uniform(0.3, 1.2, len(kinds))
+    edges = np.r_[0.0, np.cumsum(durations)]
+    n = int(edges[-1] * rate) + 1
+    times = np.arange(n) / rate
+    if draw(st.booleans()):
+        times[1:-1] += rng.uniform(-0.2, 0.2, n - 2) / rate
+    values = np.zeros((n, dim))
+    here = rng.normal(0, 1, dim)
+    holds, corners = [], []
+    for kind, a, b in zip(kinds, edges[:-1], edges[1:]):
+        m = (times >= a) & (times < b) if b < edges[-1] else (times >= a)
+        u = times[m] - a
+        if kind == "hold":
+            values[m] = here
+            holds.append((a, b))
+        elif kind == "line":
+            v = rng.normal(0, 2, dim)
+            values[m] = here + u[:, None] * v
+            here = here + (b - a) * v
+        else:
+            w, amp = rng.uniform(2, 8), rng.uniform(0.2, 1.0, dim)
+            values[m] = here + amp * np.sin(w * u)[:, None]
+            here = here + amp * np.sin(w * (b - a))
+        if a > 0:
+            corners.append(a)
+    tol = np.full(dim, draw(st.sampled_from([1e-3, 1e-2])))
+    if draw(st.booleans()):
+        values += rng.normal(0, 0.1 * tol[0], values.shape)
+    return Performance(times, values, tol, holds, corners)

@@ -142,3 +142,19 @@ def test_rotation_column_errors_are_named(tmp_path):
     res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.01", "--rot-cols", "qx,qy,qz,qw"])
     assert res.exit_code == 2 and "line 11" in res.output and "quaternion: has norm 0" in res.output
     assert "Traceback" not in res.output
+
+
+def test_feature_switches_report_and_plot(tmp_path):
+    csv, png = tmp_path / "stop.csv", tmp_path / "stop.png"
+    t = np.arange(0, 3, 1 / 120)
+    np.savetxt(csv, np.c_[t, np.where(t < 1, t, 1.0), np.where(t < 1, 2 * t, 2.0)], delimiter=",",
+               header="t,x,y", comments="")
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.001", "--plot", str(png), "-o", str(tmp_path / "o.json")])
+    assert res.exit_code == 0, res.output
+    assert "features: pause 1.000-2.992 s" in res.output
+    assert Reduction.from_json((tmp_path / "o.json").read_text()).features[0].kind == "pause"
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.001", "--no-pauses", "--no-breaks"])
+    assert res.exit_code == 0 and "features: none found" in res.output
+    res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.001", "--min-pause", "0"])
+    assert res.exit_code == 2 and "min_pause" in res.output

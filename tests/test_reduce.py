@@ -53,7 +53,8 @@ def test_lm_start_never_returns_more_control_points_than_samples():
 @settings(max_examples=25)
 @given(signals(min_n=150, max_n=600, dims=(1, 3)), st.integers(2, 5))
 def test_coarse_first_pass_keeps_the_guarantee(sig, order):
-    r = sketchanim.reduce(sig.times, sig.values, sig.tol, order=order, coarse_samples=60)
+    # features off: pieces cut at pauses and breaks may be too short for a coarse pass
+    r = sketchanim.reduce(sig.times, sig.values, sig.tol, order=order, coarse_samples=60, features=False)
     assert r.report["coarse_pass"]
     _check_guarantee(r, sig.times, sig.values, sig.tol)
 
@@ -63,7 +64,7 @@ def test_dense_noisy_take_repairs_the_coarse_curve():
     rng = np.random.default_rng(7)
     t = np.linspace(0.0, 60.0, 6000)
     x = np.c_[np.sin(t / 5), 0.02 * t] + rng.normal(0.0, 0.01, (len(t), 2))
-    r = sketchanim.reduce(t, x, 0.035, coarse_samples=1000)
+    r = sketchanim.reduce(t, x, 0.035, coarse_samples=1000, features=False)
     assert r.report["coarse_outcome"] == "repaired"
     _check_guarantee(r, t, x, np.array([0.035, 0.035]))
     assert r.n_coefficients < 100

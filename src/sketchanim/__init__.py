@@ -9,10 +9,12 @@
 
 from sketchanim.errors import ArgumentError, FileFormatError, InputError, SampleError, ToleranceUnreachableError
 from sketchanim.motion import RotationStream, reduce_rotations
-from sketchanim.reducer import Piece, Reduction, StreamReducer, reduce
+from sketchanim.reducer import Feature, FeatureOptions, Piece, Reduction, StreamReducer, reduce
 
 __all__ = [
     "ArgumentError",
+    "Feature",
+    "FeatureOptions",
     "FileFormatError",
     "InputError",
     "Piece",

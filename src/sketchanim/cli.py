@@ -17,7 +17,7 @@ from sketchanim.errors import InputError, SampleError
 from sketchanim.io.atomic import write_atomic
 from sketchanim.io.csvio import SampleTable, read_samples_csv
 from sketchanim.motion import reduce_rotations
-from sketchanim.reducer import METHODS, Reduction, reduce
+from sketchanim.reducer import METHODS, FeatureOptions, Reduction, reduce
 
 app = typer.Typer(
     help="Sketch 3D animations: reduce performed motion to compact B-splines within tolerance.",
@@ -45,6 +45,20 @@ def summary_line(reduction: Reduction, seconds: float) -> str:
     """One line: samples, control points, ratio, order, time."""
     return (f"{reduction.n_samples} samples -> {reduction.n_coefficients} control points "
             f"(ratio {reduction.ratio:.1f}:1, order {reduction.order}, {seconds * 1e3:.1f} ms)")
+
+
+def features_line(reduction: Reduction) -> str:
+    """The pauses and breaks kept, with their times in seconds.
+
+    >>> import numpy as np, sketchanim
+    >>> t = np.arange(0, 2, 1 / 120)
+    >>> features_line(sketchanim.reduce(t, np.where(t < 1, t, 1.0), 1e-3))
+    'features: pause 1.000-1.992 s'
+    """
+    if not reduction.features:
+        return "features: none found"
+    return "features: " + ", ".join(f"{f.kind} {f.start:.3f}" + (f"-{f.end:.3f}" if f.end > f.start else "") + " s"
+                                    for f in reduction.features)
 
 
 def summary_table(reduction: Reduction, channels: list[str], scale: float = 1.0) -> Table:
@@ -115,9 +129,14 @@ def reduce_command(
     rot_mode: Annotated[str, typer.Option("--rot-mode", help="Rotation curve: quaternion or euler.")] = "quaternion",
     seq: Annotated[str, typer.Option(help="Euler sequence (scipy's: upper case intrinsic, as BVH's ZXY).")] = "ZXY",
     scalar_first: Annotated[bool, typer.Option("--scalar-first", help="Quaternion columns are w,x,y,z.")] = False,
+    pauses: Annotated[bool, typer.Option("--pauses/--no-pauses", help="Hold exactly still where the take pauses.")]
+    = True,
+    breaks: Annotated[bool, typer.Option("--breaks/--no-breaks", help="Keep velocity breaks as corners.")] = True,
+    min_pause: Annotated[float, typer.Option("--min-pause", help="Shortest pause, seconds.")] = 0.5,
 ) -> None:
     """Reduce a CSV of samples to B-splines; print the report, write JSON and plot."""
     try:
+        features = FeatureOptions(pauses=pauses, breaks=breaks, min_pause=min_pause)
         table = read_samples_csv(input)
         rot = _rotation_columns(table, rot_cols) if rot_cols else []
         rest = [j for j in range(len(table.channels)) if j not in rot]
@@ -127,14 +146,14 @@ def reduce_command(
         if rest:
             reduction = _on_lines(table, input, lambda: reduce(
                 table.times, table.values[:, rest], _tolerances(tol), order=order, method=method, start=start,
-                window=window))
+                window=window, features=features))
         if rot:
             quaternion_cols = len(rot) == 4
             rotation = _on_lines(table, input, lambda: reduce_rotations(
                 table.times,
                 table.values[:, rot] if quaternion_cols else _euler_to_quaternions(table.values[:, rot], seq),
                 rot_tol_deg, scalar_first=scalar_first and quaternion_cols, mode=rot_mode, seq=seq, method=method,
-                order=order, window=window))
+                order=order, window=window, features=features))
     except InputError as err:
         _fail(str(err))
     if reduction is not None:
@@ -142,10 +161,12 @@ def reduce_command(
         console.print(summary_table(reduction, [table.channels[j] for j in rest]))
         if reduction.report.get("duplicates_dropped"):
             console.print(f"dropped {reduction.report['duplicates_dropped']} exact duplicate samples")
+        console.print(features_line(reduction))
     if rotation is not None:
         console.print(f"rotation ({rot_mode}): {summary_line(rotation, rotation.timings['total'])}")
         names = ["rotation"] if rotation.metric == "rotation" else [f"{axis} angle" for axis in seq]
         console.print(summary_table(rotation, [f"{n} (degrees)" for n in names], scale=180 / np.pi))
+        console.print(f"rotation {features_line(rotation)}")
     try:
         if output is not None and reduction is not None:
             _write(output, reduction)

@@ -116,10 +116,10 @@ def spiral_variants(window: int = 10, tol: float = 0.1) -> dict[str, Reduction]:
     out = {}
     for name, options in [*((c, {"constraints": c}) for c in CONSTRAINTS),
                           ("none, curve check (paper)", {"constraints": "none", "reference": "curve"})]:
-        sr = StreamReducer(2, tol, window=window, **options)
+        sr = StreamReducer(2, tol, window=window, features=False, **options)
         sr.extend(t, x)
         out[name] = sr.finish()
-    out["global"] = reduce(t, x, tol)
+    out["global"] = reduce(t, x, tol, features=False)
     return out
 
 
@@ -130,7 +130,7 @@ def window_table(motion: Motion, windows: tuple[int, ...] = WINDOWS) -> list[dic
         row: dict[str, object] = {"window": str(window)}
         for part, values, tol in (("position", motion.positions, POSITION_TOL),
                                   ("rotation", motion.angles, ROTATION_TOL)):
-            sr = StreamReducer(3, tol, window=window)
+            sr = StreamReducer(3, tol, window=window, features=False)
             clock = time.perf_counter()
             sr.extend(motion.times, values)
             r = sr.finish()
@@ -141,7 +141,7 @@ def window_table(motion: Motion, windows: tuple[int, ...] = WINDOWS) -> list[dic
         rows.append(row)
     row = {"window": "global"}
     for part, values, tol in (("position", motion.positions, POSITION_TOL), ("rotation", motion.angles, ROTATION_TOL)):
-        r = reduce(motion.times, values, tol)
+        r = reduce(motion.times, values, tol, features=False)
         row[f"{part[:3]} pts"] = r.n_coefficients
         row[f"{part[:3]} win ms"] = float("nan")
         row[f"{part[:3]} total ms"] = 1e3 * r.timings["total"]
@@ -186,7 +186,7 @@ def run(out: Path, data: Path | None) -> dict[str, object]:
     tables = {}
     for motion in motions:
         tables[motion.name] = window_table(motion)
-        best = StreamReducer(3, POSITION_TOL, window=20)
+        best = StreamReducer(3, POSITION_TOL, window=20, features=False)
         best.extend(motion.times, motion.positions)
         slug = motion.name.split(" ")[0].replace(".txt", "")
         plot_reduction(motion.times, motion.positions, best.finish(), out / f"{slug}_positions.png",

@@ -29,7 +29,8 @@ def plot_reduction(
 ) -> Path:
     """Draw one row per channel (component | error with tolerance band) to a PNG.
 
-    Control points are drawn at their Greville abscissae. The file is written atomically.
+    Control points are drawn at their Greville abscissae; the reduction's pauses are
+    shaded and its breaks marked with a vertical line. The file is written atomically.
 
     >>> import tempfile, pathlib, sketchanim
     >>> t = np.linspace(0, 1, 40); x = np.c_[np.sin(6 * t)]
@@ -58,6 +59,12 @@ def plot_reduction(
         ax_err.axhspan(-tol, tol, color="C2", alpha=0.15, label=f"tolerance ±{tol:g}")
         ax_err.plot(times, err, "-", lw=0.8, color="C0", label="curve - samples")
         ax_err.set_ylim(-1.3 * tol, 1.3 * tol)
+        for f in reduction.features:
+            label = f"{f.kind}s" if j == 0 and f is next(g for g in reduction.features if g.kind == f.kind) else None
+            if f.kind == "pause":
+                ax.axvspan(f.start, f.end, color="C1", alpha=0.15, label=label)
+            else:
+                ax.axvline(f.start, color="C4", lw=0.9, ls=":", label=label)
     axes[0, 0].legend(loc="best", fontsize="small")
     axes[0, 1].legend(loc="best", fontsize="small")
     axes[-1, 0].set_xlabel("time (s)")

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, SampleError
-from sketchanim.reducer import Piece, Reduction, StreamReducer, reduce
+from sketchanim.reducer import FeatureOptions, Piece, Reduction, StreamReducer, reduce
 from sketchanim.reducer.stream import StreamStats
 from sketchanim.reducer.conditioning import check_tolerance
 
@@ -119,7 +119,7 @@ def _check_mode(mode: str, tol_deg: float) -> float:
 
 def reduce_rotations(times: ArrayLike, quats: ArrayLike, tol_deg: float, *, scalar_first: bool = False,
                      mode: str = "quaternion", seq: str = "ZXY", method: str = "global", order: int = 4,
-                     window: int = 20) -> Reduction:
+                     window: int = 20, features: bool | FeatureOptions = True) -> Reduction:
     """Reduce an orientation channel, keeping every sample's rotation within ``tol_deg``.
 
     Parameters
@@ -138,8 +138,8 @@ def reduce_rotations(times: ArrayLike, quats: ArrayLike, tol_deg: float, *, scal
         (evaluates to (m, 3) in ``seq`` order).
     seq : str
         Euler sequence for Euler mode (scipy's convention; BVH ``ZXY`` is ``"ZXY"``).
-    method, order, window
-        As for :func:`sketchanim.reduce`.
+    method, order, window, features
+        As for :func:`sketchanim.reduce` (a pause holds the orientation exactly still).
 
     Returns
     -------
@@ -158,10 +158,10 @@ def reduce_rotations(times: ArrayLike, quats: ArrayLike, tol_deg: float, *, scal
     angle = _check_mode(mode, tol_deg)
     if mode == "euler":
         r = reduce(times, euler_angles(quats, seq, scalar_first=scalar_first), angle, method=method, order=order,
-                   window=window)
+                   window=window, features=features)
     else:
         r = reduce(times, continuous_quaternions(quats), np.sin(angle / 2), method=method, order=order,
-                   window=window, angle=angle)
+                   window=window, angle=angle, features=features)
     return _described(r, mode, seq, scalar_first)
 
 
@@ -192,14 +192,15 @@ class RotationStream:
 
     def __init__(self, tol_deg: float, *, scalar_first: bool = False, mode: str = "quaternion", seq: str = "ZXY",
                  order: int = 4, window: int = 20, keep: bool = True,
-                 on_piece: Callable[[Piece], object] | None = None) -> None:
+                 on_piece: Callable[[Piece], object] | None = None, features: bool | FeatureOptions = True) -> None:
         angle = _check_mode(mode, tol_deg)
         self.mode, self.seq, self.scalar_first = mode, seq, scalar_first
         if mode == "euler":
-            self.stream = StreamReducer(3, angle, order=order, window=window, keep=keep, on_piece=on_piece)
+            self.stream = StreamReducer(3, angle, order=order, window=window, keep=keep, on_piece=on_piece,
+                                        features=features)
         else:
             self.stream = StreamReducer(4, np.sin(angle / 2), order=order, window=window, keep=keep,
-                                        on_piece=on_piece, angle=angle)
+                                        on_piece=on_piece, angle=angle, features=features)
         self._last: np.ndarray | None = None
 
     def push(self, t: float, quat: ArrayLike) -> None:

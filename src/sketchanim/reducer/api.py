@@ -10,9 +10,11 @@ from scipy.interpolate import BSpline
 
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
 from sketchanim.reducer.conditioning import Samples, check_angle, check_count, check_order, condition
+from sketchanim.reducer.features import Feature, FeatureOptions
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
+from sketchanim.reducer.segments import reduce_segmented
 from sketchanim.reducer.starts import interpolant, polynomial_through
 from sketchanim.reducer.stream import StreamReducer
 
@@ -52,6 +54,7 @@ def reduce(
     window: int = 20,
     constraints: str = "end",
     angle: float | None = None,
+    features: bool | FeatureOptions = True,
 ) -> Reduction:
     """Reduce sampled motion to a B-spline that keeps every sample's value and time.
 
@@ -92,6 +95,11 @@ def reduce(
         instead: the spline's value, normalised, within ``angle`` radians of it;
         ``tol`` then only scales the fit. :func:`sketchanim.reduce_rotations` is the
         front end for rotations.
+    features : bool or FeatureOptions
+        Find pauses (the curve then holds exactly still there) and velocity breaks
+        (kept as corners) and cut the take there (:mod:`sketchanim.reducer.features`);
+        True uses the default thresholds, False reduces the take in one piece. The
+        result's ``features`` lists what was found.
 
     Returns
     -------
@@ -126,14 +134,17 @@ def reduce(
         check_count(name, value, least)
     samples = condition(times, values, tol)
     angle = check_angle(angle, samples.dim)
+    options = FeatureOptions.of(features)
+    found: list[Feature] = []
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped}
     if method != "incremental":
         report["start"] = start
     if method == "incremental":
         stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
-                               angle=angle or None)
+                               angle=angle or None, features=options)
         stream.extend(samples.times, samples.values)
         streamed = stream.finish()
+        found = list(streamed.features)
         spline = BSpline(streamed.spline.t, np.asarray(streamed.spline.c).reshape(-1, samples.dim),
                          streamed.spline.k)
         report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
@@ -142,12 +153,17 @@ def reduce(
         report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"
     else:
         opts = GlobalOptions(start, split, minimax_iterations, exhaustive_below, coarse_samples)
-        spline, log = reduce_global(samples.times, samples.values, samples.tol, order, opts, angle)
+        if options.enabled:
+            spline, found, log = reduce_segmented(samples.times, samples.values, samples.tol, order, opts, angle,
+                                                  options)
+        else:
+            spline, log = reduce_global(samples.times, samples.values, samples.tol, order, opts, angle)
         report.update(iterations=log.iterations, fits=log.fits, coarse_pass=log.coarse_pass,
                       coarse_outcome=log.coarse_outcome)
     spline, max_error, fell_back = _guaranteed(spline, samples, order, angle)
     if fell_back:
         report["note"] = "rounding broke the bound: kept the interpolant"
+        found = []
     if samples.scalar:
         spline = BSpline(spline.t, spline.c[:, 0], spline.k)
     return Reduction(
@@ -159,4 +175,5 @@ def reduce(
         timings={"total": time.perf_counter() - clock},
         report=report,
         metric="rotation" if angle else "channels",
+        features=tuple(found),
     )

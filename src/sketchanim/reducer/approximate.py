@@ -71,6 +71,10 @@ class Approximator:
         If > 0, the values are quaternions and the error of a sample is the rotation
         angle of the fit's normalised value from it, in units of ``angle`` (radians);
         ``tol`` then only scales the least squares.
+    held : (array_like or None, array_like or None)
+        Values (caller's units, shape (d,)) that the first and the last coefficient keep
+        in every fit, or None for a free end: where a take cut at a pause or a break
+        meets the piece before or after (:mod:`.splice`).
 
     Examples
     --------
@@ -82,7 +86,7 @@ class Approximator:
     """
 
     def __init__(self, times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, *,
-                 angle: float = 0.0) -> None:
+                 angle: float = 0.0, held: tuple[ArrayLike | None, ArrayLike | None] = (None, None)) -> None:
         self.times = np.asarray(times, dtype=float)
         self.order = order
         self.angle = angle
@@ -90,6 +94,9 @@ class Approximator:
         self.center = 0.5 * (values.min(axis=0) + values.max(axis=0))
         self.values = np.asarray(values, dtype=float)
         self.scaled = (self.values - self.center) / self.tol
+        #: (coefficient index, scaled value) of each held end
+        self.held = [(end, (np.asarray(v, dtype=float) - self.center) / self.tol)
+                     for end, v in zip((0, -1), held) if v is not None]
         self.fits = 0
 
     def fit(self, knots: ArrayLike, *, minimax_iterations: int = 0, minimax_reach: float = 1.5) -> Fit | None:
@@ -140,7 +147,12 @@ class Approximator:
         # New coefficient i is old i (i < index - k) or old i + 1 (i >= index); the k in
         # between, and `r` more on either side, are re-fitted.
         coef = np.delete(fit.coef, index - k, axis=0)
-        lo, hi = max(index - k - r, 0), min(index - 1 + r, n_coef - 1)
+        for end, value in self.held:
+            coef[end] = value
+        lo = max(index - k - r, 1 if self._holds(0) else 0)
+        hi = min(index - 1 + r, n_coef - (2 if self._holds(-1) else 1))
+        if hi < lo:
+            return None
         s0 = np.searchsorted(self.times, knots[lo], side="left")
         s1 = np.searchsorted(self.times, knots[hi + k], side="right")
         if s1 - s0 < hi - lo + 1:
@@ -164,6 +176,9 @@ class Approximator:
         residual = fit.residual.copy()
         residual[s0:s1] = resid
         return Fit(knots, coef, float(residual.max()), residual)
+
+    def _holds(self, end: int) -> bool:
+        return any(e == end for e, _ in self.held)
 
     def _deviation(self, fitted: np.ndarray, rows: slice) -> np.ndarray:
         """Per sample of ``rows``, how far the scaled ``fitted`` values are from it, in
@@ -199,4 +214,17 @@ class Approximator:
             rhs[a : a + intervals] += moments[:, a]
             for d in range(k - a):
                 ab[k - 1 - d, a + d : a + d + intervals] += gram[:, a, a + d]
+        for end, value in self.held:
+            # Coefficient j is known: move its column to the right-hand side and leave
+            # the equation coef[j] = value in its place.
+            j = end % n_coef
+            for d in range(1, k):
+                if j - d >= 0:
+                    rhs[j - d] -= ab[k - 1 - d, j] * value
+                    ab[k - 1 - d, j] = 0.0
+                if j + d < n_coef:
+                    rhs[j + d] -= ab[k - 1 - d, j + d] * value
+                    ab[k - 1 - d, j + d] = 0.0
+            ab[k - 1, j] = 1.0
+            rhs[j] = value
         return solveh_banded(ab, rhs, check_finite=False)

@@ -71,9 +71,14 @@ def _remove(ap: Approximator, knots: np.ndarray, coef: np.ndarray, opts: GlobalO
     return fit
 
 
+#: Values the first and last coefficient keep, or None (see :class:`Approximator`).
+Held = tuple[np.ndarray | None, np.ndarray | None]
+FREE: Held = (None, None)
+
+
 def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float, order: int,
-           opts: GlobalOptions, log: GlobalLog) -> BSpline:
-    ap = Approximator(times, values, tol, order, angle=angle)
+           opts: GlobalOptions, log: GlobalLog, held: Held) -> BSpline:
+    ap = Approximator(times, values, tol, order, angle=angle, held=held)
     knots = sample_knots(times, order)
     fit = _remove(ap, knots, ap.scaled, opts, log)
     if fit is None:
@@ -83,13 +88,14 @@ def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float,
 
 
 def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float, order: int,
-        opts: GlobalOptions, log: GlobalLog) -> BSpline:
+        opts: GlobalOptions, log: GlobalLog, held: Held) -> BSpline:
     linear_knots = sample_knots(times, 2)
     linear = BSpline(linear_knots, values, 1)
     if opts.split > 0:
-        linear = _paper(times, values, opts.split * tol, opts.split * angle, 2, opts, log)
+        linear = _paper(times, values, opts.split * tol, opts.split * angle, 2, opts, log, FREE)
     raised = elevate_degree(linear, order - 2)
-    ap = Approximator(times, linear(times), (1.0 - opts.split) * tol, order, angle=(1.0 - opts.split) * angle)
+    ap = Approximator(times, linear(times), (1.0 - opts.split) * tol, order, angle=(1.0 - opts.split) * angle,
+                      held=held)
     fit = _remove(ap, raised.t, (raised.c - ap.center) / ap.tol, opts, log)
     log.fits += ap.fits
     result = raised if fit is None else ap.spline(fit)
@@ -101,11 +107,11 @@ def _lm(times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float, or
 
 
 def _repair(coarse: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float, order: int,
-            opts: GlobalOptions, log: GlobalLog, rounds: int = 32) -> BSpline | None:
+            opts: GlobalOptions, log: GlobalLog, held: Held, rounds: int = 32) -> BSpline | None:
     """Make the coarse pass's curve hold at every sample: refine the knots where it
     misses and re-fit, a few rounds; then remove what is not needed.
     ``None`` if it still misses."""
-    ap = Approximator(times, values, tol, order, angle=angle)
+    ap = Approximator(times, values, tol, order, angle=angle, held=held)
     pool = np.unique(sample_knots(times, order)[order:-order])
     knots = coarse.t
     fit = None
@@ -133,12 +139,14 @@ def _repair(coarse: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndar
 
 
 def reduce_global(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int,
-                  opts: GlobalOptions, angle: float = 0.0) -> tuple[BSpline, GlobalLog]:
+                  opts: GlobalOptions, angle: float = 0.0, held: Held = FREE) -> tuple[BSpline, GlobalLog]:
     """Reduce checked samples (shape (n,), (n, d)) to a spline within ``tol`` of each.
 
     With ``angle > 0`` the four channels are quaternions and each sample's rotation is
     kept within ``angle`` radians instead (:mod:`.metric`); ``tol`` then scales the fit.
-    The caller verifies the guarantee on the returned spline.
+    ``held`` asks every fit to keep its first and last coefficient at the given values
+    (to rounding; None for a free end). The caller verifies the guarantee on the
+    returned spline.
 
     Examples
     --------
@@ -155,13 +163,13 @@ def reduce_global(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order:
         log.coarse_pass = True
         step = -(-n // opts.coarse_samples)
         idx = np.unique(np.r_[np.arange(0, n, step), n - 1])
-        coarse = run(times[idx], values[idx], tol, angle, order, opts, log)
+        coarse = run(times[idx], values[idx], tol, angle, order, opts, log, held)
         if np.all(max_errors(coarse(times), values, angle) <= (angle or tol)):
             log.coarse_outcome = "held"
             return coarse, log
-        repaired = _repair(coarse, times, values, tol, angle, order, opts, log)
+        repaired = _repair(coarse, times, values, tol, angle, order, opts, log, held)
         if repaired is not None:
             log.coarse_outcome = "repaired"
             return repaired, log
         log.coarse_outcome = "full pass"
-    return run(times, values, tol, angle, order, opts, log), log
+    return run(times, values, tol, angle, order, opts, log, held), log

@@ -10,6 +10,7 @@ import numpy as np
 from scipy.interpolate import BSpline
 
 from sketchanim.errors import InputError
+from sketchanim.reducer.features import KINDS, Feature
 
 SCHEMA = "sketchanim.reduction"
 VERSION = 1
@@ -39,6 +40,9 @@ class Reduction:
         What happened: duplicates dropped, iterations, least-squares fits, ...
     metric : {"channels", "rotation"}
         What the tolerance bounds (see :mod:`sketchanim.reducer.metric`).
+    features : tuple of Feature
+        The pauses (the curve holds still over their span) and breaks (a corner at
+        their time) found and kept, in time order.
 
     Examples
     --------
@@ -58,6 +62,7 @@ class Reduction:
     timings: dict[str, float] = field(default_factory=dict)
     report: dict[str, Any] = field(default_factory=dict)
     metric: str = "channels"
+    features: tuple[Feature, ...] = ()
 
     @property
     def order(self) -> int:
@@ -91,6 +96,7 @@ class Reduction:
             "method": self.method,
             "timings": self.timings,
             "report": self.report,
+            "features": [f.to_dict() for f in self.features],
         }
         return json.dumps(doc, indent=1)
 
@@ -136,6 +142,18 @@ class Reduction:
         n_samples = doc.get("n_samples")
         if not isinstance(n_samples, int) or n_samples < 1:
             raise InputError(f"{source}: field 'n_samples' must be a positive integer")
+        features = doc.get("features", [])
+        if not isinstance(features, list):
+            raise InputError(f"{source}: field 'features' must be a list")
+        found = []
+        for i, f in enumerate(features):
+            ok = isinstance(f, dict) and f.get("kind") in KINDS and all(
+                isinstance(f.get(key), (int, float)) and not isinstance(f.get(key), bool) and np.isfinite(f[key])
+                for key in ("start", "end"))
+            if not ok or f["start"] > f["end"]:
+                raise InputError(f"{source}: field 'features', item {i}: needs kind ({' or '.join(KINDS)}) "
+                                 "and finite start <= end")
+            found.append(Feature(f["kind"], float(f["start"]), float(f["end"])))
         return cls(
             spline=BSpline(knots, coef, order - 1),
             tol=tol,
@@ -145,4 +163,5 @@ class Reduction:
             timings=dict(doc.get("timings") or {}),
             report=dict(doc.get("report") or {}),
             metric=metric,
+            features=tuple(found),
         )

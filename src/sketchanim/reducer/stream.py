@@ -28,8 +28,10 @@ from scipy.interpolate import BSpline, insert
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer import window_kernel
 from sketchanim.reducer.conditioning import check_angle, check_count, check_order, check_tolerance, scan
+from sketchanim.reducer.features import Feature, FeatureDetector, FeatureOptions
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
+from sketchanim.reducer.splice import hold, join
 from sketchanim.reducer.starts import polynomial_through
 
 #: Window constraint variants of the paper's figures 1 and 2.
@@ -189,6 +191,11 @@ class StreamReducer:
         rotation: the curve's value, normalised, within ``angle`` radians of it
         (:mod:`.metric`); ``tol`` then only scales the fit (``sin(angle / 2)`` suits),
         and :attr:`max_error` is that one angle.
+    features : bool or FeatureOptions
+        Find pauses and breaks while samples arrive (:mod:`.features`; True: the
+        default thresholds, False: off). The take is cut there: a pause comes out as a
+        constant piece, a break as a corner (a knot of multiplicity ``order - 1``).
+        Samples then reach the windows up to ``min_pause`` seconds late.
 
     Examples
     --------
@@ -221,6 +228,7 @@ class StreamReducer:
         keep: bool = True,
         on_piece: Callable[[Piece], object] | None = None,
         angle: float | None = None,
+        features: bool | FeatureOptions = True,
     ) -> None:
         self.dim = check_count("dim", dim, 1)
         self.tol = check_tolerance(tol, self.dim)
@@ -253,11 +261,32 @@ class StreamReducer:
         self._b0 = 0
         self._bt = self._store_t[: self.buffer_bound]
         self._bx = self._store_x[: self.buffer_bound]
+        self._previous: tuple[float, np.ndarray] | None = None
+        self._pushed = 0
+        self._taken = 0
+        self._max_error = np.zeros(1 if self.angle else self.dim)
+        self.features = FeatureOptions.of(features)
+        self._detector = FeatureDetector(self.dim, self.tol, k, self.features, angle=self.angle) \
+            if self.features.enabled else None
+        self._segments: list[BSpline] = []           # finished pieces between features (keep)
+        self._pause: tuple[float, np.ndarray] | None = None
+        self._last_value = np.zeros(self.dim)       # where the last piece ended
+        self._closed = False
+        self._begin(None)
+
+    def _begin(self, start: np.ndarray | None) -> None:
+        """Start a piece of the take (at its start, or after a feature), from ``start``
+        (the value its first coefficient keeps) or free."""
+        k = self.order
         self._bn = 0
         self._origin: float | None = None
         self._center = np.zeros(self.dim)
-        self._previous: tuple[float, np.ndarray] | None = None
-        self._pushed = 0
+        self._start_value = start
+        #: window coefficients after the past context still holding the start value
+        self._start_held = 0 if start is None else 1
+        self._end_value: np.ndarray | None = None
+        self._seg_n = 0
+        self._last_t = 0.0
         # What the last window left to the next: its knots from the first that acts on
         # the next window (local index k - 1 is its start), through its clamped end, and
         # their coefficients; before any window, a clamped start at time 0.
@@ -271,10 +300,8 @@ class StreamReducer:
         self._next_knot = k // 2
         self._free_tail = k - k // 2                # the last held samples not yet knots
         self._held: tuple[np.ndarray, np.ndarray] | None = None
-        self._max_error = np.zeros(1 if self.angle else self.dim)
         self._final_knots: list[np.ndarray] = []
         self._final_coef: list[np.ndarray] = []
-        self._closed = False
 
     # -- input -------------------------------------------------------------------------
 
@@ -318,11 +345,58 @@ class StreamReducer:
         self._pushed += 1
 
     def _ingest(self, t: np.ndarray, x: np.ndarray) -> None:
+        self._taken += len(t)
+        if self._detector is None:
+            self._feed(t, x)
+            return
+        for op in self._detector.extend(t, x):
+            self._apply(op)
+
+    def _apply(self, op: tuple) -> None:
+        """Carry out one operation of the feature detector."""
+        kind = op[0]
+        if kind == "samples":
+            self._feed(op[1], op[2])
+        elif kind == "break":
+            self._end(None)
+            self._begin(self._last_value)
+        elif kind == "hold":
+            self._end(op[2])
+            self._pause = (op[1], op[2])
+        else:
+            assert self._pause is not None
+            start, value = self._pause
+            still = hold(start, op[1], value, self.order)
+            if self.keep:
+                self._segments.append(still)
+            if self.on_piece is not None:
+                self.on_piece(Piece(np.asarray(still.t), np.asarray(still.c)))
+            self._last_value = value
+            self._begin(value)
+
+    def _end(self, value: np.ndarray | None) -> None:
+        """End the current piece at its last sample, on ``value`` (or free)."""
+        n = self._seg_n
+        if n == 0 or (n == 1 and (self._start_value is not None or value is not None)):
+            return                                   # only the sample it shares with a neighbour
+        self._end_value = value
+        if n < self.order:
+            self._close_short()
+        else:
+            self._run_window(final=True)
+        if self.keep:
+            self._segments.append(BSpline(np.concatenate(self._final_knots), np.concatenate(self._final_coef),
+                                          self.order - 1))
+
+    def _feed(self, t: np.ndarray, x: np.ndarray) -> None:
+        """Add checked samples to the current piece's windows."""
         if not len(t):
             return
+        self._seg_n += len(t)
+        self._last_t = float(t[-1])
         if self._origin is None:
             self._origin = float(t[0])
-            self._center = x[0].copy()
+            self._center = x[0].copy() if self._start_value is None else self._start_value.copy()
         t = t - self._origin
         x = (x - self._center) / self.tol
         done = 0
@@ -351,10 +425,13 @@ class StreamReducer:
     def _step(self, kt: np.ndarray, kc: np.ndarray, a: int, b: int, f0: int, f_back: int, final: bool) -> tuple:
         """One window from knots ``kt`` and coefficients ``kc`` (see
         :func:`window_kernel.window_step`), with this reducer's settings."""
+        end = np.zeros((0, self.dim))
+        if final and self._end_value is not None:
+            end = ((self._end_value - self._center) / self.tol).reshape(1, -1)
         return window_kernel.window_step(
             self.order, kt, kc, self._bt, self._bx, self._bn, a, b, self.window, f0, f_back, self.end_tol, final,
             self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
-            self._origin, self.tol, self._center, self.angle)
+            self._origin, self.tol, self._center, self.angle, end)
 
     def _needed(self) -> int:
         """Sample knots the next window takes (the future context is ``order`` knots)."""
@@ -367,16 +444,24 @@ class StreamReducer:
         a = self._next_knot
         b = max(a, self._bn - self._free_tail) if final else a + self._needed()
         f0 = 2 * k - 1 if (self._pinned and self.constraints.startswith("pin")) else k - 1
-        f_back = 2 * k - 1 if self._pinned else f0
+        f0 = max(f0, k - 1 + self._start_held)
+        f_back = max(2 * k - 1 if self._pinned else f0, f0)
         out = self._step(self._kt, self._kc, a, b, f0, f_back, final)
         restarted = out[4] > window_kernel.PASS and self._pinned
         if restarted:
             self.stats.start_misses += 1
             out = self._restart(a, b, final)
         knots, coef, removed, fits, start, advance, done, err, piece_knots, piece_coef = out
+        if final:
+            # The piece ends exactly at its last sample (origin + (t - origin) need not
+            # be t), where a neighbour after a feature starts.
+            piece_knots[-k:] = self._last_t
+            if self._end_value is not None:
+                piece_coef[-1] = self._end_value        # exactly, not to rounding
         if not final:
             self._left = (knots[advance:], coef[advance:])
             self._pinned = True
+            self._start_held = max(0, self._start_held - advance)
             # The window's last knot is its last sample knot.
             self._next_knot = int(np.searchsorted(self._bt[: self._bn], self._kt[-1], side="right")) \
                 if restarted else b
@@ -429,6 +514,8 @@ class StreamReducer:
         units; held back while it only closes intervals of zero length, such as the
         clamped start). The coefficients after the first ``order - 1`` just became final."""
         k = self.order
+        if final:
+            self._last_value = piece_coef[-1].copy()
         if self.keep:
             self._final_knots.append(piece_knots[k - 1 : None if final else len(piece_coef)])
             self._final_coef.append(piece_coef[k - 1 :])
@@ -463,33 +550,49 @@ class StreamReducer:
     def max_error(self) -> np.ndarray:
         """Largest |curve - sample| per channel over the samples finished so far (with
         ``angle``, the largest rotation angle, shape (1,))."""
-        return self._max_error.copy()
+        if self._detector is None:
+            return self._max_error.copy()
+        return np.maximum(self._max_error, self._detector.pause_error)
+
+    @property
+    def found(self) -> list[Feature]:
+        """The pauses and breaks settled so far, in time order."""
+        return [] if self._detector is None else list(self._detector.found)
 
     def close(self) -> StreamStats:
         """End the stream: reduce what is left and hand out the last pieces."""
         if not self._closed:
             self._closed = True
-            k = self.order
-            n = self.stats.samples
-            if n and n < k:
-                self._close_short()
-            elif n:
-                self._run_window(final=True)
+            if self._detector is not None:
+                for op in self._detector.close():
+                    self._apply(op)
+            self._end(None)
         return self.stats
 
     def _close_short(self) -> None:
-        """Fewer samples than the order: the interpolating polynomial, all finished."""
+        """Fewer samples than the order: the interpolating polynomial through them (and
+        through the held end values instead of the end samples), all finished."""
         k = self.order
         t = self._bt[: self._bn] + self._origin
         x = self._bx[: self._bn] * self.tol + self._center
+        t[-1] = self._last_t                            # exactly (see _run_window)
         if len(t) == 1:
             t, x = np.r_[t, t + 1.0], np.vstack([x, x])
-        poly = polynomial_through(t, x, k)
-        piece = Piece(np.asarray(poly.t), np.asarray(poly.c))
+        through = x.copy()
+        for end, value in ((0, self._start_value), (-1, self._end_value)):
+            if value is not None:
+                through[end] = value
+        poly = polynomial_through(t, through, k)
+        coef = np.array(poly.c)
+        for end, value in ((0, self._start_value), (-1, self._end_value)):
+            if value is not None:
+                coef[end] = value                       # exactly, not to rounding
+        self._last_value = coef[-1].copy()
+        piece = Piece(np.asarray(poly.t), coef)
         if self.keep:
             self._final_knots.append(piece.knots)
             self._final_coef.append(piece.coef)
-        np.maximum(self._max_error, max_errors(poly(t), x, self.angle), out=self._max_error)
+        np.maximum(self._max_error, max_errors(piece.spline(t), x, self.angle), out=self._max_error)
         self._bn = 0
         if self.on_piece is not None:
             self.on_piece(piece)
@@ -504,11 +607,11 @@ class StreamReducer:
             raise ArgumentError("keep", "is False: the curve went out piece by piece; call close()")
         clock = time.perf_counter()
         self.close()
-        if not self._final_coef:
+        if not self._segments:
             raise ArgumentError("push", "no samples were pushed")
-        knots = np.concatenate(self._final_knots)
-        coef = np.concatenate(self._final_coef)
-        spline = BSpline(knots, coef[:, 0] if self.dim == 1 else coef, self.order - 1)
+        spline = join(self._segments)
+        if self.dim == 1:
+            spline = BSpline(spline.t, spline.c[:, 0], spline.k)
         s = self.stats
         report = {
             "window": self.window,
@@ -528,7 +631,7 @@ class StreamReducer:
             "window_max": s.max_window_seconds,
         }
         tol = np.array([self.angle]) if self.angle else self.tol.copy()
-        return Reduction(spline=spline, tol=tol, max_error=self.max_error, n_samples=s.samples,
+        return Reduction(spline=spline, tol=tol, max_error=self.max_error, n_samples=self._taken,
                          method="incremental", timings=timings, report=report,
-                         metric="rotation" if self.angle else "channels")
+                         metric="rotation" if self.angle else "channels", features=tuple(self.found))
 

@@ -127,9 +127,10 @@ def solve_banded_spd(band: np.ndarray, rhs: np.ndarray) -> bool:
 
 
 @njit(cache=True, error_model="numpy")
-def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np.ndarray,
+def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int, ts: np.ndarray, xs: np.ndarray,
         lim: np.ndarray, weights: np.ndarray, resid: np.ndarray, metric: tuple) -> float:
-    """Least-squares fit of ``coef[f0:]`` to the samples with ``coef[:f0]`` held.
+    """Least-squares fit of ``coef[f0:len(coef) - f1]`` to the samples with the first
+    ``f0`` and the last ``f1`` coefficients held.
 
     Writes the coefficients into ``coef`` and each sample's error in tolerances,
     divided by its ``lim``, into ``resid``; returns the largest such ratio (``inf`` when
@@ -139,7 +140,7 @@ def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np
     a quaternion and the error is its rotation angle over ``angle``."""
     first, rows = design(T, k, ts)
     nc = len(T) - k
-    nu = nc - f0
+    nu = max(nc - f0 - f1, 0)
     d = xs.shape[1]
     band = np.zeros((nu, k))
     rhs = np.zeros((nu, d))
@@ -149,13 +150,13 @@ def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np
         for c in range(d):
             target[c] = xs[s, c]
         for r in range(k):
-            if f + r < f0:
+            if f + r < f0 or f + r >= f0 + nu:
                 for c in range(d):
                     target[c] -= rows[s, r] * coef[f + r, c]
         w = weights[s]
         for r in range(k):
             a = f + r - f0
-            if a < 0:
+            if a < 0 or a >= nu:
                 continue
             wb = w * rows[s, r]
             for c in range(d):
@@ -184,14 +185,14 @@ def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np
 
 
 @njit(cache=True, error_model="numpy")
-def fit_minimax(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray, xs: np.ndarray,
+def fit_minimax(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int, ts: np.ndarray, xs: np.ndarray,
                 lim: np.ndarray, iterations: int, metric: tuple) -> float:
     """:func:`fit`, then up to ``iterations`` Lawson re-weightings while it misses by a
     little (towards the minimax fit); ``coef`` ends as the best fit found."""
     n = len(ts)
     weights = np.ones(n)
     resid = np.empty(n)
-    best = fit(T, k, coef, f0, ts, xs, lim, weights, resid, metric)
+    best = fit(T, k, coef, f0, f1, ts, xs, lim, weights, resid, metric)
     if best <= PASS or iterations == 0 or best > MINIMAX_REACH:
         return best
     kept = coef.copy()
@@ -202,7 +203,7 @@ def fit_minimax(T: np.ndarray, k: int, coef: np.ndarray, f0: int, ts: np.ndarray
             weights[s] *= max(resid[s], 1e-3 * err)
             total += weights[s]
         weights *= n / total
-        e = fit(T, k, coef, f0, ts, xs, lim, weights, resid, metric)
+        e = fit(T, k, coef, f0, f1, ts, xs, lim, weights, resid, metric)
         if e < best:
             best = e
             kept[:] = coef
@@ -248,12 +249,12 @@ def removal_weight(T: np.ndarray, k: int, coef: np.ndarray, j: int) -> float:
 
 
 @njit(cache=True, error_model="numpy")
-def _admissible_order(T: np.ndarray, k: int, coef: np.ndarray, f0: int, cand: np.ndarray, counts: np.ndarray,
+def _admissible_order(T: np.ndarray, k: int, coef: np.ndarray, held: int, cand: np.ndarray, counts: np.ndarray,
                       max_span: int) -> np.ndarray:
     """Candidate knots by increasing weight up to :data:`WEIGHT_REACH`, leaving out any
     whose removal together with the lighter ones before it would put more than
-    ``max_span`` samples between two remaining knots, and no more than leave the ``f0``
-    held coefficients. A prefix of the result is the set "remove the j lightest"."""
+    ``max_span`` samples between two remaining knots, and no more than leave the
+    ``held`` coefficients. A prefix of the result is the set "remove the j lightest"."""
     idx = np.flatnonzero(cand)
     w = np.empty(len(idx))
     for q in range(len(idx)):
@@ -279,30 +280,35 @@ def _admissible_order(T: np.ndarray, k: int, coef: np.ndarray, f0: int, cand: np
             removed[j] = True
             out[n] = j
             n += 1
-    return out[: max(0, min(n, len(T) - k - f0))]
+    return out[: max(0, min(n, len(T) - k - held))]
 
 
 @njit(cache=True, error_model="numpy")
-def _without(T: np.ndarray, k: int, coef: np.ndarray, f0: int, drop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _without(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int,
+             drop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Knot vector without the knots ``drop``, and a coefficient array holding the first
-    ``f0`` coefficients (those are unchanged by removing knots at index >= f0 + k)."""
+    ``f0`` coefficients (those are unchanged by removing knots at index >= f0 + k) and
+    the last ``f1`` (held values)."""
     keep = np.ones(len(T), dtype=np.bool_)
     keep[drop] = False
     T2 = T[keep]
     c2 = np.zeros((len(T2) - k, coef.shape[1]))
     c2[:f0] = coef[:f0]
+    if f1 > 0:
+        c2[len(c2) - f1 :] = coef[len(coef) - f1 :]
     return T2, c2
 
 
 @njit(cache=True, error_model="numpy")
-def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int, ts: np.ndarray,
+def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int, f1: int, ts: np.ndarray,
                   xs: np.ndarray, lim: np.ndarray, cand_lo: int, cand_hi: int, max_span: int,
                   exhaustive_below: int, minimax_iterations: int, reference_curve: bool, metric: tuple):
     """Remove as many of the knots ``T[cand_lo:cand_hi]`` as the tolerance allows.
 
     ``coef[:f0]`` is held (the curve left of the window, and pinned coefficients);
     ``coef[f0:f_back]`` holds the previous window's values, used as held coefficients
-    only if no fit of the window from ``f0`` stays within tolerance. Rounds of: rank
+    only if no fit of the window from ``f0`` stays within tolerance; the last ``f1``
+    coefficients are held too (a value the curve must end on). Rounds of: rank
     the remaining candidates on the current fit; find the largest count ``j`` whose
     ``j`` lightest knots can go (every count below ``exhaustive_below`` candidates, else
     bisection); if none, try the knots one by one; stop when a round removes nothing.
@@ -318,11 +324,11 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     n = len(ts)
     fits = 0
     c = coef.copy()
-    start = fit_minimax(T, k, c, f0, ts, xs, lim, minimax_iterations, metric)
+    start = fit_minimax(T, k, c, f0, f1, ts, xs, lim, minimax_iterations, metric)
     fits += 1
     if start > PASS and f_back > f0:
         c2 = coef.copy()
-        back = fit_minimax(T, k, c2, f_back, ts, xs, lim, minimax_iterations, metric)
+        back = fit_minimax(T, k, c2, f_back, f1, ts, xs, lim, minimax_iterations, metric)
         fits += 1
         if back < start:
             start = back
@@ -343,7 +349,7 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
             while span < len(T) - k - 1 and T[span + 1] <= ts[s]:
                 span += 1
             counts[span] += 1
-        order = _admissible_order(T, k, c, f0, cand, counts, max_span)
+        order = _admissible_order(T, k, c, f0 + f1, cand, counts, max_span)
         best_j = 0
         best_T = T
         best_c = c
@@ -352,9 +358,9 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
         exhaustive = np.sum(cand) < exhaustive_below
         while hi > lo:
             j = hi if exhaustive else (lo + hi + 1) // 2
-            T2, c2 = _without(T, k, c, f0, order[:j])
+            T2, c2 = _without(T, k, c, f0, f1, order[:j])
             fits += 1
-            if fit_minimax(T2, k, c2, f0, ts, target, lim, minimax_iterations, metric) <= PASS:
+            if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, minimax_iterations, metric) <= PASS:
                 best_j, best_T, best_c = j, T2, c2
                 lo = j
                 if exhaustive:
@@ -363,9 +369,9 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
                 hi = j - 1
         if best_j == 0:
             for q in range(1, len(order)):
-                T2, c2 = _without(T, k, c, f0, order[q:q + 1])
+                T2, c2 = _without(T, k, c, f0, f1, order[q:q + 1])
                 fits += 1
-                if fit_minimax(T2, k, c2, f0, ts, target, lim, 0, metric) <= PASS:
+                if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, 0, metric) <= PASS:
                     best_j, best_T, best_c = 1, T2, c2
                     order = order[q:q + 1]
                     break
@@ -400,7 +406,7 @@ def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarr
 def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.ndarray, bn: int, a: int,
                 b: int, m: int, f0: int, f_back: int, end_tol: float, final: bool, max_span: int,
                 exhaustive_below: int, minimax_iterations: int, reference_curve: bool, origin: float,
-                scale: np.ndarray, center: np.ndarray, angle: float):
+                scale: np.ndarray, center: np.ndarray, angle: float, end: np.ndarray):
     """One window of the stream, from the held state to the next.
 
     ``kt`` are the knots from the first that acts on the window through the end of
@@ -417,11 +423,12 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     finished curve: the window's coefficients up to the last final one, with their
     knots. The error and the finished curve are in the caller's units (times
     ``origin + t``, values ``center + scale * x``); ``angle`` > 0 bounds the rotation
-    angle of quaternion samples instead of each channel (see :func:`fit`).
+    angle of quaternion samples instead of each channel (see :func:`fit`). A final
+    window with one row of ``end`` (scaled) ends the curve on that value.
     """
     metric = (angle, scale, center)
-    h = k // 2
-    used = b + k - h
+    f1 = len(end) if final else 0
+    used = bn if final else b + k - k // 2
     nk = len(kt)
     knots = np.empty(nk + (b - a) + k)
     knots[:nk] = kt
@@ -429,6 +436,8 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     knots[nk + b - a :] = bt[used - 1]
     coef = np.zeros((len(knots) - k, bx.shape[1]))
     coef[: len(kc)] = kc
+    if f1 > 0:
+        coef[len(coef) - 1] = end[0]
     cand_lo = 2 * k - 1
     cand_hi = len(knots) - k if final else cand_lo + m
     ts = bt[:used]
@@ -439,7 +448,7 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
             if ts[s] >= knots[cand_hi]:
                 lim[s] = end_tol
     knots, coef, removed, fits, start = reduce_window(
-        knots, k, coef, f0, f_back, ts, xs, lim, cand_lo, cand_hi, max_span, exhaustive_below,
+        knots, k, coef, f0, f_back, f1, ts, xs, lim, cand_lo, cand_hi, max_span, exhaustive_below,
         minimax_iterations, reference_curve, metric)
     if final:
         advance = len(coef) - (k - 1)

@@ -1,0 +1,129 @@
+"""The global method on a take cut at its pauses and breaks (:mod:`.features`).
+
+Each piece between two features is reduced on its own, its ends held where it meets its
+neighbours: at a break, the piece after starts on the value the piece before ends with;
+at a pause, both end on the pause's value. Pauses become constant pieces, and
+:func:`.splice.join` makes one spline of it all.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.interpolate import BSpline
+
+from sketchanim.reducer.approximate import Approximator
+from sketchanim.reducer.features import Feature, FeatureOptions, detect
+from sketchanim.reducer.global_method import GlobalLog, GlobalOptions, Held, reduce_global
+from sketchanim.reducer.metric import max_errors
+from sketchanim.reducer.splice import hold, join
+from sketchanim.reducer.starts import polynomial_through, sample_knots
+
+#: A held end may differ from its value by this many rounding units before it is set.
+ROUNDING = 1e-9
+
+
+def _holding(spline: BSpline, held: Held) -> BSpline | None:
+    """``spline`` with its end coefficients set exactly to the held values, or ``None`` if
+    they are further from them than rounding."""
+    c = np.array(spline.c, dtype=float)
+    for end, value in zip((0, -1), held):
+        if value is not None:
+            scale = max(1.0, float(np.abs(value).max()))
+            if not np.all(np.abs(c[end] - value) <= ROUNDING * scale):
+                return None
+            c[end] = value
+    return BSpline(spline.t, c, spline.k)
+
+
+def held_interpolant(times: np.ndarray, values: np.ndarray, order: int, held: Held) -> BSpline | None:
+    """A spline through every sample whose end coefficients are the held values (each
+    within tolerance of its end sample): on :func:`.starts.sample_knots`, or the
+    polynomial through the samples for fewer than ``order``. ``None`` if singular.
+
+    >>> t = np.linspace(0, 1, 8); x = np.c_[t ** 2]
+    >>> s = held_interpolant(t, x, 4, (np.array([0.001]), None))
+    >>> float(s.c[0, 0]), bool(np.allclose(s(t[1:]), x[1:]))
+    (0.001, True)
+    """
+    x = values.copy()
+    for end, value in zip((0, -1), held):
+        if value is not None:
+            x[end] = value
+    if len(times) < order:
+        spline = polynomial_through(times, x, order)
+    else:
+        ap = Approximator(times, x, np.ones(x.shape[1]), order, held=held)
+        fit = ap.fit(sample_knots(times, order))
+        if fit is None:
+            return None
+        spline = ap.spline(fit)
+    return _holding(spline, held)
+
+
+def _piece(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, opts: GlobalOptions, angle: float,
+           held: Held, log: GlobalLog) -> BSpline:
+    """One piece between features, within tolerance and holding its ends if it can be."""
+    bound = np.array([angle]) if angle else tol
+    if len(times) >= order:
+        spline, part = reduce_global(times, values, tol, order, opts, angle, held)
+        log.iterations += part.iterations
+        log.fits += part.fits
+        if part.coarse_pass:
+            log.coarse_pass = True
+            # the least good outcome of any piece: "held" < "repaired" < "full pass"
+            outcomes = ("held", "repaired", "full pass")
+            log.coarse_outcome = max(log.coarse_outcome or "held", part.coarse_outcome or "held", key=outcomes.index)
+        kept = _holding(spline, held)
+        if kept is not None and np.all(max_errors(kept(times), values, angle) <= bound):
+            return kept
+    # The caller's final check catches a miss here (and falls back to the interpolant).
+    exact = held_interpolant(times, values, order, held)
+    return exact if exact is not None else polynomial_through(times[[0, -1]], values[[0, -1]], order)
+
+
+def reduce_segmented(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, opts: GlobalOptions,
+                     angle: float, options: FeatureOptions) -> tuple[BSpline, list[Feature], GlobalLog]:
+    """Find the take's features and reduce the pieces between them with the global
+    method; the spline, the features, and the counts of the work done.
+
+    >>> t = np.linspace(0, 2, 241)
+    >>> x = np.c_[np.where(t < 1, np.sin(3 * t), np.sin(3.0))]     # moves, stops dead, holds
+    >>> s, found, _ = reduce_segmented(t, x, np.array([1e-3]), 4, GlobalOptions(), 0.0, FeatureOptions())
+    >>> [(f.kind, round(f.start, 3), f.end) for f in found]
+    [('pause', 1.0, 2.0)]
+    >>> still = t[t > found[0].start]                     # zero velocity, not a wobble
+    >>> float(np.abs(s.derivative()(still)).max()), bool(np.abs(s(t) - x).max() <= 1e-3)
+    (0.0, True)
+    """
+    pieces: list[BSpline] = []
+    log = GlobalLog()
+    part_t: list[np.ndarray] = []
+    part_x: list[np.ndarray] = []
+    left: np.ndarray | None = None
+    pause: tuple[float, np.ndarray] | None = None
+
+    def close(right: np.ndarray | None) -> None:
+        nonlocal part_t, part_x
+        t = np.concatenate(part_t) if part_t else np.zeros(0)
+        if len(t) >= 2:
+            pieces.append(_piece(t, np.concatenate(part_x), tol, order, opts, angle, (left, right), log))
+        part_t, part_x = [], []
+
+    ops, found = detect(times, values, tol, order, options, angle=angle)
+    for op in ops:
+        if op[0] == "samples":
+            part_t.append(op[1])
+            part_x.append(op[2])
+        elif op[0] == "break":
+            close(None)
+            left = np.asarray(pieces[-1].c[-1])
+        elif op[0] == "hold":
+            close(op[2])
+            pause = (op[1], op[2])
+        else:
+            assert pause is not None
+            pieces.append(hold(pause[0], op[1], pause[1], order))
+            left = pause[1]
+    close(None)
+    return join(pieces), found, log
+
