@@ -159,6 +159,27 @@ def _jump(T: np.ndarray, X: np.ndarray, c: int) -> float:
 
 
 @njit(cache=True, error_model="numpy")
+def _span(X: np.ndarray, a: int, b: int, j: int) -> tuple[float, float]:
+    """Least and greatest value of channel ``j`` over samples ``a .. b``."""
+    lo = X[a, j]
+    hi = X[a, j]
+    for s in range(a + 1, b + 1):
+        lo = min(lo, X[s, j])
+        hi = max(hi, X[s, j])
+    return lo, hi
+
+
+@njit(cache=True, error_model="numpy")
+def _wide(X: np.ndarray, a: int, b: int, band: float) -> bool:
+    """Whether some channel spreads over more than ``band`` on samples ``a .. b``."""
+    for j in range(X.shape[1]):
+        lo, hi = _span(X, a, b, j)
+        if hi - lo > band:
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
 def scan(T: np.ndarray, X: np.ndarray, n: int, st: np.ndarray, jumps: np.ndarray, p: np.ndarray,
          half_band: float, min_pause: float, min_count: int, gap: int, w: int, pauses: bool,
          breaks: bool) -> int:
@@ -186,28 +207,12 @@ def scan(T: np.ndarray, X: np.ndarray, n: int, st: np.ndarray, jumps: np.ndarray
         if pauses:
             # a pause starts at the take's first sample, or gap samples after a feature
             r = max(st[_RUN], st[_SEG] + (0 if st[_FIRST] else gap))
-            while r <= i:
-                wide = False
-                for j in range(d):
-                    lo = X[r, j]
-                    hi = X[r, j]
-                    for s in range(r + 1, i + 1):
-                        lo = min(lo, X[s, j])
-                        hi = max(hi, X[s, j])
-                    if hi - lo > 2.0 * half_band * PASS:
-                        wide = True
-                        break
-                if not wide:
-                    break
+            while r <= i and _wide(X, r, i, 2.0 * half_band * PASS):
                 r += 1
             st[_RUN] = r
             if r <= i and i - r + 1 >= min_count and T[i] - T[r] >= min_pause:
                 for j in range(d):
-                    lo = X[r, j]
-                    hi = X[r, j]
-                    for s in range(r + 1, i + 1):
-                        lo = min(lo, X[s, j])
-                        hi = max(hi, X[s, j])
+                    lo, hi = _span(X, r, i, j)
                     p[j] = 0.5 * (lo + hi)
                 st[_MODE] = 1
                 st[_A] = r
@@ -226,15 +231,7 @@ def scan(T: np.ndarray, X: np.ndarray, n: int, st: np.ndarray, jumps: np.ndarray
                 if pauses and peak:
                     # Stopping dead: if the samples after c would fit a pause, the pause
                     # (if it lasts) keeps the corner at its start.
-                    peak = False
-                    for j in range(d):
-                        lo = X[c, j]
-                        hi = X[c, j]
-                        for s in range(c + 1, c + w + 1):
-                            lo = min(lo, X[s, j])
-                            hi = max(hi, X[s, j])
-                        if hi - lo > 2.0 * half_band * PASS:
-                            peak = True
+                    peak = _wide(X, c, c + w, 2.0 * half_band * PASS)
                 if peak and _fit_miss(T, X, c, w, False) > SMOOTH_MISS and _fit_miss(T, X, c, w, True) <= 1.0:
                     st[_SEG] = c
                     st[_AT] = c

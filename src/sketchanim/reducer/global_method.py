@@ -18,7 +18,7 @@ from scipy.interpolate import BSpline
 from sketchanim.reducer.approximate import PASS, Approximator, Fit
 from sketchanim.reducer.lm import remove_knots
 from sketchanim.reducer.metric import max_errors
-from sketchanim.reducer.starts import interpolant, sample_knots
+from sketchanim.reducer.starts import FREE, Held, interpolant, sample_knots
 from sketchanim.spline import elevate_degree
 
 STARTS = ("paper", "lm")
@@ -69,11 +69,6 @@ def _remove(ap: Approximator, knots: np.ndarray, coef: np.ndarray, opts: GlobalO
                             minimax_iterations=opts.minimax_iterations, pool=pool, start=start)
     log.iterations += run.iterations
     return fit
-
-
-#: Values the first and last coefficient keep, or None (see :class:`Approximator`).
-Held = tuple[np.ndarray | None, np.ndarray | None]
-FREE: Held = (None, None)
 
 
 def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float, order: int,

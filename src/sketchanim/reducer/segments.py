@@ -11,53 +11,11 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import BSpline
 
-from sketchanim.reducer.approximate import Approximator
 from sketchanim.reducer.features import Feature, FeatureOptions, detect
-from sketchanim.reducer.global_method import GlobalLog, GlobalOptions, Held, reduce_global
+from sketchanim.reducer.global_method import GlobalLog, GlobalOptions, reduce_global
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.splice import hold, join
-from sketchanim.reducer.starts import polynomial_through, sample_knots
-
-#: A held end may differ from its value by this many rounding units before it is set.
-ROUNDING = 1e-9
-
-
-def _holding(spline: BSpline, held: Held) -> BSpline | None:
-    """``spline`` with its end coefficients set exactly to the held values, or ``None`` if
-    they are further from them than rounding."""
-    c = np.array(spline.c, dtype=float)
-    for end, value in zip((0, -1), held):
-        if value is not None:
-            scale = max(1.0, float(np.abs(value).max()))
-            if not np.all(np.abs(c[end] - value) <= ROUNDING * scale):
-                return None
-            c[end] = value
-    return BSpline(spline.t, c, spline.k)
-
-
-def held_interpolant(times: np.ndarray, values: np.ndarray, order: int, held: Held) -> BSpline | None:
-    """A spline through every sample whose end coefficients are the held values (each
-    within tolerance of its end sample): on :func:`.starts.sample_knots`, or the
-    polynomial through the samples for fewer than ``order``. ``None`` if singular.
-
-    >>> t = np.linspace(0, 1, 8); x = np.c_[t ** 2]
-    >>> s = held_interpolant(t, x, 4, (np.array([0.001]), None))
-    >>> float(s.c[0, 0]), bool(np.allclose(s(t[1:]), x[1:]))
-    (0.001, True)
-    """
-    x = values.copy()
-    for end, value in zip((0, -1), held):
-        if value is not None:
-            x[end] = value
-    if len(times) < order:
-        spline = polynomial_through(times, x, order)
-    else:
-        ap = Approximator(times, x, np.ones(x.shape[1]), order, held=held)
-        fit = ap.fit(sample_knots(times, order))
-        if fit is None:
-            return None
-        spline = ap.spline(fit)
-    return _holding(spline, held)
+from sketchanim.reducer.starts import Held, held_interpolant, holding, polynomial_through
 
 
 def _piece(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, opts: GlobalOptions, angle: float,
@@ -73,7 +31,7 @@ def _piece(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, o
             # the least good outcome of any piece: "held" < "repaired" < "full pass"
             outcomes = ("held", "repaired", "full pass")
             log.coarse_outcome = max(log.coarse_outcome or "held", part.coarse_outcome or "held", key=outcomes.index)
-        kept = _holding(spline, held)
+        kept = holding(spline, held)
         if kept is not None and np.all(max_errors(kept(times), values, angle) <= bound):
             return kept
     # The caller's final check catches a miss here (and falls back to the interpolant).

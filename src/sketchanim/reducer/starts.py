@@ -14,6 +14,10 @@ from scipy.interpolate import BSpline, make_interp_spline
 from sketchanim.reducer.approximate import Approximator
 from sketchanim.spline import elevate_degree
 
+#: Values the first and last coefficient keep, or None (see :class:`Approximator`).
+Held = tuple[np.ndarray | None, np.ndarray | None]
+FREE: Held = (None, None)
+
 
 def sample_knots(times: np.ndarray, order: int) -> np.ndarray:
     """Knot vector with one coefficient per sample: end knots repeated ``order`` times,
@@ -53,3 +57,50 @@ def interpolant(times: np.ndarray, values: np.ndarray, order: int) -> BSpline | 
     ap = Approximator(times, values, np.ones(values.shape[1]), order)
     fit = ap.fit(sample_knots(times, order))
     return None if fit is None else ap.spline(fit)
+
+
+#: A held end may differ from its value by this many rounding units before it is set.
+ROUNDING = 1e-9
+
+
+def holding(spline: BSpline, held: Held) -> BSpline | None:
+    """``spline`` with its end coefficients set exactly to the held values (each of
+    ``held`` an array or None), or ``None`` if they are further from them than rounding.
+
+    >>> s = holding(BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.c_[[1.0, 2.0 + 1e-15]], 1), (None, np.array([2.0])))
+    >>> s.c[:, 0].tolist()
+    [1.0, 2.0]
+    """
+    c = np.array(spline.c, dtype=float)
+    for end, value in zip((0, -1), held):
+        if value is not None:
+            scale = max(1.0, float(np.abs(value).max()))
+            if not np.all(np.abs(c[end] - value) <= ROUNDING * scale):
+                return None
+            c[end] = value
+    return BSpline(spline.t, c, spline.k)
+
+
+def held_interpolant(times: np.ndarray, values: np.ndarray, order: int, held: Held) -> BSpline | None:
+    """A spline through every sample whose end coefficients are the held values (each
+    within tolerance of its end sample): on :func:`sample_knots`, or the
+    polynomial through the samples for fewer than ``order``. ``None`` if singular.
+
+    >>> t = np.linspace(0, 1, 8); x = np.c_[t ** 2]
+    >>> s = held_interpolant(t, x, 4, (np.array([0.001]), None))
+    >>> float(s.c[0, 0]), bool(np.allclose(s(t[1:]), x[1:]))
+    (0.001, True)
+    """
+    x = values.copy()
+    for end, value in zip((0, -1), held):
+        if value is not None:
+            x[end] = value
+    if len(times) < order:
+        spline = polynomial_through(times, x, order)
+    else:
+        ap = Approximator(times, x, np.ones(x.shape[1]), order, held=held)
+        fit = ap.fit(sample_knots(times, order))
+        if fit is None:
+            return None
+        spline = ap.spline(fit)
+    return holding(spline, held)

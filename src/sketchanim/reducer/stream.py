@@ -32,7 +32,7 @@ from sketchanim.reducer.features import Feature, FeatureDetector, FeatureOptions
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.splice import hold, join
-from sketchanim.reducer.starts import polynomial_through
+from sketchanim.reducer.starts import held_interpolant
 
 #: Window constraint variants of the paper's figures 1 and 2.
 CONSTRAINTS = ("end", "none", "pin", "pin+end")
@@ -578,17 +578,10 @@ class StreamReducer:
         t[-1] = self._last_t                            # exactly (see _run_window)
         if len(t) == 1:
             t, x = np.r_[t, t + 1.0], np.vstack([x, x])
-        through = x.copy()
-        for end, value in ((0, self._start_value), (-1, self._end_value)):
-            if value is not None:
-                through[end] = value
-        poly = polynomial_through(t, through, k)
-        coef = np.array(poly.c)
-        for end, value in ((0, self._start_value), (-1, self._end_value)):
-            if value is not None:
-                coef[end] = value                       # exactly, not to rounding
-        self._last_value = coef[-1].copy()
-        piece = Piece(np.asarray(poly.t), coef)
+        poly = held_interpolant(t, x, k, (self._start_value, self._end_value))
+        assert poly is not None                         # a polynomial through < order samples
+        self._last_value = poly.c[-1].copy()
+        piece = Piece(np.asarray(poly.t), np.asarray(poly.c))
         if self.keep:
             self._final_knots.append(piece.knots)
             self._final_coef.append(piece.coef)
