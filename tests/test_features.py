@@ -13,6 +13,7 @@ from scipy.spatial.transform import Rotation
 import sketchanim
 from sketchanim import FeatureOptions, Reduction
 from sketchanim.errors import ArgumentError, InputError
+from sketchanim.reducer.features import FeatureDetector
 from sketchanim.reducer.splice import hold, join
 from signals import Performance, performances
 
@@ -148,3 +149,51 @@ def test_join_refuses_pieces_that_do_not_meet() -> None:
     with pytest.raises(ArgumentError, match="piece 1"):
         join([a, hold(1.0, 2.0, [2.0], 4)])
     assert join([a, hold(1.0, 2.0, [1.0], 4)])(np.array([0.0, 1.5, 2.0])).tolist() == [[1.0], [1.0], [1.0]]
+
+
+def test_idle_drift_is_not_a_pause_stops_after_moves_are_even_far_into_a_stream() -> None:
+    """A channel drifting within a few tolerances has no pauses (but at the take's start);
+    a stop after a move is one, wherever it falls in a long stream (the detector drops
+    old samples on the way)."""
+    tol = 1e-3
+    t = np.arange(0, 120, 1 / 120)
+    x = 1.5 * tol * np.sin(0.7 * t)                    # idling: a drift over 3 tolerances
+    stops = np.arange(10.0, 120.0, 20.0)
+    for s in stops:                                    # a 0.5 s move of 50 tolerances, then still
+        x += 50 * tol * np.clip((t - s) / 0.5, 0, 1)
+        x[(t > s + 0.5) & (t < s + 2.5)] = x[np.searchsorted(t, s + 0.5)]
+    x = np.c_[x]
+    sr = sketchanim.StreamReducer(1, tol, keep=True)
+    held_back = 0
+    for i in range(0, len(t), 97):
+        sr.extend(t[i : i + 97], x[i : i + 97])
+        held_back = max(held_back, sr.pending)
+    streamed = sr.finish()
+    assert held_back <= 2.5 * 120 + 97               # bounded look-ahead: about a pause and a call
+    batch = sketchanim.reduce(t, x, tol, method="incremental")
+    assert streamed.features == batch.features
+    pauses = [f for f in batch.features if f.kind == "pause"]
+    assert pauses[0].start == 0.0                      # the take starts still: a pause
+    assert len(pauses) == 1 + len(stops), pauses
+    for f, s in zip(pauses[1:], stops):
+        assert s + 0.45 <= f.start <= s + 0.55 and f.end >= s + 2.4, (f, s)
+    check_features(batch, Performance(t, x, np.array([tol]), [], []))
+
+
+@pytest.mark.parametrize("idle", [0.0, 2e-3])
+def test_detector_memory_and_look_ahead_stay_bounded_while_the_take_holds_still(idle: float) -> None:
+    """A move, then two minutes of stillness (one long pause) or of idling (no pause after
+    the first), one sample per call: the detector's store and what it holds back stay
+    bounded."""
+    t = np.arange(0, 120, 1 / 120)
+    x = np.c_[np.minimum(t, 1.0) + idle * np.sin(0.7 * t)]    # a move, then still or idling
+    det = FeatureDetector(1, np.array([1e-3]), 4, FeatureOptions())
+    stored = pending = 0
+    for i in range(len(t)):
+        det.extend(t[i : i + 1], x[i : i + 1])
+        stored, pending = max(stored, det.stored), max(pending, det.pending)
+    det.close()
+    assert stored <= 4096 + 2 * 120 and pending <= 120     # the store slides at 4096
+    # the stop after the move is a pause: to the end, or until the idling leaves its band
+    assert [f.kind for f in det.found] == ["pause"] and det.found[0].start == pytest.approx(1.0, abs=0.01)
+    assert det.found[0].end == t[-1] if idle == 0 else det.found[0].end < 10

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike
 
 from sketchanim.errors import ArgumentError, SampleError
@@ -168,6 +169,36 @@ def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_sample
     return Samples(t, np.ascontiguousarray(x), tol_arr, scalar, int(np.count_nonzero(~keep)))
 
 
+#: What :func:`_first_bad` found.
+_GOOD, _BAD_TIME, _BAD_VALUE, _BACKWARDS, _CONFLICT = range(5)
+
+
+@njit(cache=True)
+def _first_bad(t: np.ndarray, x: np.ndarray, has_previous: bool, prev_t: float, prev_x: np.ndarray,
+               keep: np.ndarray) -> tuple[int, int, int]:
+    """(index, what, channel) of the first bad sample, or (n, _GOOD, 0); ``keep`` is
+    False at exact duplicates of the sample before."""
+    d = x.shape[1]
+    for i in range(len(t)):
+        if not np.isfinite(t[i]):
+            return i, _BAD_TIME, 0
+        for j in range(d):
+            if not np.isfinite(x[i, j]):
+                return i, _BAD_VALUE, j
+        keep[i] = True
+        if i or has_previous:
+            before_t = t[i - 1] if i else prev_t
+            before_x = x[i - 1] if i else prev_x
+            if t[i] < before_t:
+                return i, _BACKWARDS, 0
+            if t[i] == before_t:
+                for j in range(d):
+                    if x[i, j] != before_x[j]:
+                        return i, _CONFLICT, 0
+                keep[i] = False
+    return len(t), _GOOD, 0
+
+
 def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
          previous: tuple[float, np.ndarray] | None = None) -> tuple[np.ndarray, SampleError | None]:
     """Find the first bad sample of a batch, and the exact duplicates before it.
@@ -197,38 +228,25 @@ def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
     >>> keep.tolist(), str(err)
     ([True, True, False], 'sample 3, time: time goes backwards (0.5 after 1.0)')
     """
-    t = np.asarray(times, dtype=float)
-    x = np.asarray(values, dtype=float)
-    if previous is not None:
-        t = np.r_[previous[0], t]
-        x = np.vstack([previous[1][None, :], x])
-    start = 0 if previous is None else 1
-    problems: list[tuple[int, SampleError]] = []
-    bad_t = np.flatnonzero(~np.isfinite(t[start:]))
-    if bad_t.size:
-        i = int(bad_t[0]) + start
-        problems.append((i, SampleError(f"time is {float(t[i])!r}", index=i - start + offset, field="time")))
-    bad_x = np.argwhere(~np.isfinite(x[start:]))
-    if bad_x.size:
-        i, j = int(bad_x[0][0]) + start, int(bad_x[0][1])
-        problems.append((i, SampleError(f"value is {float(x[i, j])!r}", index=i - start + offset,
-                                        field=f"channel {j}")))
-    dt = np.diff(t)
-    back = np.flatnonzero(dt < 0)
-    if back.size:
-        i = int(back[0]) + 1
-        problems.append((i, SampleError(f"time goes backwards ({float(t[i])!r} after {float(t[i - 1])!r})",
-                                        index=i - start + offset, field="time")))
-    same_t = np.flatnonzero(dt == 0)
-    conflicting = same_t[np.any(x[same_t] != x[same_t + 1], axis=1)]
-    if conflicting.size:
-        i = int(conflicting[0]) + 1
-        what = f"sample {i - 1 - start + offset}" if i - 1 >= start else "the sample before"
-        problems.append((i, SampleError(f"same time {float(t[i])!r} as {what} but different values",
-                                        index=i - start + offset, field="time")))
-    end, error = len(t), None
-    if problems:
-        end, error = min(problems, key=lambda p: p[0])
-    keep = np.ones(len(t), dtype=bool)
-    keep[same_t + 1] = False
-    return keep[start:end], error
+    t = np.ascontiguousarray(times, dtype=float)
+    x = np.ascontiguousarray(values, dtype=float)
+    keep = np.empty(len(t), dtype=np.bool_)
+    has_previous = previous is not None
+    prev_t, prev_x = (previous[0], previous[1]) if has_previous else (0.0, np.zeros(x.shape[1]))
+    end, code, j = _first_bad(t, x, has_previous, float(prev_t), np.asarray(prev_x, dtype=float), keep)
+    if code == _GOOD:
+        return keep, None
+    index = end + offset
+    if code == _BAD_TIME:
+        error = SampleError(f"time is {float(t[end])!r}", index=index, field="time")
+    elif code == _BAD_VALUE:
+        error = SampleError(f"value is {float(x[end, j])!r}", index=index, field=f"channel {j}")
+    else:
+        before = float(t[end - 1]) if end else float(prev_t)
+        if code == _BACKWARDS:
+            message = f"time goes backwards ({float(t[end])!r} after {before!r})"
+        else:
+            what = f"sample {index - 1}" if end else "the sample before"
+            message = f"same time {float(t[end])!r} as {what} but different values"
+        error = SampleError(message, index=index, field="time")
+    return keep[:end], error

@@ -11,9 +11,13 @@ find the same features:
 
 * **pause**: a run of samples whose every channel stays in a band of twice the
   tolerance (for a rotation, a box in which every quaternion is within the angle of the
-  box's centre) for at least ``min_pause`` seconds and ``3 * order`` samples. Its value
-  is the box's centre, fixed when the pause is found; the pause goes on while samples
-  stay within tolerance of that value. Look-ahead: ``min_pause``.
+  box's centre) for at least ``min_pause`` seconds and ``3 * order`` samples, after a
+  move: some channel spread over more than :data:`APPROACH` tolerances in the
+  ``min_pause`` seconds up to the run (or the run starts the take). A channel that only
+  drifts by a few tolerances is idling, and holds there would cost more than the smooth
+  curve that follows the drift. The pause's value is the box's centre, fixed when the
+  pause is found; the pause goes on while samples stay within tolerance of that value.
+  Look-ahead: ``min_pause``; look-back: ``min_pause``.
 * **break**: at sample ``c``, the velocity jumps by more than one tolerance per
   sampling interval, a single smooth cubic over the ``2w + 1`` samples around ``c``
   misses them by more than twice the tolerance, while two quadratics joined at ``c``
@@ -43,6 +47,8 @@ KINDS = ("pause", "break")
 NOTHING, BREAK, PAUSE_START, PAUSE_END = 0, 1, 2, 3
 #: A smooth cubic must miss by more than this (in tolerances) for a break.
 SMOOTH_MISS = 2.0
+#: A pause must follow motion over more than this many tolerances (or start the take).
+APPROACH = 4.0
 #: Slots of the scanner's integer state.
 _I, _RUN, _SEG, _MODE, _A, _B, _AT, _FIRST = range(8)
 
@@ -180,9 +186,22 @@ def _wide(X: np.ndarray, a: int, b: int, band: float) -> bool:
 
 
 @njit(cache=True, error_model="numpy")
+def _arrives(T: np.ndarray, X: np.ndarray, r: int, before: float, start: float) -> bool:
+    """Whether a still run from sample ``r`` is a stop: the take starts there (at time
+    ``start``), or some channel moved over more than :data:`APPROACH` tolerances in the
+    ``before`` seconds up to it."""
+    if T[r] == start:
+        return True
+    s = r
+    while s > 0 and T[s - 1] >= T[r] - before:
+        s -= 1
+    return _wide(X, s, r, APPROACH)
+
+
+@njit(cache=True, error_model="numpy")
 def scan(T: np.ndarray, X: np.ndarray, n: int, st: np.ndarray, jumps: np.ndarray, p: np.ndarray,
          half_band: float, min_pause: float, min_count: int, gap: int, w: int, pauses: bool,
-         breaks: bool) -> int:
+         breaks: bool, start: float) -> int:
     """Advance the detector over samples ``st[_I] .. n - 1`` of ``T``, ``X`` (values in
     tolerances), stopping after the first feature event (its code is returned; 0 when
     the samples ran out). ``st`` is the integer state (see the ``_I`` .. ``_FIRST`` slots),
@@ -211,14 +230,18 @@ def scan(T: np.ndarray, X: np.ndarray, n: int, st: np.ndarray, jumps: np.ndarray
                 r += 1
             st[_RUN] = r
             if r <= i and i - r + 1 >= min_count and T[i] - T[r] >= min_pause:
-                for j in range(d):
-                    lo, hi = _span(X, r, i, j)
-                    p[j] = 0.5 * (lo + hi)
-                st[_MODE] = 1
-                st[_A] = r
-                st[_B] = i
-                st[_FIRST] = 0
-                return PAUSE_START
+                if _arrives(T, X, r, min_pause, start):
+                    for j in range(d):
+                        lo, hi = _span(X, r, i, j)
+                        p[j] = 0.5 * (lo + hi)
+                    st[_MODE] = 1
+                    st[_A] = r
+                    st[_B] = i
+                    st[_FIRST] = 0
+                    return PAUSE_START
+                # idling, not stopping: slide the run along (it stays min_pause long, so
+                # the look-back, the look-ahead and the work per sample stay bounded)
+                st[_RUN] = r + 1
         if breaks and i >= 2:
             jumps[i - 1] = _jump(T, X, i - 1)
             c = i - 1 - w
@@ -245,10 +268,10 @@ class FeatureDetector:
 
     :meth:`extend` and :meth:`close` return *operations* for a segmenting reducer, in
     order: ``("samples", t, x)`` (add these samples to the current piece), ``("break",
-    time)`` (end the piece at its last sample; the next starts there, from the same
-    value), ``("hold", time, value)`` (end the piece at its last sample, at ``time``, on
-    ``value``; the curve holds it from there) and ``("resume", time)`` (the hold ends;
-    the next piece starts there, from ``value``). A sample at a break or at either end
+    time, value)`` (end the piece at its last sample, on ``value``, the sample's own;
+    the next starts there, from it), ``("hold", time, value)`` (end the piece at its
+    last sample, at ``time``, on ``value``; the curve holds it from there) and
+    ``("resume", time)`` (the hold ends; the next piece starts there, from ``value``). A sample at a break or at either end
     of a pause belongs to both pieces. :attr:`found` lists the features settled so far.
 
     Parameters
@@ -285,10 +308,14 @@ class FeatureDetector:
         self.min_count = 3 * order
         self.w = options.break_window
         self.half_band = 0.5 if angle else 1.0
-        self._t = np.empty(0)
-        self._x = np.empty((0, dim))
-        self._jumps = np.empty(0)
+        # samples in the look-ahead and look-back, in a store that grows by doubling
+        # and slides down as old samples are dropped (values centred, in tolerances)
+        self._n = 0
+        self._t = np.empty(1024)
+        self._x = np.empty((1024, dim))
+        self._jumps = np.empty(1024)
         self._center: np.ndarray | None = None
+        self._start = 0.0                        # the take's first time
         self._st = np.zeros(8, dtype=np.int64)
         self._st[_FIRST] = 1
         self._p = np.zeros(dim)
@@ -301,14 +328,28 @@ class FeatureDetector:
     @property
     def pending(self) -> int:
         """Samples held back for the look-ahead."""
-        return len(self._t) - self._released
+        return self._n - self._released
+
+    @property
+    def stored(self) -> int:
+        """Samples kept for the look-ahead and the look-back (bounded however long the
+        take, even while it holds still)."""
+        return self._n
 
     def _grow(self, t: np.ndarray, x: np.ndarray) -> None:
         if self._center is None:
             self._center = x[0].copy()
-        self._t = np.concatenate([self._t, t])
-        self._x = np.concatenate([self._x, (x - self._center) / self.tol])
-        self._jumps = np.concatenate([self._jumps, np.zeros(len(t))])
+            self._start = float(t[0])
+        n, m = self._n, len(t)
+        if n + m > len(self._t):
+            size = max(2 * len(self._t), n + m)
+            self._t = np.r_[self._t[:n], np.empty(size - n)]
+            self._x = np.r_[self._x[:n], np.empty((size - n, x.shape[1]))]
+            self._jumps = np.r_[self._jumps[:n], np.empty(size - n)]
+        self._t[n : n + m] = t
+        self._x[n : n + m] = (x - self._center) / self.tol
+        self._jumps[n : n + m] = 0.0
+        self._n = n + m
 
     def _hand_out(self, upto: int) -> list[tuple]:
         """Samples ``_released .. upto - 1`` as a samples operation."""
@@ -316,17 +357,22 @@ class FeatureDetector:
             return []
         s = slice(self._released, upto)
         self._released = upto
-        return [("samples", self._t[s], self._x[s] * self.tol + self._center)]
+        return [("samples", self._t[s].copy(), self._x[s] * self.tol + self._center)]
 
     def _forget(self) -> None:
         """Drop samples no decision looks at any more, shifting the state's indices."""
         st = self._st
-        keep_from = min(self._released, int(st[_I]) - 2 * self.w - 2, int(st[_RUN]),
-                        self._hold[1] if st[_MODE] == 1 else self._released)
-        if keep_from < 4096 and keep_from < len(self._t) // 2:
-            return
+        keep_from = min(self._released, int(st[_I]) - 2 * self.w - 2)
+        if keep_from < 4096 and keep_from < self._n // 2:
+            return                                   # not worth sliding yet
+        if st[_MODE] == 0:                           # the look-back of a still run's start
+            run = min(int(st[_RUN]), self._n - 1)
+            keep_from = min(keep_from, int(np.searchsorted(self._t[: self._n], self._t[run] - self.options.min_pause)))
         drop = max(keep_from, 0)
-        self._t, self._x, self._jumps = self._t[drop:], self._x[drop:], self._jumps[drop:]
+        left = self._n - drop
+        for store in (self._t, self._x, self._jumps):
+            store[:left] = store[drop : self._n]
+        self._n = left
         self._released -= drop
         st[_I] -= drop
         st[_RUN] = max(st[_RUN] - drop, 0)
@@ -344,8 +390,8 @@ class FeatureDetector:
         o = self.options
         st = self._st
         while True:
-            event = scan(self._t, self._x, len(self._t), st, self._jumps, self._p, self.half_band, o.min_pause,
-                         self.min_count, self.gap, self.w, o.pauses, o.breaks)
+            event = scan(self._t, self._x, self._n, st, self._jumps, self._p, self.half_band, o.min_pause,
+                         self.min_count, self.gap, self.w, o.pauses, o.breaks, self._start)
             if event == NOTHING:
                 break
             ops += self._settle(event)
@@ -361,7 +407,7 @@ class FeatureDetector:
         st = self._st
         if event == BREAK:
             c = int(st[_AT])
-            ops = self._hand_out(c + 1) + [("break", float(self._t[c]))]
+            ops = self._hand_out(c + 1) + [("break", float(self._t[c]), self._sample(c))]
             self._released = c
             self.found.append(Feature("break", float(self._t[c]), float(self._t[c])))
             return ops
@@ -370,6 +416,10 @@ class FeatureDetector:
             self._hold = (float(self._t[a]), a)
             return self._hand_out(a + 1) + [("hold", float(self._t[a]), self._value())]
         return self._resume() + self._hand_out(int(st[_I]))
+
+    def _sample(self, c: int) -> np.ndarray:
+        """Sample ``c`` in the caller's units."""
+        return self._x[c] * self.tol + self._center
 
     def _value(self) -> np.ndarray:
         """The pause's value, in the caller's units."""
@@ -384,6 +434,7 @@ class FeatureDetector:
         err = max_errors(np.broadcast_to(self._value(), x.shape), x, self.angle)
         np.maximum(self.pause_error, err, out=self.pause_error)
         self._hold = (self._hold[0], upto)
+        self._released = max(self._released, upto - 1)   # the hold stands for them
 
     def _resume(self) -> list[tuple]:
         """End the pause at its last sample ``b``; the next piece starts there."""
@@ -398,9 +449,9 @@ class FeatureDetector:
         if self._st[_MODE] == 1:
             self._st[_MODE] = 0
             ops = self._resume()
-            self._released = len(self._t)
+            self._released = self._n
             return ops
-        return self._hand_out(len(self._t))
+        return self._hand_out(self._n)
 
 
 def detect(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, options: FeatureOptions, *,

@@ -1,9 +1,8 @@
 """The global method on a take cut at its pauses and breaks (:mod:`.features`).
 
 Each piece between two features is reduced on its own, its ends held where it meets its
-neighbours: at a break, the piece after starts on the value the piece before ends with;
-at a pause, both end on the pause's value. Pauses become constant pieces, and
-:func:`.splice.join` makes one spline of it all.
+neighbours: at a break, both on the sample there; at a pause, both on the pause's value.
+Pauses become constant pieces, and :func:`.splice.join` makes one spline of it all.
 """
 
 from __future__ import annotations
@@ -73,8 +72,8 @@ def reduce_segmented(times: np.ndarray, values: np.ndarray, tol: np.ndarray, ord
             part_t.append(op[1])
             part_x.append(op[2])
         elif op[0] == "break":
-            close(None)
-            left = np.asarray(pieces[-1].c[-1])
+            close(op[2])
+            left = op[2]
         elif op[0] == "hold":
             close(op[2])
             pause = (op[1], op[2])

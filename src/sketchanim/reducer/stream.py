@@ -270,7 +270,6 @@ class StreamReducer:
             if self.features.enabled else None
         self._segments: list[BSpline] = []           # finished pieces between features (keep)
         self._pause: tuple[float, np.ndarray] | None = None
-        self._last_value = np.zeros(self.dim)       # where the last piece ended
         self._closed = False
         self._begin(None)
 
@@ -358,8 +357,8 @@ class StreamReducer:
         if kind == "samples":
             self._feed(op[1], op[2])
         elif kind == "break":
-            self._end(None)
-            self._begin(self._last_value)
+            self._end(op[2])
+            self._begin(op[2])
         elif kind == "hold":
             self._end(op[2])
             self._pause = (op[1], op[2])
@@ -371,7 +370,6 @@ class StreamReducer:
                 self._segments.append(still)
             if self.on_piece is not None:
                 self.on_piece(Piece(np.asarray(still.t), np.asarray(still.c)))
-            self._last_value = value
             self._begin(value)
 
     def _end(self, value: np.ndarray | None) -> None:
@@ -514,8 +512,6 @@ class StreamReducer:
         units; held back while it only closes intervals of zero length, such as the
         clamped start). The coefficients after the first ``order - 1`` just became final."""
         k = self.order
-        if final:
-            self._last_value = piece_coef[-1].copy()
         if self.keep:
             self._final_knots.append(piece_knots[k - 1 : None if final else len(piece_coef)])
             self._final_coef.append(piece_coef[k - 1 :])
@@ -555,6 +551,12 @@ class StreamReducer:
         return np.maximum(self._max_error, self._detector.pause_error)
 
     @property
+    def pending(self) -> int:
+        """Samples taken but held back for the features' look-ahead (at most about
+        ``min_pause`` of them, or a few for breaks alone; none without features)."""
+        return 0 if self._detector is None else self._detector.pending
+
+    @property
     def found(self) -> list[Feature]:
         """The pauses and breaks settled so far, in time order."""
         return [] if self._detector is None else list(self._detector.found)
@@ -580,7 +582,6 @@ class StreamReducer:
             t, x = np.r_[t, t + 1.0], np.vstack([x, x])
         poly = held_interpolant(t, x, k, (self._start_value, self._end_value))
         assert poly is not None                         # a polynomial through < order samples
-        self._last_value = poly.c[-1].copy()
         piece = Piece(np.asarray(poly.t), np.asarray(poly.c))
         if self.keep:
             self._final_knots.append(piece.knots)
