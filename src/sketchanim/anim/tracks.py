@@ -1,0 +1,123 @@
+"""Tracks: how an attribute changes over time.
+
+A :class:`ContinuousTrack` holds a reduced B-spline of the attribute's channels (an
+orientation's is a quaternion spline, normalised when evaluated, as glTF plays it); a
+:class:`DiscreteTrack` holds time-stamped values with step semantics. Before its first
+time and after its last, a track holds its end values.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.interpolate import BSpline
+
+from sketchanim.anim.attributes import AttributeType
+from sketchanim.errors import ArgumentError
+
+
+@dataclass
+class ContinuousTrack:
+    """A continuous attribute's curve.
+
+    Attributes
+    ----------
+    path : str
+        The attribute ("object.attribute").
+    type : AttributeType
+    spline : BSpline
+        Clamped, evaluating to (n, type.dim) values.
+    tol : float
+        The tolerance it was recorded with, in ``type.unit``.
+
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 2, 3]]), 1)
+    >>> ContinuousTrack("box.position", POSITION, s, 0.005).evaluate([-1.0, 0.5, 2.0]).tolist()
+    [[0.0, 0.0, 0.0], [0.5, 1.0, 1.5], [1.0, 2.0, 3.0]]
+    """
+
+    path: str
+    type: AttributeType
+    spline: BSpline
+    tol: float
+
+    def __post_init__(self) -> None:
+        c = np.asarray(self.spline.c)
+        if not self.type.continuous or c.ndim != 2 or c.shape[1] != self.type.dim:
+            raise ArgumentError("spline", f"{self.path}: needs {self.type.dim} channels, got coefficients {c.shape}")
+
+    @property
+    def start(self) -> float:
+        return float(self.spline.t[self.spline.k])
+
+    @property
+    def end(self) -> float:
+        return float(self.spline.t[-self.spline.k - 1])
+
+    @property
+    def n_coefficients(self) -> int:
+        return int(np.asarray(self.spline.c).shape[0])
+
+    def evaluate(self, times: ArrayLike) -> np.ndarray:
+        """Values at ``times`` (n,), shape (n, dim); held outside the track's span."""
+        t = np.clip(np.asarray(times, dtype=float).reshape(-1), self.start, self.end)
+        v = self.spline(t)
+        if self.type.is_rotation:
+            v = v / np.linalg.norm(v, axis=1, keepdims=True)
+        return v
+
+
+@dataclass
+class DiscreteTrack:
+    """A discrete attribute's values at times, in time order (step semantics: a value
+    holds from its time until the next).
+
+    >>> from sketchanim.anim.attributes import BOOL
+    >>> track = DiscreteTrack("lamp.on", BOOL)
+    >>> track.add(1.0, False); track.add(2.0, True)
+    >>> track.value_at(0.5), track.value_at(1.0), track.value_at(5.0)
+    (None, False, True)
+    """
+
+    path: str
+    type: AttributeType
+    times: list[float] = field(default_factory=list)
+    values: list[object] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if self.type.continuous:
+            raise ArgumentError("type", f"{self.path}: a discrete track needs a discrete type, got {self.type.name}")
+        if len(self.times) != len(self.values):
+            raise ArgumentError("values", f"{self.path}: {len(self.values)} values for {len(self.times)} times")
+        pairs = [(self._time(t), self.type.check(v, self.path)) for t, v in zip(self.times, self.values)]
+        if any(b[0] < a[0] for a, b in zip(pairs, pairs[1:])):
+            raise ArgumentError("times", f"{self.path}: times must not go backwards")
+        self.times = [p[0] for p in pairs]
+        self.values = [p[1] for p in pairs]
+
+    def _time(self, t: float) -> float:
+        t = float(t)
+        if not np.isfinite(t):
+            raise ArgumentError("time", f"{self.path}: must be finite, got {t!r}")
+        return t
+
+    def add(self, t: float, value: object) -> None:
+        """Add ``value`` at time ``t`` (after any others at the same time)."""
+        t = self._time(t)
+        i = int(np.searchsorted(self.times, t, side="right"))
+        self.times.insert(i, t)
+        self.values.insert(i, self.type.check(value, self.path))
+
+    def value_at(self, t: float) -> object:
+        """The value holding at ``t``, or None before the first."""
+        i = int(np.searchsorted(self.times, t, side="right"))
+        return self.values[i - 1] if i else None
+
+    def between(self, t0: float, t1: float) -> list[tuple[float, object]]:
+        """The (time, value) pairs with ``t0 < time <= t1``: what fires when playback
+        moves from ``t0`` to ``t1``."""
+        a = int(np.searchsorted(self.times, t0, side="right"))
+        b = int(np.searchsorted(self.times, t1, side="right"))
+        return list(zip(self.times[a:b], self.values[a:b]))
