@@ -121,7 +121,9 @@ def test_rotation_holds_exactly_still(seed: int, mode: str) -> None:
     rng = np.random.default_rng(seed)
     t = np.arange(0, 3, 1 / 120)
     s = np.clip(t, 0.0, 1.0) + np.clip(t - 2.0, 0.0, None)   # turn, hold from 1 to 2, turn
-    q = Rotation.from_rotvec(np.outer(s, rng.normal(0, 2, 3))).as_quat()
+    axis = rng.normal(0, 1, 3)
+    speed = rng.uniform(0.3, 6.0)                            # rad/s: a move, not an idle drift
+    q = Rotation.from_rotvec(np.outer(s, speed * axis / np.linalg.norm(axis))).as_quat()
     q *= rng.choice([-1.0, 1.0], len(q))[:, None]            # sign flips
     for method in METHODS:
         r = sketchanim.reduce_rotations(t, q, 0.5, mode=mode, method=method)
