@@ -1,0 +1,1 @@
+"""The animation model: scene, attributes, tracks, playback (no UI, no files)."""
