@@ -11,9 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from sketchanim.errors import ArgumentError
+from sketchanim.motion.rotations import MIN_NORM
 
 #: Kinds of discrete attribute.
 DISCRETE = ("bool", "enum", "event")
@@ -55,6 +55,15 @@ class AttributeType:
     def continuous(self) -> bool:
         """Recorded into a spline (else into step events)."""
         return self.name not in DISCRETE
+
+    @property
+    def initial(self) -> object:
+        """The value a new attribute of this type starts with.
+
+        >>> SCALE.initial, BOOL.initial
+        ((1.0, 1.0, 1.0), True)
+        """
+        return self.default if self.continuous else self.default[0]
 
     @property
     def is_rotation(self) -> bool:
@@ -118,8 +127,8 @@ class AttributeType:
             raise ArgumentError(where, f"must be finite, got {v.tolist()}")
         if self.is_rotation:
             norm = float(np.linalg.norm(v))
-            if norm == 0.0:
-                raise ArgumentError(where, "a zero quaternion is no orientation")
+            if norm < MIN_NORM:                          # what the rotation reducers refuse too
+                raise ArgumentError(where, f"a zero quaternion is no orientation (norm {norm:.3g})")
             v = v / norm
         return v
 

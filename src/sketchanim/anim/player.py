@@ -38,11 +38,7 @@ class _Packed:
     dims: np.ndarray
     rotation: np.ndarray
     oofs: np.ndarray
-
-    @property
-    def bounds(self) -> list[int]:
-        """``oofs`` as Python ints (fast to slice with)."""
-        return self.oofs.tolist()
+    bounds: list[int]                                 # oofs as Python ints (fast to slice with)
 
 
 @njit(cache=True)
@@ -160,6 +156,7 @@ class Player:
             knots = [np.asarray(c.spline.t, dtype=float) for c in curves]
             coef = [np.ascontiguousarray(c.spline.c, dtype=float).reshape(-1) for c in curves]
             dims = np.array([c.type.dim for c in curves], dtype=np.int64)
+            oofs = np.r_[0, np.cumsum(dims)].astype(np.int64)
             if any(c.spline.k + 1 > 32 for c in curves):
                 raise ArgumentError("order", "tracks of order above 32 cannot be played")
             self._packed = _Packed(
@@ -174,7 +171,8 @@ class Player:
                 np.array([c.spline.k + 1 for c in curves], dtype=np.int64),
                 dims,
                 np.array([c.type.is_rotation for c in curves], dtype=np.bool_),
-                np.r_[0, np.cumsum(dims)].astype(np.int64),
+                oofs,
+                oofs.tolist(),
             )
         return self._packed
 

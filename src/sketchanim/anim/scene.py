@@ -76,9 +76,7 @@ class SceneObject:
         check_name(name, "attribute")
         if name in self.attributes:
             raise ArgumentError("attribute", f"{self.name}.{name} exists already")
-        start = type.default if value is None else value
-        if not type.continuous:
-            start = type.default[0] if value is None else value
+        start = type.initial if value is None else value
         attribute = Attribute(type, type.check(start, f"{self.name}.{name}"))
         self.attributes[name] = attribute
         return attribute

@@ -357,7 +357,7 @@ class FeatureDetector:
             return []
         s = slice(self._released, upto)
         self._released = upto
-        return [("samples", self._t[s].copy(), self._x[s] * self.tol + self._center)]
+        return [("samples", self._t[s].copy(), self._units(self._x[s]))]
 
     def _forget(self) -> None:
         """Drop samples no decision looks at any more, shifting the state's indices."""
@@ -407,7 +407,7 @@ class FeatureDetector:
         st = self._st
         if event == BREAK:
             c = int(st[_AT])
-            ops = self._hand_out(c + 1) + [("break", float(self._t[c]), self._sample(c))]
+            ops = self._hand_out(c + 1) + [("break", float(self._t[c]), self._units(self._x[c]))]
             self._released = c
             self.found.append(Feature("break", float(self._t[c]), float(self._t[c])))
             return ops
@@ -417,20 +417,20 @@ class FeatureDetector:
             return self._hand_out(a + 1) + [("hold", float(self._t[a]), self._value())]
         return self._resume() + self._hand_out(int(st[_I]))
 
-    def _sample(self, c: int) -> np.ndarray:
-        """Sample ``c`` in the caller's units."""
-        return self._x[c] * self.tol + self._center
+    def _units(self, x: np.ndarray) -> np.ndarray:
+        """Values kept centred and in tolerances, back in the caller's units."""
+        return x * self.tol + self._center
 
     def _value(self) -> np.ndarray:
         """The pause's value, in the caller's units."""
-        return self._p * self.tol + self._center
+        return self._units(self._p)
 
     def _measure(self, upto: int) -> None:
         """Count the errors of the pause's samples up to ``upto`` in :attr:`pause_error`."""
         s = slice(self._hold[1], upto)
         if upto <= self._hold[1]:
             return
-        x = self._x[s] * self.tol + self._center
+        x = self._units(self._x[s])
         err = max_errors(np.broadcast_to(self._value(), x.shape), x, self.angle)
         np.maximum(self.pause_error, err, out=self.pause_error)
         self._hold = (self._hold[0], upto)
