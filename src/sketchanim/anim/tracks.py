@@ -1,6 +1,6 @@
 """Tracks: how an attribute changes over time.
 
-A :class:`ContinuousTrack` holds a reduced B-spline of the attribute's channels (an
+A :class:`Take` is one recording of one attribute, raw. A :class:`ContinuousTrack` holds a reduced B-spline of the attribute's channels (an
 orientation's is a quaternion spline, normalised when evaluated, as glTF plays it); a
 :class:`DiscreteTrack` holds time-stamped values with step semantics. Before its first
 time and after its last, a track holds its end values.
@@ -18,6 +18,50 @@ from sketchanim.anim.attributes import AttributeType
 from sketchanim.errors import ArgumentError
 
 
+MODES = ("replace", "additive")
+#: Default fade at each seam of a punch-in, in seconds.
+BLEND = 0.1
+
+
+@dataclass(frozen=True)
+class Take:
+    """One recording of one attribute.
+
+    Attributes
+    ----------
+    times : ndarray, shape (n,)
+        Sample times in seconds, increasing.
+    values : ndarray, shape (n, dim)
+        The samples: values (``replace``), or offsets (``additive``: added to a vector,
+        or scalar-last quaternions applied on top of an orientation).
+    mode : {"replace", "additive"}
+    blend : float
+        Seconds of fade at each seam with existing motion.
+    """
+
+    times: np.ndarray
+    values: np.ndarray
+    mode: str = "replace"
+    blend: float = BLEND
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise ArgumentError("mode", f"must be one of {', '.join(MODES)}, got {self.mode!r}")
+        if not (np.isfinite(self.blend) and self.blend >= 0):
+            raise ArgumentError("blend", f"must be >= 0 seconds, got {self.blend!r}")
+        t = np.asarray(self.times, dtype=float)
+        if t.ndim != 1 or len(t) < 2 or not np.all(np.diff(t) > 0):
+            raise ArgumentError("times", f"a take needs 2 or more increasing times, got {len(t)}")
+
+    @property
+    def start(self) -> float:
+        return float(self.times[0])
+
+    @property
+    def end(self) -> float:
+        return float(self.times[-1])
+
+
 @dataclass
 class ContinuousTrack:
     """A continuous attribute's curve.
@@ -31,6 +75,9 @@ class ContinuousTrack:
         Clamped, evaluating to (n, type.dim) values.
     tol : float
         The tolerance it was recorded with, in ``type.unit``.
+    takes : tuple of Take
+        The recordings it was made of, in order, raw (:func:`.layers.compose` rebuilds
+        the curve from them at any tolerance); empty for a curve made otherwise.
 
     >>> from sketchanim.anim.attributes import POSITION
     >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 2, 3]]), 1)
@@ -42,6 +89,7 @@ class ContinuousTrack:
     type: AttributeType
     spline: BSpline
     tol: float
+    takes: tuple[Take, ...] = ()
 
     def __post_init__(self) -> None:
         c = np.asarray(self.spline.c)

@@ -1,4 +1,5 @@
-"""Joining the pieces of a take cut at its pauses and breaks into one spline.
+"""Joining the pieces of a take cut at its pauses and breaks into one spline, and
+cutting a spline in two.
 
 Two clamped pieces that meet at time ``c`` on a shared value join exactly on a knot of
 multiplicity ``order - 1`` at ``c``: the joined spline has the left piece's coefficients,
@@ -16,6 +17,7 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
 from sketchanim.errors import ArgumentError
+from sketchanim.spline import insert_knots
 
 
 def hold(start: float, end: float, value: ArrayLike, order: int) -> BSpline:
@@ -54,3 +56,21 @@ def join(pieces: Sequence[BSpline]) -> BSpline:
         knots.append(t[k:])
         coef.append(c[1:])
     return BSpline(np.concatenate(knots), np.concatenate(coef), k - 1)
+
+
+def split(s: BSpline, at: float) -> tuple[BSpline, BSpline]:
+    """``s`` cut exactly at ``at`` (inside its span) into two clamped pieces, undone by
+    :func:`join` (knot insertion: each piece is ``s`` on its side, to rounding).
+
+    >>> s = BSpline(np.r_[[0.0] * 4, [2.0] * 4], np.c_[[0.0, 1.0, 3.0, 2.0]], 3)
+    >>> left, right = split(s, 0.5)
+    >>> bool(np.allclose(left(0.25), s(0.25))), bool(np.allclose(right(1.5), s(1.5))), float(left.t[-1]), float(right.t[0])
+    (True, True, 0.5, 0.5)
+    """
+    k = s.k + 1
+    t = np.asarray(s.t)
+    have = int(np.sum(t == at))
+    s = insert_knots(s, [at] * (k - have)) if have < k else s
+    i = int(np.searchsorted(s.t, at, side="left"))
+    c = np.asarray(s.c)
+    return BSpline(s.t[: i + k], c[:i], k - 1), BSpline(s.t[i:], c[i:], k - 1)
