@@ -113,3 +113,26 @@ def test_recording_over_playback_punches_in_and_leaves_other_tracks_alone() -> N
     assert np.allclose(pos.evaluate(out), before["box.position"].evaluate(out), atol=1e-12)
     assert len(pos.takes) == 2 and pos.takes[1].mode == "replace"
     assert abs(pos.evaluate([2.0])[0, 0] - (np.sin(2.0) + 0.3)) <= 0.005
+
+
+def test_layered_take_example_reports_a_c1_punch_in_within_tolerance(tmp_path) -> None:
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    repo = Path(__file__).resolve().parents[1]
+    env = dict(os.environ, PYTHONPATH=str(repo / "src"))
+    out = subprocess.run([sys.executable, str(repo / "examples" / "layered_take.py"), "--project",
+                          str(tmp_path / "p.sketchanim")], capture_output=True, text=True, env=env, check=True)
+    summary = json.loads(out.stdout)
+    assert sorted(summary["untouched_by_pass_2"]) == ["cube.orientation", "lamp.color"]
+    for path, track in summary["tracks"].items():
+        assert track["max_error_vs_raw"] <= track["tolerance"] * (1 + 1e-9), path
+        assert track["control_points"] < track["raw_samples"] / 10, path
+    for path, seams in summary["seams"].items():
+        for s in seams:
+            assert s["value_jump"] <= 1e-9 and s["velocity_jump"] <= 1e-6, (path, s)
+    assert summary["undo"] == summary["redo"] == "record pass 2"
+    assert (tmp_path / "p.sketchanim").exists()

@@ -24,6 +24,8 @@ import os
 import sqlite3
 import threading
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -119,6 +121,15 @@ def _connect(path: Path) -> sqlite3.Connection:
     return db
 
 
+@contextmanager
+def _reading(source: str, what: str) -> Iterator[None]:
+    """Turn what a damaged database raises while read into a :class:`FileFormatError`."""
+    try:
+        yield
+    except (sqlite3.DatabaseError, UnicodeDecodeError, json.JSONDecodeError) as err:
+        raise FileFormatError(source, f"{what} ({type(err).__name__}: {err})") from None
+
+
 def _floats(blob: object, count: int, where: str, source: str) -> np.ndarray:
     if not isinstance(blob, bytes) or len(blob) != 8 * count:
         raise FileFormatError(source, f"{where}: expected {count} float64 values")
@@ -157,7 +168,7 @@ class Project:
                 head = handle.read(16)
             if head and head != b"SQLite format 3\x00":
                 raise FileFormatError(str(self.path), "not a project file (not an SQLite database)")
-        try:
+        with _reading(str(self.path), "not a readable project database"):
             self.db = _connect(self.path)
             tables = {r[0] for r in self.db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
             if tables and "meta" not in tables:
@@ -165,8 +176,6 @@ class Project:
                 raise FileFormatError(str(self.path), "an SQLite database, but not a project file (no meta table)")
             self.db.executescript(SCHEMA)
             meta = dict(self.db.execute("SELECT key, value FROM meta").fetchall())
-        except sqlite3.DatabaseError as err:
-            raise FileFormatError(str(self.path), f"not a readable project database ({err})") from None
         if not meta:
             with self.db:
                 self.db.execute("BEGIN")
@@ -202,13 +211,11 @@ class Project:
     def load(self) -> tuple[Scene, dict[str, Track]]:
         """The scene and tracks last saved (an empty scene in a new project)."""
         source = str(self.path)
-        try:
+        with _reading(source, "unreadable"):
             row = self.db.execute("SELECT body FROM documents WHERE name = 'project'").fetchone()
             if row is None:
                 return Scene(), {}
             rows = self.db.execute("SELECT id, mode, blend, dim, n, times, vals FROM takes ORDER BY id").fetchall()
-        except sqlite3.DatabaseError as err:
-            raise FileFormatError(source, f"unreadable ({err})") from None
         if not isinstance(row[0], str) or len(row[0]) > MAX_DOCUMENT_BYTES:
             raise FileFormatError(source, "the project document is not text of a bounded size")
         takes = {}
@@ -263,14 +270,15 @@ class Project:
         without saving: path -> (times, values), or empty. Saving clears them."""
         out: dict[str, tuple[list, list]] = {}
         source = str(self.path)
-        for seq, path, n, times, vals in self.db.execute("SELECT seq, path, n, times, vals FROM journal "
-                                                "WHERE started = (SELECT max(started) FROM journal) ORDER BY seq"):
-            if not isinstance(n, int) or not 0 < n <= MAX_TAKE_SAMPLES:
-                raise FileFormatError(source, f"journal batch {seq}: bad size {n!r}")
-            values = json.loads(vals)
-            ts, xs = out.setdefault(path, ([], []))
-            ts.append(_floats(times, n, f"journal batch {seq}", source))
-            xs.extend(values)
+        with _reading(source, "unreadable journal"):
+            rows = self.db.execute("SELECT seq, path, n, times, vals FROM journal "
+                                   "WHERE started = (SELECT max(started) FROM journal) ORDER BY seq").fetchall()
+            for seq, path, n, times, vals in rows:
+                if not isinstance(n, int) or not 0 < n <= MAX_TAKE_SAMPLES:
+                    raise FileFormatError(source, f"journal batch {seq}: bad size {n!r}")
+                ts, xs = out.setdefault(path, ([], []))
+                ts.append(_floats(times, n, f"journal batch {seq}", source))
+                xs.extend(json.loads(vals))
         return {p: (np.concatenate(ts), np.asarray(xs) if xs and isinstance(xs[0], list) else xs)
                 for p, (ts, xs) in out.items()}
 
