@@ -15,12 +15,10 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline, make_lsq_spline
 
 from sketchanim.anim.player import Player
-from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack
+from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Track
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer.splice import join, split
 from sketchanim.spline import elevate_degree, insert_knots
-
-Track = ContinuousTrack | DiscreteTrack
 
 
 def _curve(track: ContinuousTrack, spline: BSpline) -> ContinuousTrack:

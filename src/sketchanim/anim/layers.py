@@ -25,7 +25,7 @@ from scipy.interpolate import BSpline
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.attributes import AttributeType
-from sketchanim.anim.tracks import Take
+from sketchanim.anim.tracks import Take, held_values
 from sketchanim.errors import ArgumentError
 from sketchanim.motion.rotations import reduce_rotations
 from sketchanim.reducer import reduce
@@ -49,13 +49,6 @@ def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, t
         r = reduce(times, values, tol, order=order)
     c = np.asarray(r.spline.c)
     return BSpline(r.spline.t, c.reshape(len(c), -1), r.spline.k)
-
-
-def _clamped(s: BSpline, times: np.ndarray, rotation: bool) -> np.ndarray:
-    """``s`` at ``times``, held outside its span (normalised for an orientation)."""
-    k = s.k
-    v = s(np.clip(times, s.t[k], s.t[-k - 1]))
-    return v / np.linalg.norm(v, axis=1, keepdims=True) if rotation else v
 
 
 def _weights(times: np.ndarray, blend: float, left: bool, right: bool) -> np.ndarray:
@@ -82,6 +75,14 @@ def _targets(type: AttributeType, old: np.ndarray, take: Take, w: np.ndarray) ->
     x *= np.where(np.sum(x * old, axis=1) < 0, -1.0, 1.0)[:, None]          # old's hemisphere
     q = old + w[:, None] * (x - old)
     return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+def _snapped(s: BSpline, x: float) -> float:
+    """``x``, or the knot of ``s`` a hair away from it: a cut there must not leave an
+    interval of a few rounding units, where derivatives are all cancellation."""
+    j = int(np.argmin(np.abs(s.t - x)))
+    near = max(1e-9 * (s.t[-1] - s.t[0]), 8 * np.spacing(abs(x)))
+    return float(s.t[j]) if abs(s.t[j] - x) <= near else x
 
 
 def _reversed(s: BSpline) -> BSpline:
@@ -161,11 +162,12 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     if b > hi:
         ext.append(hold(hi, b, np.asarray(base.c)[-1], k0 + 1))
     ext = join(ext)
-    left, rest = split(ext, a) if a > ext.t[k0] else (None, ext)
-    right = split(rest, b)[1] if b < rest.t[-k0 - 1] else None
+    cut_a, cut_b = _snapped(ext, a), _snapped(ext, b)
+    left, rest = split(ext, cut_a) if cut_a > ext.t[k0] else (None, ext)
+    right = split(rest, cut_b)[1] if cut_b < rest.t[-k0 - 1] else None
     angle = np.radians(tol) if type.is_rotation else 0.0
     bound = np.array([angle]) if angle else np.full(type.dim, tol)
-    old_values = _clamped(base, times, type.is_rotation)
+    old_values = held_values(base, times, type.is_rotation)
     targets = _targets(type, old_values, take, _weights(times, take.blend, left is not None, right is not None))
     for side, i, seam in (("start", 0, left), ("end", -1, right)):
         gap = max_errors(old_values[[i]], targets[[i]], angle)
@@ -173,12 +175,15 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
             raise ArgumentError("blend", f"the take's {side} at {times[i]} s is {gap.max():.6g} from the curve, "
                                          f"more than the tolerance {tol}: a continuous join needs blend > 0")
     mid = reduce_samples(type, times, targets, tol, k0 + 1)
+    knots = np.array(mid.t)
+    knots[: k0 + 1], knots[-k0 - 1 :] = cut_a, cut_b
+    mid = BSpline(knots, mid.c, mid.k)
     pieces = [mid]
     if left is not None:
-        mid = _seat_start(mid, np.asarray(left.c)[-1], left.derivative()(a), times, targets, angle, bound)
+        mid = _seat_start(mid, np.asarray(left.c)[-1], left.derivative()(cut_a), times, targets, angle, bound)
         pieces = [left, mid]
     if right is not None:
-        mid = _reversed(_seat_start(_reversed(mid), np.asarray(right.c)[0], -right.derivative()(b), -times[::-1],
+        mid = _reversed(_seat_start(_reversed(mid), np.asarray(right.c)[0], -right.derivative()(cut_b), -times[::-1],
                                     targets[::-1], angle, bound))
         pieces = pieces[:-1] + [mid, right]
     return join(pieces)

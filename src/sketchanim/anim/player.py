@@ -15,10 +15,8 @@ import numpy as np
 from numba import njit
 
 from sketchanim.anim.scene import Attribute, Scene
-from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack
+from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Track
 from sketchanim.errors import ArgumentError
-
-Track = ContinuousTrack | DiscreteTrack
 
 
 @dataclass(frozen=True)

@@ -23,12 +23,11 @@ from scipy.interpolate import BSpline
 
 from sketchanim.anim.layers import punch_in
 from sketchanim.anim.scene import Scene
-from sketchanim.anim.tracks import BLEND, MODES, ContinuousTrack, DiscreteTrack, Take
+from sketchanim.anim.tracks import BLEND, MODES, ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.motion.rotations import MIN_NORM, RotationStream
 from sketchanim.reducer import StreamReducer
 
-Track = ContinuousTrack | DiscreteTrack
 #: Called from the worker with each batch taken: path, times (n,), values (n, dim) or
 #: a list of discrete values.
 Journal = Callable[[str, np.ndarray, object], None]

@@ -62,6 +62,19 @@ class Take:
         return float(self.times[-1])
 
 
+def held_values(spline: BSpline, times: np.ndarray, rotation: bool) -> np.ndarray:
+    """``spline`` at ``times``, holding its end values outside its span (normalised if
+    ``rotation``), as tracks play.
+
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.c_[[0.0, 2.0]], 1)
+    >>> held_values(s, np.array([-1.0, 0.5, 3.0]), False)[:, 0].tolist()
+    [0.0, 1.0, 2.0]
+    """
+    k = spline.k
+    v = spline(np.clip(times, spline.t[k], spline.t[-k - 1]))
+    return v / np.linalg.norm(v, axis=1, keepdims=True) if rotation else v
+
+
 @dataclass
 class ContinuousTrack:
     """A continuous attribute's curve.
@@ -110,11 +123,7 @@ class ContinuousTrack:
 
     def evaluate(self, times: ArrayLike) -> np.ndarray:
         """Values at ``times`` (n,), shape (n, dim); held outside the track's span."""
-        t = np.clip(np.asarray(times, dtype=float).reshape(-1), self.start, self.end)
-        v = self.spline(t)
-        if self.type.is_rotation:
-            v = v / np.linalg.norm(v, axis=1, keepdims=True)
-        return v
+        return held_values(self.spline, np.asarray(times, dtype=float).reshape(-1), self.type.is_rotation)
 
 
 @dataclass
@@ -169,3 +178,7 @@ class DiscreteTrack:
         a = int(np.searchsorted(self.times, t0, side="right"))
         b = int(np.searchsorted(self.times, t1, side="right"))
         return list(zip(self.times[a:b], self.values[a:b]))
+
+
+#: Either kind of track.
+Track = ContinuousTrack | DiscreteTrack

@@ -35,7 +35,7 @@ from scipy.interpolate import BSpline
 
 from sketchanim.anim.attributes import DISCRETE, AttributeType
 from sketchanim.anim.scene import KINDS, Scene
-from sketchanim.anim.tracks import MODES, ContinuousTrack, DiscreteTrack, Take
+from sketchanim.anim.tracks import MODES, ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.errors import FileFormatError, InputError
 from sketchanim.io.atomic import write_atomic
 
@@ -47,7 +47,6 @@ MAX_ITEMS = 10_000_000
 MAX_TAKE_SAMPLES = 50_000_000
 TYPE_NAMES = ("position", "orientation", "scale", "color", "intensity", "fov", "float", "vector") + DISCRETE
 
-Track = ContinuousTrack | DiscreteTrack
 Number = Annotated[float, Field(allow_inf_nan=False)]
 Name = Annotated[str, Field(min_length=1, max_length=64)]
 Items = Field(max_length=MAX_ITEMS)
