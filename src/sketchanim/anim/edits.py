@@ -17,7 +17,7 @@ from scipy.interpolate import BSpline, make_lsq_spline
 from sketchanim.anim.player import Player
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Track
 from sketchanim.errors import ArgumentError
-from sketchanim.reducer.splice import join, split
+from sketchanim.reducer.splice import join, snapped, split
 from sketchanim.spline import elevate_degree, insert_knots
 
 
@@ -103,7 +103,7 @@ def without_range(track: Track, t0: float, t1: float) -> Track:
     k = s.k + 1
     if k < 4:
         raise ArgumentError("order", f"{track.path}: a range is bridged with a cubic; the track's order is {k}")
-    t0, t1 = max(t0, track.start), min(t1, track.end)
+    t0, t1 = snapped(s, max(t0, track.start)), snapped(s, min(t1, track.end))
     if t0 >= t1:
         return track
     left = split(s, t0)[0] if t0 > track.start else None
@@ -168,20 +168,19 @@ class History:
 
     def undo(self) -> str | None:
         """Undo the last step; its label, or None if there is none."""
-        if not self.done:
-            return None
-        step = self.done.pop()
-        self._put(step.before)
-        self.undone.append(step)
-        return step.label
+        return self._move(self.done, self.undone, "before")
 
     def redo(self) -> str | None:
         """Redo the last undone step; its label, or None if there is none."""
-        if not self.undone:
+        return self._move(self.undone, self.done, "after")
+
+    def _move(self, source: list[Edit], target: list[Edit], side: str) -> str | None:
+        """Take the last step of ``source``, put its ``side`` tracks, keep it on ``target``."""
+        if not source:
             return None
-        step = self.undone.pop()
-        self._put(step.after)
-        self.done.append(step)
+        step = source.pop()
+        self._put(getattr(step, side))
+        target.append(step)
         return step.label
 
     def _put(self, tracks: Mapping[str, Track | None]) -> None:

@@ -30,8 +30,9 @@ from sketchanim.errors import ArgumentError
 from sketchanim.motion.rotations import reduce_rotations
 from sketchanim.reducer import reduce
 from sketchanim.reducer.metric import max_errors
-from sketchanim.reducer.splice import hold, join, split
+from sketchanim.reducer.splice import hold, join, snapped, split
 from sketchanim.spline import elevate_degree, insert_knots
+
 
 def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, tol: float, order: int) -> BSpline:
     """A reduction of samples of an attribute of ``type`` within ``tol`` (in the type's
@@ -47,8 +48,7 @@ def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, t
         r = reduce_rotations(times, values, tol, order=order)
     else:
         r = reduce(times, values, tol, order=order)
-    c = np.asarray(r.spline.c)
-    return BSpline(r.spline.t, c.reshape(len(c), -1), r.spline.k)
+    return r.columns
 
 
 def _weights(times: np.ndarray, blend: float, left: bool, right: bool) -> np.ndarray:
@@ -75,14 +75,6 @@ def _targets(type: AttributeType, old: np.ndarray, take: Take, w: np.ndarray) ->
     x *= np.where(np.sum(x * old, axis=1) < 0, -1.0, 1.0)[:, None]          # old's hemisphere
     q = old + w[:, None] * (x - old)
     return q / np.linalg.norm(q, axis=1, keepdims=True)
-
-
-def _snapped(s: BSpline, x: float) -> float:
-    """``x``, or the knot of ``s`` a hair away from it: a cut there must not leave an
-    interval of a few rounding units, where derivatives are all cancellation."""
-    j = int(np.argmin(np.abs(s.t - x)))
-    near = max(1e-9 * (s.t[-1] - s.t[0]), 8 * np.spacing(abs(x)))
-    return float(s.t[j]) if abs(s.t[j] - x) <= near else x
 
 
 def _reversed(s: BSpline) -> BSpline:
@@ -162,7 +154,7 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     if b > hi:
         ext.append(hold(hi, b, np.asarray(base.c)[-1], k0 + 1))
     ext = join(ext)
-    cut_a, cut_b = _snapped(ext, a), _snapped(ext, b)
+    cut_a, cut_b = snapped(ext, a), snapped(ext, b)
     left, rest = split(ext, cut_a) if cut_a > ext.t[k0] else (None, ext)
     right = split(rest, cut_b)[1] if cut_b < rest.t[-k0 - 1] else None
     angle = np.radians(tol) if type.is_rotation else 0.0

@@ -19,7 +19,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.interpolate import BSpline
 
 from sketchanim.anim.layers import punch_in
 from sketchanim.anim.scene import Scene
@@ -318,7 +317,5 @@ class Recorder:
         if a.mode == "additive":
             spline = punch_in(kind, None, take, a.tol, self.order)
         else:
-            r = a.stream.finish()
-            c = np.asarray(r.spline.c)
-            spline = BSpline(r.spline.t, c.reshape(len(c), -1), r.spline.k)
+            spline = a.stream.finish().columns
         return ContinuousTrack(a.path, kind, spline, a.tol, (take,))

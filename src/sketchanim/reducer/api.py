@@ -145,8 +145,7 @@ def reduce(
         stream.extend(samples.times, samples.values)
         streamed = stream.finish()
         found = list(streamed.features)
-        spline = BSpline(streamed.spline.t, np.asarray(streamed.spline.c).reshape(-1, samples.dim),
-                         streamed.spline.k)
+        spline = streamed.columns
         report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
     elif samples.n < order:
         spline = polynomial_through(samples.times, samples.values, order)

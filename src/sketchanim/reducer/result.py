@@ -70,6 +70,18 @@ class Reduction:
         return int(self.spline.k) + 1
 
     @property
+    def columns(self) -> BSpline:
+        """The curve with coefficients of shape (n, d), a scalar channel's too: it then
+        evaluates to (m, 1) like any other.
+
+        >>> import sketchanim
+        >>> sketchanim.reduce(np.linspace(0, 1, 20), np.linspace(0, 1, 20), 1e-3).columns.c.shape
+        (4, 1)
+        """
+        c = np.asarray(self.spline.c)
+        return BSpline(self.spline.t, c.reshape(len(c), -1), self.spline.k)
+
+    @property
     def n_coefficients(self) -> int:
         """Number of control points."""
         return len(self.spline.c)

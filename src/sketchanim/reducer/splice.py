@@ -58,9 +58,24 @@ def join(pieces: Sequence[BSpline]) -> BSpline:
     return BSpline(np.concatenate(knots), np.concatenate(coef), k - 1)
 
 
+def snapped(s: BSpline, x: float) -> float:
+    """``x``, or the knot of ``s`` a hair away from it (within 1e-9 of the knot span or
+    8 rounding units): a cut there must not leave an interval of a few rounding units,
+    where a piece's end derivative is all cancellation.
+
+    >>> s = BSpline(np.r_[[0.0] * 4, 0.5, [2.0] * 4], np.c_[[0.0, 1.0, 3.0, 2.0, 1.0]], 3)
+    >>> snapped(s, 0.5 + 1e-16), snapped(s, 0.6)
+    (0.5, 0.6)
+    """
+    j = int(np.argmin(np.abs(s.t - x)))
+    near = max(1e-9 * (s.t[-1] - s.t[0]), 8 * np.spacing(abs(x)))
+    return float(s.t[j]) if abs(s.t[j] - x) <= near else x
+
+
 def split(s: BSpline, at: float) -> tuple[BSpline, BSpline]:
-    """``s`` cut exactly at ``at`` (inside its span) into two clamped pieces, undone by
-    :func:`join` (knot insertion: each piece is ``s`` on its side, to rounding).
+    """``s`` cut exactly at ``snapped(s, at)`` (inside its span) into two clamped
+    pieces, undone by :func:`join` (knot insertion: each piece is ``s`` on its side, to
+    rounding).
 
     >>> s = BSpline(np.r_[[0.0] * 4, [2.0] * 4], np.c_[[0.0, 1.0, 3.0, 2.0]], 3)
     >>> left, right = split(s, 0.5)
@@ -68,8 +83,8 @@ def split(s: BSpline, at: float) -> tuple[BSpline, BSpline]:
     (True, True, 0.5, 0.5)
     """
     k = s.k + 1
-    t = np.asarray(s.t)
-    have = int(np.sum(t == at))
+    at = snapped(s, at)
+    have = int(np.sum(np.asarray(s.t) == at))
     s = insert_knots(s, [at] * (k - have)) if have < k else s
     i = int(np.searchsorted(s.t, at, side="left"))
     c = np.asarray(s.c)
