@@ -108,8 +108,12 @@ def test_orientation_punch_in_joins_c1_within_the_angle(seed, mode, blend) -> No
     new = punch_in(ORIENTATION, old, Take(s, x, mode, blend), 0.5, 4)
     target = (turn * Rotation.from_quat(base)).as_quat()
     w = fade(s, blend, True, True)
-    if blend:  # the fade is a slerp of the offset towards identity
+    if blend and mode == "additive":  # the offset fades as a slerp towards identity
         target = (Rotation.from_rotvec(w[:, None] * turn.as_rotvec()) * Rotation.from_quat(base)).as_quat()
+    elif blend:  # a replacing take fades as a normalised lerp from the curve (S + w (take - S))
+        b = base / np.linalg.norm(base, axis=1, keepdims=True)
+        x = target * np.where(np.sum(target * b, axis=1) < 0, -1.0, 1.0)[:, None]
+        target = b + w[:, None] * (x - b)
     assert np.degrees(rotation_angle(new(s), target)).max() <= 0.5 * (1 + 1e-9)
     out = t[(t < 1.0) | (t > 2.0)]
     assert np.allclose(new(out), held(old, out), atol=1e-12)
