@@ -5,10 +5,14 @@
 A synthetic performer drives ``--channels`` armed attributes (three quarters positions,
 one quarter orientations: a crowd of rigid bodies) in real time: one frame of all of them
 per tick of the wall clock, pushed with ``Recorder.push_frame``. The recorder's worker
-reduces them while the take goes on. Printed, from one run on this machine: how long a
-push takes the caller, how far behind the capture the worker was when it took each batch
-(lag percentiles), samples per second reduced, and how long ``stop()`` took to hand back
-finished tracks. Then the same at a few smaller channel counts.
+reducer processes reduce them while the take goes on. Printed, from one run on this
+machine: how long a push takes the caller, how far behind the capture the reducers were
+when they took each batch (lag percentiles), the busiest reducer process's load (its
+busy time over the take's length: under 100% it keeps up), the samples per second that
+load means it could take, and how long ``stop()`` took to hand back finished tracks.
+Then the same at a few smaller channel counts; and how long ``stop()`` takes to hand back
+a punch-in (a position and an orientation recorded over existing tracks) for takes of
+2, 10 and 60 seconds, pushed as fast as they come and stopped once the reducers are idle.
 """
 
 from __future__ import annotations
@@ -67,6 +71,7 @@ def run(channels: int, rate: float, seconds: float) -> dict[str, float]:
     finish = time.perf_counter() - captured
     lags = np.array([lag for lag, _ in rec.lags]) * 1e3
     samples = len(frames) * channels
+    busiest = max(rec.busy)
     return {
         "channels": channels,
         "push_p50_us": np.median(push) * 1e6,
@@ -76,11 +81,36 @@ def run(channels: int, rate: float, seconds: float) -> dict[str, float]:
         "lag_max_ms": lags.max(),
         "batches": len(lags),
         "late_ticks": late,
-        "samples_per_s": samples / (captured - begin + finish),
+        "load": busiest / (captured - begin),
+        "capacity": samples / busiest,
+        "workers": len(rec.busy),
         "stop_ms": finish * 1e3,
         "points": sum(t.n_coefficients for t in tracks.values()),
         "samples": samples,
     }
+
+
+def punch_in(seconds: float) -> float:
+    """Milliseconds ``stop()`` takes for a punch-in of ``seconds`` over two tracks."""
+    scene = Scene()
+    scene.add("b")
+    rec = Recorder(scene)
+    rec.arm("b.position")
+    rec.arm("b.orientation")
+    t = np.arange(0, seconds + 2, 1 / 120)
+    turn = np.c_[np.sin(t), 0.3 * t, 0 * t]
+    rec.start()
+    for ti, q in zip(t, Rotation.from_rotvec(turn).as_quat()):
+        rec.push_frame(ti, np.r_[np.sin(ti), np.cos(ti), 0.1 * ti, q])
+    tracks = rec.stop()
+    rec.start(tracks)
+    inside = (t >= 1) & (t <= 1 + seconds)
+    for ti, q in zip(t[inside], Rotation.from_rotvec(turn[inside] + 0.2).as_quat()):
+        rec.push_frame(ti, np.r_[np.sin(ti) + 0.2 * np.sin(3 * ti), np.cos(ti), 0.1 * ti, q])
+    time.sleep(2.0)                                     # the reducers catch up
+    clock = time.perf_counter()
+    rec.stop()
+    return (time.perf_counter() - clock) * 1e3
 
 
 def main() -> None:
@@ -92,14 +122,23 @@ def main() -> None:
     rows = [run(n, args.rate, args.seconds) for n in sorted({10, 100, args.channels})]
     table = Table(title=f"Recorder at {args.rate:g} Hz for {args.seconds:g} s (one run; lag: capture to reducer)")
     for name in ("armed channels", "push p50 us", "push p99 us", "lag p50 ms", "lag p99 ms", "lag max ms",
-                 "batches", "late ticks", "samples/s", "stop() ms", "points / samples"):
+                 "batches", "late ticks", "reducers", "busiest load", "capacity samples/s", "stop() ms",
+                 "points / samples"):
         table.add_column(name, justify="right")
     for r in rows:
         table.add_row(str(r["channels"]), f"{r['push_p50_us']:.0f}", f"{r['push_p99_us']:.0f}",
                       f"{r['lag_p50_ms']:.1f}", f"{r['lag_p99_ms']:.1f}", f"{r['lag_max_ms']:.1f}",
-                      str(r["batches"]), str(r["late_ticks"]), f"{r['samples_per_s']:,.0f}", f"{r['stop_ms']:.0f}",
+                      str(r["batches"]), str(r["late_ticks"]), str(r["workers"]), f"{r['load']:.0%}",
+                      f"{r['capacity']:,.0f}", f"{r['stop_ms']:.0f}",
                       f"{r['points']:,} / {r['samples']:,}")
-    Console(width=200).print(table)
+    console = Console(width=200)
+    console.print(table)
+    punch = Table(title="stop() of a punch-in over two tracks (one run)")
+    punch.add_column("take seconds", justify="right")
+    punch.add_column("stop() ms", justify="right")
+    for seconds in (2, 10, 60):
+        punch.add_row(str(seconds), f"{punch_in(seconds):.1f}")
+    console.print(punch)
 
 
 if __name__ == "__main__":

@@ -94,14 +94,14 @@ def main() -> None:
     rec = Recorder(scene)
     rec.arm("ball.position")
     rec.arm("cube.position", mode="additive")
-    rec.start()
+    rec.start(player.tracks)
     for t in times[(times >= 2.0) & (times <= 4.0)]:
         player.seek(t)
         player.apply(skip=["ball.position", "cube.position"])   # the grabbed ones follow the hands
         ball = performance(t)[:3] + [0.0, 0.8 * np.sin(np.pi * (t - 2.0) / 2.0), 0.0]
         rec.push("ball.position", t, ball)
         rec.push("cube.position", t, [0.0, 0.05 * np.sin(8 * t), 0.0])
-    history.apply("record pass 2", rec.stop(player.tracks))
+    history.apply("record pass 2", rec.stop())
 
     with Project(args.project) as project:
         project.save(scene, player.tracks)

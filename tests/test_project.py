@@ -45,10 +45,10 @@ def recorded(tmp: Path) -> tuple[Scene, dict]:
     rec.disarm("lamp.color")
     rec.disarm("box.hit")
     rec.disarm("box.orientation")
-    rec.start()
+    rec.start(tracks)
     for ti in t[(t > 0.5) & (t < 1.5)]:
         rec.push("box.position", ti, [np.sin(ti) + 0.2 * np.sin(np.pi * (ti - 0.5)), ti, 0])
-    tracks.update(rec.stop(tracks))
+    tracks.update(rec.stop())
     return scene, tracks
 
 

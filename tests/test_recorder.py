@@ -1,6 +1,8 @@
-"""The recorder: samples queued by the caller, reduced by a worker, tracks out."""
+"""The recorder: samples queued by the caller, reduced by worker processes, tracks out."""
 
 from __future__ import annotations
+
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -8,10 +10,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from sketchanim.anim.attributes import EVENT
+import sketchanim.anim.layers
+from sketchanim.anim.attributes import EVENT, ORIENTATION, POSITION
+from sketchanim.anim.layers import Overlay
 from sketchanim.anim.player import Player
 from sketchanim.anim.recorder import Recorder
 from sketchanim.anim.scene import Scene
+from sketchanim.anim.workers import shared_pool
 from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer.metric import rotation_angle
 from tests.signals import performances
@@ -51,7 +56,7 @@ def test_recorded_tracks_keep_every_sample_within_tolerance(p, batch) -> None:
 def test_bad_samples_are_named_and_lose_nothing() -> None:
     sc = scene()
     batches = []
-    rec = Recorder(sc, journal=lambda path, t, x: batches.append((path, len(t))))
+    rec = Recorder(sc, journal=lambda got: batches.extend((path, len(t)) for path, t, _ in got))
     rec.arm("box.position")
     rec.arm("box.hit")
     with pytest.raises(ArgumentError, match="not recording"):
@@ -96,14 +101,14 @@ def test_recording_over_playback_punches_in_and_leaves_other_tracks_alone() -> N
     before = {p: tr for p, tr in player.tracks.items()}
     # second pass: only the box position, over [1.5, 2.5], while the rest plays
     rec.disarm("lamp.color")
-    rec.start()
+    rec.start(player.tracks)
     s = t[(t >= 1.5) & (t <= 2.5)]
     for ti in s:
         player.seek(ti)
         player.apply(skip=["box.position"])
         rec.push("box.position", ti, [np.sin(ti) + 0.3 * np.sin(np.pi * (ti - 1.5)), np.cos(ti), 0.0])
     rec.push("box.hit", 2.0, "c")
-    new = rec.stop(player.tracks, at=(1.5, 2.5))
+    new = rec.stop(at=(1.5, 2.5))
     for track in new.values():
         player.add(track)
     assert player.tracks["lamp.color"] is before["lamp.color"]          # bit-identical: the same object
@@ -113,6 +118,90 @@ def test_recording_over_playback_punches_in_and_leaves_other_tracks_alone() -> N
     assert np.allclose(pos.evaluate(out), before["box.position"].evaluate(out), atol=1e-12)
     assert len(pos.takes) == 2 and pos.takes[1].mode == "replace"
     assert abs(pos.evaluate([2.0])[0, 0] - (np.sin(2.0) + 0.3)) <= 0.005
+
+
+@given(st.floats(0.3, 2.2), st.floats(0.4, 3.0), st.sampled_from([0.0, 0.05, 0.2]),
+       st.sampled_from(["replace", "additive"]), st.booleans(), st.integers(0, 2**32 - 1))
+@settings(max_examples=25, deadline=None)
+def test_a_take_over_a_track_is_streamed_and_joined_c1_within_tolerance(start, length, blend, mode, framed,
+                                                                         seed) -> None:
+    """Punch-in and additive takes through the recorder, reduced while recorded: the
+    curve outside the take is the old one, every target is kept, the seams are C1,
+    and stop() reduces nothing again (its cost does not grow with the take)."""
+    rng = np.random.default_rng(seed)
+    sc = Scene()
+    sc.add("box")
+    rec = Recorder(sc)
+    rec.arm("box.position", tol=0.002, mode=mode, blend=blend)
+    rec.arm("box.orientation", tol=0.3, mode=mode, blend=blend)
+    t = np.arange(0, 3, 1 / 120)
+    f = rng.uniform(0.5, 2.0, 3)
+    rec.start()
+    for ti in t:
+        rec.push_frame(ti, np.r_[np.sin(f * ti), Rotation.from_rotvec(0.5 * np.sin(f * ti)).as_quat()])
+    old = rec.stop()
+    s = t[(t >= start) & (t <= start + length)]
+    if mode == "replace":
+        move, turn = np.sin(f * s[:, None] + 0.3), 0.5 * np.sin(f * s[:, None] + 0.3)
+        joins = np.sin(f * s[:, None]), 0.5 * np.sin(f * s[:, None])         # the old samples
+    else:
+        move, turn = 0.1 * np.sin(3 * f * s[:, None]), 0.1 * np.sin(3 * f * s[:, None])
+        joins = np.zeros_like(move), np.zeros_like(turn)                     # no offset
+    if blend == 0.0:                        # a join without a fade: start (and end) on the old curve
+        u = ((s - s[0]) / (s[-1] - s[0]))[:, None] if s[-1] < t[-1] else np.zeros((len(s), 1))
+        for x, join in zip((move, turn), joins):
+            x += (1 - u) * (join[0] - x[0]) + u * (join[-1] - x[-1])
+    take, spin = move, Rotation.from_rotvec(turn).as_quat()
+    rec.start(old)
+    for i, ti in enumerate(s):
+        if framed:
+            rec.push_frame(ti, np.r_[take[i], spin[i]])
+        else:
+            rec.push("box.position", ti, take[i])
+            rec.push("box.orientation", ti, spin[i])
+    with mock.patch.object(sketchanim.anim.layers, "reduce_samples", None):      # the streamed curve is used
+        new = rec.stop()
+    for path, kind, values in (("box.position", POSITION, take), ("box.orientation", ORIENTATION, spin)):
+        before, after = old[path], new[path]
+        over = Overlay(kind, before.spline, mode, blend)
+        got = [over.push(s, values), over.close()]
+        targets = np.vstack([g[1] for g in got])
+        out = t[(t < s[0]) | (t > s[-1])]
+        assert np.allclose(after.evaluate(out), before.evaluate(out), rtol=0, atol=1e-12), path
+        x = after.evaluate(s)
+        err = np.abs(x - targets).max() if kind is POSITION else np.degrees(rotation_angle(x, targets).max())
+        assert err <= after.tol * (1 + 1e-9), (path, err)
+        d_old, d_new = before.spline.derivative(), after.spline.derivative()
+        for seam in (s[0], s[-1]):
+            if t[0] < seam < t[-1]:
+                assert np.allclose(after.spline(seam), before.spline(seam), atol=1e-9), (path, seam)
+                assert np.allclose(d_new(seam), d_old(seam), atol=1e-6 * (1 + np.abs(d_old(seam)).max())), path
+        assert len(after.takes) == 2 and after.takes[1].mode == mode
+
+
+def test_a_failed_reducer_process_loses_nothing() -> None:
+    """A reducer process killed mid-take: stop() says so and reduces its attributes from
+    the raw take, within tolerance; the next take gets a fresh pool."""
+    sc = scene()
+    rec = Recorder(sc)
+    rec.arm("box.position")
+    rec.arm("lamp.color")
+    t = np.arange(0, 2, 1 / 120)
+    rec.start()
+    for i, ti in enumerate(t):
+        if i == 120:
+            shared_pool().processes[0].kill()
+            shared_pool().processes[0].join()
+        rec.push_frame(ti, np.r_[np.sin(ti), ti, 0.0, 0.5, 0.5 + 0.3 * np.sin(ti), 0.5])
+    with pytest.warns(RuntimeWarning, match="reducer process"):
+        tracks = rec.stop()
+    assert np.abs(tracks["box.position"].evaluate(t)[:, 0] - np.sin(t)).max() <= 0.005
+    assert np.abs(tracks["lamp.color"].evaluate(t)[:, 1] - (0.5 + 0.3 * np.sin(t))).max() <= 0.01
+    assert shared_pool().alive
+    rec.start()
+    rec.push_frame(0.0, np.zeros(6))
+    rec.push_frame(0.1, np.ones(6))
+    assert set(rec.stop()) == {"box.position", "lamp.color"}
 
 
 def test_layered_take_example_reports_a_c1_punch_in_within_tolerance(tmp_path) -> None:

@@ -51,9 +51,9 @@ def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, t
     return r.columns
 
 
-def _weights(times: np.ndarray, blend: float, left: bool, right: bool) -> np.ndarray:
-    """Fade-in and fade-out weights (smoothstep, zero slope at the seams)."""
-    a, b = times[0], times[-1]
+def _weights(times: np.ndarray, a: float, b: float, blend: float, left: bool, right: bool) -> np.ndarray:
+    """Fade-in and fade-out weights of a take on ``[a, b]`` at ``times`` (smoothstep,
+    zero slope at the seams)."""
     blend = min(blend, (b - a) / 2)
     w = np.ones(len(times))
     for seam, on in ((np.abs(times - a), left), (np.abs(b - times), right)):
@@ -63,18 +63,90 @@ def _weights(times: np.ndarray, blend: float, left: bool, right: bool) -> np.nda
     return w
 
 
-def _targets(type: AttributeType, old: np.ndarray, take: Take, w: np.ndarray) -> np.ndarray:
-    """What the curve must keep at the take's times: the take faded onto ``old``."""
-    x = np.asarray(take.values, dtype=float)
+def _targets(type: AttributeType, old: np.ndarray, values: np.ndarray, mode: str, w: np.ndarray) -> np.ndarray:
+    """What the curve must keep at a take's times: its ``values`` faded onto ``old``."""
+    x = np.asarray(values, dtype=float)
     if not type.is_rotation:
-        return old + w[:, None] * (x - old if take.mode == "replace" else x)
-    if take.mode == "additive":
+        return old + w[:, None] * (x - old if mode == "replace" else x)
+    if mode == "additive":
         x = (Rotation.from_rotvec(w[:, None] * Rotation.from_quat(x).as_rotvec()) * Rotation.from_quat(old)).as_quat()
         w = np.ones(len(w))
     x = x / np.linalg.norm(x, axis=1, keepdims=True)
     x *= np.where(np.sum(x * old, axis=1) < 0, -1.0, 1.0)[:, None]          # old's hemisphere
     q = old + w[:, None] * (x - old)
     return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+def _base(type: AttributeType, old: BSpline | None, a: float, b: float, order: int) -> BSpline:
+    """The curve a take on ``[a, b]`` goes onto: ``old`` (of at least ``order``), or
+    the attribute's default held."""
+    base = hold(a, b, type.default, order) if old is None else old
+    return elevate_degree(base, order - base.k - 1) if base.k + 1 < order else base
+
+
+class Overlay:
+    """The targets of a take over a curve (see the module's description), as its samples
+    arrive: what a streaming reducer is fed while the take goes on.
+
+    A sample's fade weight is known once the take has run ``2 * blend`` seconds and the
+    sample is ``blend`` seconds old; until then it is held back. The take fades in if it
+    starts after ``old`` does, and out if it ends before ``old`` does (:attr:`seams`);
+    :func:`punch_in` takes the streamed curve only where it decides the same.
+
+    Examples
+    --------
+    >>> from sketchanim.anim.attributes import FLOAT
+    >>> old = BSpline(np.r_[[0.0] * 2, [4.0] * 2], np.c_[[0.0, 4.0]], 1)     # x = t
+    >>> over = Overlay(FLOAT, old, "replace", 0.1)
+    >>> t = np.linspace(1, 2, 121)
+    >>> first = over.push(t[:100], np.c_[t[:100] + 1])       # the last 0.1 s held back
+    >>> second = over.push(t[100:], np.c_[t[100:] + 1])
+    >>> rest = over.close()
+    >>> [len(first[0]), len(second[0]), len(rest[0])], over.seams
+    ([87, 22, 12], (True, True))
+    >>> float(first[1][0, 0]), float(rest[1][-1, 0])        # faded from and onto x = t
+    (1.0, 2.0)
+    """
+
+    def __init__(self, type: AttributeType, old: BSpline | None, mode: str, blend: float) -> None:
+        self.type, self.old, self.mode, self.blend = type, old, mode, blend
+        self._t: list[np.ndarray] = []
+        self._x: list[np.ndarray] = []
+        self._start: float | None = None
+        self._end = 0.0                          # the latest time taken
+        self._left = False
+        self._right = False
+        self._base: BSpline | None = None
+
+    @property
+    def seams(self) -> tuple[bool, bool]:
+        """Whether the take fades in and out (the end is known once closed)."""
+        return self._left, self._right
+
+    def push(self, times: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Take samples; return the times and targets of those whose weight is known."""
+        if self._start is None:
+            self._start = float(times[0])
+            self._base = _base(self.type, self.old, self._start, self._start + 1.0, 1)
+            self._left = self.old is not None and bool(self._start > self.old.t[self.old.k])
+        self._t.append(np.asarray(times, dtype=float))
+        self._x.append(np.asarray(values, dtype=float))
+        latest = self._t[-1][-1]
+        if latest - self._start < 2 * self.blend:
+            return self._release(0, latest)
+        return self._release(int(np.searchsorted(np.concatenate(self._t), latest - self.blend, side="right")), latest)
+
+    def close(self) -> tuple[np.ndarray, np.ndarray]:
+        """The rest of the targets, with the take's end known."""
+        end = self._t[-1][-1] if len(self._t[-1]) else self._end
+        self._right = self.old is not None and bool(end < self.old.t[-self.old.k - 1])
+        return self._release(sum(len(t) for t in self._t), end)
+
+    def _release(self, n: int, end: float) -> tuple[np.ndarray, np.ndarray]:
+        t, x = np.concatenate(self._t), np.vstack(self._x)
+        self._t, self._x, self._end = [t[n:]], [x[n:]], end
+        w = _weights(t[:n], self._start, end, self.blend, self._left, self._right)
+        return t[:n], _targets(self.type, held_values(self._base, t[:n], self.type.is_rotation), x[:n], self.mode, w)
 
 
 def _reversed(s: BSpline) -> BSpline:
@@ -106,7 +178,8 @@ def _seat_start(m: BSpline, value: np.ndarray, slope: np.ndarray, times: np.ndar
     raise ArgumentError("take", f"cannot join the take at {a} s within tolerance")
 
 
-def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, order: int) -> BSpline:
+def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, order: int,
+             streamed: tuple[BSpline, tuple[bool, bool]] | None = None) -> BSpline:
     """The curve ``old`` with ``take`` recorded over it (see the module's description).
 
     Parameters
@@ -120,6 +193,10 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     order : int
         Of the take's curve (at least 3 for a C1 join); an ``old`` of a lower order is
         raised to it (exactly), one of a higher order sets it.
+    streamed : (BSpline, (bool, bool)) or None
+        The take's targets already reduced while it was recorded, fed by an
+        :class:`Overlay` with those :attr:`~Overlay.seams`: used instead of reducing
+        them again if the seams and the order agree with this function's.
 
     Raises
     ------
@@ -143,9 +220,7 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     a, b = take.start, take.end
     if old is None and take.mode == "replace":
         return reduce_samples(type, times, np.asarray(take.values, dtype=float), tol, order)
-    base = hold(a, b, type.default, order) if old is None else old
-    if base.k + 1 < order:
-        base = elevate_degree(base, order - base.k - 1)
+    base = _base(type, old, a, b, order)
     k0 = base.k
     lo, hi = float(base.t[k0]), float(base.t[-k0 - 1])
     ext = [base]
@@ -160,13 +235,17 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     angle = np.radians(tol) if type.is_rotation else 0.0
     bound = np.array([angle]) if angle else np.full(type.dim, tol)
     old_values = held_values(base, times, type.is_rotation)
-    targets = _targets(type, old_values, take, _weights(times, take.blend, left is not None, right is not None))
+    seams = (left is not None, right is not None)
+    targets = _targets(type, old_values, take.values, take.mode, _weights(times, a, b, take.blend, *seams))
     for side, i, seam in (("start", 0, left), ("end", -1, right)):
         gap = max_errors(old_values[[i]], targets[[i]], angle)
         if seam is not None and np.any(gap > bound):
             raise ArgumentError("blend", f"the take's {side} at {times[i]} s is {gap.max():.6g} from the curve, "
                                          f"more than the tolerance {tol}: a continuous join needs blend > 0")
-    mid = reduce_samples(type, times, targets, tol, k0 + 1)
+    if streamed is not None and streamed[0].k == k0 and streamed[1] == seams:
+        mid = streamed[0]
+    else:
+        mid = reduce_samples(type, times, targets, tol, k0 + 1)
     knots = np.array(mid.t)
     knots[: k0 + 1], knots[-k0 - 1 :] = cut_a, cut_b
     mid = BSpline(knots, mid.c, mid.k)

@@ -1,35 +1,40 @@
 """The recorder: samples in from any source while the performer acts, tracks out.
 
 Armed attributes take time-stamped samples from the caller (the studio, a device, a file
-being replayed). The caller only checks and queues them; a worker thread drains the
-queue in batches, feeds one streaming reducer per continuous attribute (orientations: a
-quaternion stream with an angular tolerance) and keeps the raw samples of the take. The
-bigger the backlog, the bigger the batch, so the worker catches up instead of falling
-further behind. When the take stops, each streamed curve needs only its last windows
-finished; a take recorded over an existing track is punched in (:mod:`.layers`).
+being replayed). The caller only checks and queues them, and keeps the raw take; the
+reducer processes (:mod:`.workers`) feed one streaming reducer per continuous attribute
+(orientations: a quaternion stream with an angular tolerance) while the take goes on, in
+parallel and outside the caller's interpreter lock. A take recorded over an existing
+track (a punch-in) or added onto it is streamed as its targets (:class:`.layers.Overlay`)
+and joined to the track when it stops (:func:`.layers.punch_in`). So when the take
+stops, each curve needs only its last windows finished, whatever the take's length. An
+attribute whose reducer process failed is reduced from its raw samples, with a warning.
 """
 
 from __future__ import annotations
 
 import threading
 import time
-from collections import deque
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from sketchanim.anim.attributes import AttributeType
 from sketchanim.anim.layers import punch_in
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import BLEND, MODES, ContinuousTrack, DiscreteTrack, Take, Track
+from sketchanim.anim.workers import Pool, Spec, shared_pool
 from sketchanim.errors import ArgumentError, SampleError
-from sketchanim.motion.rotations import MIN_NORM, RotationStream
-from sketchanim.reducer import StreamReducer
+from sketchanim.motion.rotations import MIN_NORM
 
-#: Called from the worker with each batch taken: path, times (n,), values (n, dim) or
-#: a list of discrete values.
-Journal = Callable[[str, np.ndarray, object], None]
+#: Called from the recorder's journal thread about every :data:`JOURNAL_PERIOD` seconds
+#: with the samples queued since the last call: (path, times (n,), values (n, dim) or a
+#: list of discrete values) for each attribute that got some.
+Journal = Callable[[list[tuple[str, np.ndarray, object]]], None]
+JOURNAL_PERIOD = 0.05
 
 
 @dataclass
@@ -37,15 +42,32 @@ class _Armed:
     """One armed attribute's state during a take."""
 
     path: str
+    type: AttributeType
     tol: float
     mode: str
     blend: float
-    stream: StreamReducer | RotationStream | None = None
-    times: list[np.ndarray] = field(default_factory=list)
+    last: float = -np.inf                           # the last time queued by push
+    times: list[float] = field(default_factory=list)      # pushed one at a time
     values: list = field(default_factory=list)
-    last: float = -np.inf                           # the last time queued by push (caller side)
-    queued: int = 0
-    framed: bool = False                            # also fed by push_frame
+    columns: tuple[int, int] | None = None          # where it is in a frame
+    worker: int | None = None                       # the reducer process streaming it
+
+
+class _Frames:
+    """The frames of a take, in a store that grows by doubling."""
+
+    def __init__(self, width: int) -> None:
+        self.n = 0
+        self.t = np.empty(1024)
+        self.x = np.empty((1024, width))
+
+    def append(self, t: float, x: np.ndarray) -> None:
+        if self.n == len(self.t):
+            self.t = np.r_[self.t, np.empty(self.n)]
+            self.x = np.vstack([self.x, np.empty_like(self.x)])
+        self.t[self.n] = t
+        self.x[self.n] = x
+        self.n += 1
 
 
 class Recorder:
@@ -59,8 +81,8 @@ class Recorder:
     window : int
         The streaming reducer's window (see :class:`sketchanim.StreamReducer`).
     journal : callable or None
-        Called from the worker thread with every batch it takes (see :data:`Journal`),
-        e.g. to commit them to a project file while the take goes on.
+        Given every sample queued, in batches, while the take goes on (see
+        :data:`Journal`), e.g. to commit them to a project file.
 
     Examples
     --------
@@ -83,19 +105,23 @@ class Recorder:
         self.window = window
         self.journal = journal
         self.armed: dict[str, _Armed] = {}
-        self._queue: deque[tuple[float, str | None, np.ndarray, object]] = deque()
-        self._worker: threading.Thread | None = None
-        self._stopping = threading.Event()
-        self._error: BaseException | None = None
+        self._pool: Pool | None = None
+        self._take = -1
+        self._over: dict[str, Track] = {}
+        self._workers: dict[int, tuple[int, int] | None] = {}     # worker -> its columns of a frame
         self._frame: list[tuple[str, int, int]] = []
-        self._width = 0
+        self._frames = _Frames(0)
         self._rotations = np.zeros((0, 4), dtype=np.int64)   # frame columns of each orientation
         self._is_rotation = np.zeros(0, dtype=bool)
-        self._frames = 0
-        self._frame_last = -np.inf
         self._single_last = -np.inf                 # latest push() time on a framed attribute
-        #: (seconds behind, samples) of each batch the worker took: how far it lagged
-        self.lags: deque[tuple[float, int]] = deque(maxlen=100_000)
+        self._journaling: threading.Thread | None = None
+        self._stopping = threading.Event()
+        self._journal_error: BaseException | None = None
+        #: (seconds behind, samples) of each batch a reducer process took in the last
+        #: take: how far the reduction lagged behind the capture
+        self.lags: list[tuple[float, int]] = []
+        #: Seconds each reducer process spent on the last take
+        self.busy: list[float] = []
 
     # -- arming ----------------------------------------------------------------------------
 
@@ -112,7 +138,9 @@ class Recorder:
         tol = kind.tol if tol is None else float(tol)
         if kind.continuous and not (np.isfinite(tol) and tol > 0):
             raise ArgumentError("tol", f"{path}: must be > 0, got {tol!r}")
-        self.armed[path] = _Armed(path, tol, mode, blend)
+        if not (np.isfinite(blend) and blend >= 0):
+            raise ArgumentError("blend", f"{path}: must be >= 0 seconds, got {blend!r}")
+        self.armed[path] = _Armed(path, kind, tol, mode, float(blend))
 
     def disarm(self, path: str) -> None:
         """Stop recording ``path`` in the next take."""
@@ -125,46 +153,75 @@ class Recorder:
         """How :meth:`push_frame` reads a frame: (path, first, end) of each armed
         continuous attribute's values, in arming order."""
         layout, at = [], 0
-        for path in self.armed:
-            kind = self.scene.type(path)
-            if kind.continuous:
-                layout.append((path, at, at + kind.dim))
-                at += kind.dim
+        for a in self.armed.values():
+            if a.type.continuous:
+                layout.append((a.path, at, at + a.type.dim))
+                at += a.type.dim
         return layout
 
     # -- a take ----------------------------------------------------------------------------
 
     @property
     def recording(self) -> bool:
-        return self._worker is not None
+        return self._pool is not None
 
-    def start(self) -> None:
-        """Start a take: fresh streams for every armed attribute and the worker."""
+    def start(self, over: Mapping[str, Track] | None = None) -> None:
+        """Start a take recorded over ``over`` (path -> track, e.g. a player's; not
+        changed): reducer streams for every armed attribute that has no continuous
+        track there and is not additive, and the journal thread."""
         if self.recording:
             raise ArgumentError("start", "already recording")
         if not self.armed:
             raise ArgumentError("start", "no attribute is armed")
-        for a in self.armed.values():
-            kind = self.scene.type(a.path)
-            a.times, a.values, a.last, a.queued, a.framed = [], [], -np.inf, 0, False
-            if kind.is_rotation:
-                a.stream = RotationStream(a.tol, order=self.order, window=self.window, keep=True)
-            elif kind.continuous:
-                a.stream = StreamReducer(kind.dim, a.tol, order=self.order, window=self.window, keep=True)
+        self._over = dict(over or {})
         self._frame = self.layout
-        self._width = self._frame[-1][2] if self._frame else 0
-        self._is_rotation = np.array([self.scene.type(p).is_rotation for p, _, _ in self._frame], dtype=bool)
-        self._rotations = np.array([np.arange(a, b) for (p, a, b), r in zip(self._frame, self._is_rotation) if r],
+        width = self._frame[-1][2] if self._frame else 0
+        self._frames = _Frames(width)
+        self._is_rotation = np.array([self.armed[p].type.is_rotation for p, _, _ in self._frame], dtype=bool)
+        self._rotations = np.array([np.arange(a, b) for (_, a, b), r in zip(self._frame, self._is_rotation) if r],
                                    dtype=np.int64).reshape(-1, 4)
-        self._frames, self._frame_last, self._single_last = 0, -np.inf, -np.inf
-        for path, _, _ in self._frame:
-            self.armed[path].framed = True
-        self._queue.clear()
-        self.lags.clear()
-        self._error = None
+        self._single_last = -np.inf
+        for a in self.armed.values():
+            a.last, a.times, a.values, a.columns, a.worker = -np.inf, [], [], None, None
+        for path, lo, hi in self._frame:
+            self.armed[path].columns = (lo, hi)
+        self._assign(shared_pool())
+        self.lags, self.busy = [], []
+        self._journal_error = None
         self._stopping.clear()
-        self._worker = threading.Thread(target=self._work, name="sketchanim-recorder", daemon=True)
-        self._worker.start()
+        if self.journal is not None:
+            self._journaling = threading.Thread(target=self._journal_loop, name="sketchanim-journal", daemon=True)
+            self._journaling.start()
+
+    def _assign(self, pool: Pool) -> None:
+        """Share the continuous attributes among the reducer processes: the framed ones in
+        contiguous runs of a frame (each process gets its columns of every frame), the
+        others in turn; and tell each process its part."""
+        continuous = [a for a in self.armed.values() if a.type.continuous]
+        framed = [a for a in continuous if a.columns is not None]
+        specs: dict[int, list[Spec]] = {}
+        self._workers = {}
+
+        def spec(a: _Armed, w: int, columns: tuple[int, int] | None = None) -> None:
+            old = self._over.get(a.path)
+            over = (old.spline if isinstance(old, ContinuousTrack) else None, a.mode, a.blend)
+            a.worker = w
+            self._workers.setdefault(w, None)
+            specs.setdefault(w, []).append(Spec(a.path, a.type, a.tol, columns,
+                                                over if over[0] is not None or a.mode == "additive" else None))
+
+        for w, run in enumerate(np.array_split(np.arange(len(framed)), pool.size)):
+            if len(run):
+                lo, hi = framed[run[0]].columns[0], framed[run[-1]].columns[1]
+                for i in run:
+                    spec(framed[i], w, (framed[i].columns[0] - lo, framed[i].columns[1] - lo))
+                self._workers[w] = (lo, hi)
+        for i, a in enumerate(a for a in continuous if a.columns is None):
+            spec(a, i % pool.size)
+        self._take = pool.new_take()
+        for w, part in specs.items():
+            pool.send(w, ("take", self._take, self.order, self.window, part))
+        self._pool = pool
 
     def push(self, path: str, t: float, value: object) -> None:
         """Queue one sample of an armed attribute (never waits for the reducer).
@@ -173,48 +230,53 @@ class Recorder:
         for a non-finite time, a time not after the last, or a bad value; nothing is
         queued then, and what was recorded stays.
         """
-        a = self._armed(path)
-        last = max(a.last, self._frame_last) if a.framed else a.last
-        t = self._time(t, last, a.queued, path)
+        if not self.recording:
+            raise ArgumentError("push", "not recording: call start() first")
+        if path not in self.armed:
+            raise ArgumentError("path", f"{path!r} is not armed")
+        a = self.armed[path]
+        framed = a.columns is not None
+        last = max(a.last, self._frames.t[self._frames.n - 1] if self._frames.n else -np.inf) if framed else a.last
+        index = len(a.times) + (self._frames.n if framed else 0)
+        t = self._time(t, last, index, path)
         try:
-            value = self.scene.type(path).check(value, path)
+            value = a.type.check(value, path)
         except ArgumentError as err:
-            raise SampleError(str(err), index=a.queued, field=path) from None
+            raise SampleError(str(err), index=index, field=path) from None
         a.last = t
-        a.queued += 1
-        if a.framed:
+        if framed:
             self._single_last = max(self._single_last, t)
-        self._queue.append((time.perf_counter(), path, np.array([t]), value))
+        a.times.append(t)
+        a.values.append(value)
+        if a.worker is not None:
+            self._pool.send(a.worker, ("sample", self._take, time.perf_counter(), path, np.array([t]),
+                                       value[None, :]))
 
     def push_frame(self, t: float, values: ArrayLike) -> None:
         """Queue one frame of every armed continuous attribute at time ``t``: their
         values end to end, as :attr:`layout` says (a device's frame, one call)."""
         if not self.recording:
             raise ArgumentError("push", "not recording: call start() first")
-        t = self._time(t, max(self._frame_last, self._single_last), self._frames, "frame")
+        frames = self._frames
+        last = max(frames.t[frames.n - 1] if frames.n else -np.inf, self._single_last)
+        t = self._time(t, last, frames.n, "frame")
         try:
             x = np.asarray(values, dtype=float).reshape(-1)
         except (TypeError, ValueError):
-            raise SampleError(f"not numbers: {values!r}", index=self._frames, field="frame") from None
-        if x.shape != (self._width,) or not np.all(np.isfinite(x)):
-            raise SampleError(f"needs {self._width} finite numbers, got {x.size}: {x.tolist()}", index=self._frames,
-                              field="frame")
+            raise SampleError(f"not numbers: {values!r}", index=frames.n, field="frame") from None
+        if x.shape != (frames.x.shape[1],) or not np.all(np.isfinite(x)):
+            raise SampleError(f"needs {frames.x.shape[1]} finite numbers, got {x.size}: {x.tolist()}",
+                              index=frames.n, field="frame")
         if len(self._rotations):
             norms = np.linalg.norm(x[self._rotations], axis=1)
             if norms.min() < MIN_NORM:
                 bad = self._frame[int(np.flatnonzero(self._is_rotation)[np.argmin(norms)])][0]
                 raise SampleError(f"a zero quaternion is no orientation (norm {norms.min():.3g})",
-                                  index=self._frames, field=bad)
-        self._frame_last = t
-        self._frames += 1
-        self._queue.append((time.perf_counter(), None, np.array([t]), x))
-
-    def _armed(self, path: str) -> _Armed:
-        if not self.recording:
-            raise ArgumentError("push", "not recording: call start() first")
-        if path not in self.armed:
-            raise ArgumentError("path", f"{path!r} is not armed")
-        return self.armed[path]
+                                  index=frames.n, field=bad)
+        frames.append(t, x)
+        stamp, times = time.perf_counter(), np.array([t])
+        for w, (lo, hi) in ((w, c) for w, c in self._workers.items() if c is not None):
+            self._pool.send(w, ("frames", self._take, stamp, times, x[None, lo:hi]))
 
     @staticmethod
     def _time(t: float, last: float, index: int, where: str) -> float:
@@ -223,99 +285,95 @@ class Recorder:
             raise SampleError(f"time {t!r} must be finite and after {last!r}", index=index, field=f"{where} time")
         return t
 
-    def _work(self) -> None:
-        """The worker: drain, feed, repeat until stopped and drained."""
-        try:
-            while True:
-                stopping = self._stopping.is_set()
-                if not self._drain() and stopping:
+    def _samples(self, a: _Armed, first: tuple[int, int] = (0, 0)) -> tuple[np.ndarray, object, tuple[int, int]]:
+        """The samples of ``a`` queued so far, in time order, from frame ``first[0]`` and
+        single push ``first[1]`` on: times, values (n, dim) or a list (discrete), and
+        where the next call should start (safe while the caller pushes)."""
+        n, m = self._frames.n if a.columns is not None else 0, len(a.values)     # values go in last
+        ft, fx = self._frames.t, self._frames.x          # read after n: they hold the first n
+        times, values = a.times[first[1] : m], a.values[first[1] : m]
+        if not a.type.continuous:
+            return np.array(times, dtype=float), values, (n, m)
+        t = np.array(times, dtype=float)
+        x = np.array(values, dtype=float).reshape(-1, a.type.dim)
+        if n > first[0]:
+            lo, hi = a.columns
+            framed = ft[first[0] : n], fx[first[0] : n, lo:hi]        # views: one copy for all
+            if not len(times):
+                return *framed, (n, m)
+            t, x = np.r_[framed[0], t], np.vstack([framed[1], x])
+            order = np.argsort(t, kind="stable")
+            t, x = t[order], x[order]
+        return t, x, (n, m)
+
+    def _journal_loop(self) -> None:
+        """Hand the journal what was queued since the last call, until stopped."""
+        sent = {path: (0, 0) for path in self.armed}
+        while True:
+            stopping = self._stopping.wait(JOURNAL_PERIOD)
+            batches = []
+            for a in self.armed.values():
+                t, x, sent[a.path] = self._samples(a, sent[a.path])
+                if len(t):
+                    batches.append((a.path, t, x))
+            if batches:
+                try:
+                    self.journal(batches)
+                except Exception as err:            # reported by stop(); the take goes on
+                    self._journal_error = err
                     return
-                if not stopping:
-                    time.sleep(0.002)
-        except BaseException as err:        # handed to the caller by stop()
-            self._error = err
+            if stopping:
+                return
 
-    def _drain(self) -> bool:
-        """Take everything queued, in one batch per attribute, in time order; False
-        if the queue was empty."""
-        n = len(self._queue)
-        if not n:
-            return False
-        items = [self._queue.popleft() for _ in range(n)]
-        self.lags.append((time.perf_counter() - items[0][0], n))
-        parts: dict[str, tuple[list, list]] = {}
-        frames: list[tuple[np.ndarray, np.ndarray]] = []
-
-        def flush() -> None:
-            if frames:
-                t = np.concatenate([f[0] for f in frames])
-                x = np.vstack([f[1] for f in frames])
-                for path, a, b in self._frame:
-                    ts, xs = parts.setdefault(path, ([], []))
-                    ts.append(t)
-                    xs.append(x[:, a:b])
-                frames.clear()
-
-        for _, path, t, value in items:
-            if path is None:
-                frames.append((t, value))
-                continue
-            flush()
-            ts, xs = parts.setdefault(path, ([], []))
-            ts.append(t)
-            xs.append(value[None, :] if isinstance(value, np.ndarray) else [value])
-        flush()
-        for path, (ts, xs) in parts.items():
-            a = self.armed[path]
-            self._take(a, np.concatenate(ts), np.vstack(xs) if a.stream is not None else sum(xs, []))
-        return True
-
-    def _take(self, a: _Armed, t: np.ndarray, x: object) -> None:
-        if a.stream is not None:
-            a.stream.extend(t, x)
-        a.times.append(t)
-        a.values.append(x)
-        if self.journal is not None:
-            self.journal(a.path, t, x)
-
-    def stop(self, tracks: Mapping[str, Track] | None = None, *,
-             at: tuple[float, float] | None = None) -> dict[str, Track]:
-        """End the take: the new tracks of the armed attributes that got samples,
-        recorded over ``tracks`` (path -> track, e.g. a player's), which is not changed.
+    def stop(self, *, at: tuple[float, float] | None = None) -> dict[str, Track]:
+        """End the take: the new tracks of the armed attributes that got samples.
 
         ``at`` is the span of the take for discrete attributes (events recorded over it
         replace those there); by default from their first to their last sample.
         """
         if not self.recording:
             raise ArgumentError("stop", "not recording")
+        pool, self._pool = self._pool, None
+        for w in self._workers:
+            pool.send(w, ("stop", self._take))
         self._stopping.set()
-        self._worker.join()
-        self._worker = None
-        if self._error is not None:
-            raise self._error
-        made: dict[str, Track] = {}
+        raw = {}                                    # made while the reducer processes finish
         for a in self.armed.values():
-            if not a.times:
-                continue
-            made[a.path] = self._track(a, (tracks or {}).get(a.path), at)
-        return made
+            times, values, _ = self._samples(a)
+            if len(times):
+                raw[a.path] = Take(times, values, a.mode, a.blend) if a.type.continuous else (times, values)
+        if self._journaling is not None:
+            self._journaling.join()
+            self._journaling = None
+        results = pool.results(self._take, len(self._workers))
+        curves = {}
+        for r in results:
+            self.lags += r.lags
+            self.busy.append(r.busy)
+            if r.error is not None:
+                warnings.warn(f"reducer process {r.worker} failed; reducing its attributes from the raw take:\n"
+                              f"{r.error}", RuntimeWarning, stacklevel=2)
+            curves.update(r.curves)
+        if len(results) < len(self._workers):
+            warnings.warn("a reducer process died; reducing its attributes from the raw take", RuntimeWarning,
+                          stacklevel=2)
+        if self._journal_error is not None:
+            warnings.warn(f"the journal failed during the take ({self._journal_error!r}); the take is not "
+                          "safe from a crash until saved", RuntimeWarning, stacklevel=2)
+        return {path: self._track(self.armed[path], take, curves.get(path), at) for path, take in raw.items()}
 
-    def _track(self, a: _Armed, old: Track | None, at: tuple[float, float] | None) -> Track:
-        kind = self.scene.type(a.path)
-        times = np.concatenate(a.times)
-        if not kind.continuous:
-            values = [v for batch in a.values for v in batch]
+    def _track(self, a: _Armed, take: Take | tuple[np.ndarray, list], curve: tuple | None,
+               at: tuple[float, float] | None) -> Track:
+        old = self._over.get(a.path)
+        if not isinstance(take, Take):
+            times, values = take
             lo, hi = at if at is not None else (times[0], times[-1])
-            before = old if isinstance(old, DiscreteTrack) else DiscreteTrack(a.path, kind)
+            before = old if isinstance(old, DiscreteTrack) else DiscreteTrack(a.path, a.type)
             keep = [(t, v) for t, v in zip(before.times, before.values) if not lo <= t <= hi]
             merged = sorted(keep + list(zip(times.tolist(), values)), key=lambda p: p[0])
-            return DiscreteTrack(a.path, kind, [p[0] for p in merged], [p[1] for p in merged])
-        take = Take(times, np.vstack(a.values), a.mode, a.blend)
-        if isinstance(old, ContinuousTrack):
-            spline = punch_in(kind, old.spline, take, a.tol, self.order)
-            return ContinuousTrack(a.path, kind, spline, a.tol, old.takes + (take,))
-        if a.mode == "additive":
-            spline = punch_in(kind, None, take, a.tol, self.order)
-        else:
-            spline = a.stream.finish().columns
-        return ContinuousTrack(a.path, kind, spline, a.tol, (take,))
+            return DiscreteTrack(a.path, a.type, [p[0] for p in merged], [p[1] for p in merged])
+        below = old if isinstance(old, ContinuousTrack) else None
+        if curve is not None and curve[1] is None:
+            return ContinuousTrack(a.path, a.type, curve[0], a.tol, (take,))
+        spline = punch_in(a.type, None if below is None else below.spline, take, a.tol, self.order, curve)
+        return ContinuousTrack(a.path, a.type, spline, a.tol, (() if below is None else below.takes) + (take,))

@@ -109,7 +109,7 @@ CREATE TABLE IF NOT EXISTS documents (name TEXT PRIMARY KEY, body TEXT NOT NULL)
 CREATE TABLE IF NOT EXISTS takes (id INTEGER PRIMARY KEY, mode TEXT NOT NULL, blend REAL NOT NULL,
     dim INTEGER NOT NULL, n INTEGER NOT NULL, times BLOB NOT NULL, vals BLOB NOT NULL);
 CREATE TABLE IF NOT EXISTS journal (seq INTEGER PRIMARY KEY, started REAL NOT NULL, path TEXT NOT NULL,
-    n INTEGER NOT NULL, times BLOB NOT NULL, vals TEXT NOT NULL);
+    n INTEGER NOT NULL, times BLOB NOT NULL, vals NOT NULL);
 """
 
 
@@ -261,7 +261,7 @@ class Project:
     # -- the journal -------------------------------------------------------------------------
 
     def journal(self) -> Journal:
-        """A journal for the recorder's worker (see :class:`Journal`)."""
+        """A journal for a recorder (see :class:`Journal`)."""
         return Journal(self.path)
 
     def recovered(self) -> dict[str, tuple[np.ndarray, list | np.ndarray]]:
@@ -276,15 +276,28 @@ class Project:
                 if not isinstance(n, int) or not 0 < n <= MAX_TAKE_SAMPLES:
                     raise FileFormatError(source, f"journal batch {seq}: bad size {n!r}")
                 ts, xs = out.setdefault(path, ([], []))
-                ts.append(_floats(times, n, f"journal batch {seq}", source))
-                xs.extend(json.loads(vals))
-        return {p: (np.concatenate(ts), np.asarray(xs) if xs and isinstance(xs[0], list) else xs)
+                where = f"journal batch {seq}"
+                ts.append(_floats(times, n, where, source))
+                if isinstance(vals, bytes):
+                    dim = len(vals) // (8 * n)
+                    xs.append(_floats(vals, n * max(dim, 1), where, source).reshape(n, -1))
+                else:
+                    values = json.loads(vals)
+                    if not isinstance(values, list) or len(values) != n:
+                        raise FileFormatError(source, f"{where}: expected a list of {n} values")
+                    xs.append(values)
+        for p, (ts, xs) in out.items():
+            kinds = {x.shape[1] if isinstance(x, np.ndarray) else "json" for x in xs}
+            if len(kinds) > 1:
+                raise FileFormatError(source, f"journal: the batches of {p!r} disagree on their values ({kinds})")
+        return {p: (np.concatenate(ts), np.vstack(xs) if isinstance(xs[0], np.ndarray) else sum(xs, []))
                 for p, (ts, xs) in out.items()}
 
 
 class Journal:
-    """Commits each batch of samples the recorder takes to the project's ``journal``
-    table (its own connection; called from the recorder's worker thread)."""
+    """Commits the batches of samples the recorder hands it to the project's ``journal``
+    table, one transaction per call (its own connection; called from the recorder's
+    journal thread). Numbers go in as float64 blobs, discrete values as JSON."""
 
     def __init__(self, path: Path) -> None:
         self.path = path
@@ -292,13 +305,17 @@ class Journal:
         self._db: sqlite3.Connection | None = None
         self._lock = threading.Lock()
 
-    def __call__(self, path: str, times: np.ndarray, values: object) -> None:
+    def __call__(self, batches: list[tuple[str, np.ndarray, object]]) -> None:
+        rows = [(self.started, path, len(times), np.asarray(times, "<f8").tobytes(),
+                 np.asarray(values, "<f8").tobytes() if isinstance(values, np.ndarray) else json.dumps(list(values)))
+                for path, times, values in batches]
         with self._lock:
             if self._db is None:
                 self._db = _connect(self.path)
-            vals = json.dumps(values.tolist() if isinstance(values, np.ndarray) else list(values))
-            self._db.execute("INSERT INTO journal (started, path, n, times, vals) VALUES (?, ?, ?, ?, ?)",
-                             (self.started, path, len(times), np.asarray(times, "<f8").tobytes(), vals))
+            with self._db:
+                self._db.execute("BEGIN")
+                self._db.executemany("INSERT INTO journal (started, path, n, times, vals) VALUES (?, ?, ?, ?, ?)",
+                                     rows)
 
     def close(self) -> None:
         with self._lock:

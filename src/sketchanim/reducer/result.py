@@ -79,7 +79,7 @@ class Reduction:
         (4, 1)
         """
         c = np.asarray(self.spline.c)
-        return BSpline(self.spline.t, c.reshape(len(c), -1), self.spline.k)
+        return self.spline if c.ndim == 2 else BSpline(self.spline.t, c.reshape(len(c), -1), self.spline.k)
 
     @property
     def n_coefficients(self) -> int:

@@ -45,6 +45,8 @@ def join(pieces: Sequence[BSpline]) -> BSpline:
     """
     if not pieces:
         raise ArgumentError("pieces", "needs at least one spline")
+    if len(pieces) == 1:
+        return pieces[0]
     k = pieces[0].k + 1
     knots = [np.asarray(pieces[0].t)]
     coef = [np.asarray(pieces[0].c)]

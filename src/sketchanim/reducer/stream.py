@@ -621,7 +621,6 @@ class StreamReducer:
         timings = {
             "total": s.total_window_seconds + time.perf_counter() - clock,
             "window_mean": s.total_window_seconds / max(s.windows, 1),
-            "window_p99": s.percentile_ms(99) / 1e3,
             "window_max": s.max_window_seconds,
         }
         tol = np.array([self.angle]) if self.angle else self.tol.copy()
