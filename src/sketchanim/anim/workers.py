@@ -263,6 +263,7 @@ class Pool:
                                       daemon=True) for i, q in enumerate(self.inboxes)]
         for p in self.processes:
             p.start()
+        self.pid = os.getpid()
         self._takes = itertools.count()
         self._lock = threading.Lock()
         self._arrived: dict[int, list[Result]] = {}
@@ -311,12 +312,12 @@ _pool_lock = threading.Lock()
 
 
 def shared_pool() -> Pool:
-    """The program's pool, one worker per core this process may use, started (again,
-    if a worker died) on first use."""
+    """The program's pool, one worker per core this process may use, started on first
+    use (again if a worker died, or in a process forked from the one that started it)."""
     global _pool
     with _pool_lock:
-        if _pool is None or not _pool.alive:
-            if _pool is not None:
+        if _pool is None or _pool.pid != os.getpid() or not _pool.alive:
+            if _pool is not None and _pool.pid == os.getpid():
                 _pool.close()
             _pool = Pool(max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else
                              os.cpu_count() or 1))
