@@ -77,13 +77,6 @@ def _targets(type: AttributeType, old: np.ndarray, values: np.ndarray, mode: str
     return q / np.linalg.norm(q, axis=1, keepdims=True)
 
 
-def _base(type: AttributeType, old: BSpline | None, a: float, b: float, order: int) -> BSpline:
-    """The curve a take on ``[a, b]`` goes onto: ``old`` (of at least ``order``), or
-    the attribute's default held."""
-    base = hold(a, b, type.default, order) if old is None else old
-    return elevate_degree(base, order - base.k - 1) if base.k + 1 < order else base
-
-
 class Overlay:
     """The targets of a take over a curve (see the module's description), as its samples
     arrive: what a streaming reducer is fed while the take goes on.
@@ -110,13 +103,12 @@ class Overlay:
 
     def __init__(self, type: AttributeType, old: BSpline | None, mode: str, blend: float) -> None:
         self.type, self.old, self.mode, self.blend = type, old, mode, blend
-        self._t: list[np.ndarray] = []
-        self._x: list[np.ndarray] = []
+        self._t = np.empty(0)                    # samples held back
+        self._x = np.empty((0, type.dim))
         self._start: float | None = None
         self._end = 0.0                          # the latest time taken
         self._left = False
         self._right = False
-        self._base: BSpline | None = None
 
     @property
     def seams(self) -> tuple[bool, bool]:
@@ -127,26 +119,28 @@ class Overlay:
         """Take samples; return the times and targets of those whose weight is known."""
         if self._start is None:
             self._start = float(times[0])
-            self._base = _base(self.type, self.old, self._start, self._start + 1.0, 1)
             self._left = self.old is not None and bool(self._start > self.old.t[self.old.k])
-        self._t.append(np.asarray(times, dtype=float))
-        self._x.append(np.asarray(values, dtype=float))
-        latest = self._t[-1][-1]
-        if latest - self._start < 2 * self.blend:
-            return self._release(0, latest)
-        return self._release(int(np.searchsorted(np.concatenate(self._t), latest - self.blend, side="right")), latest)
+        self._t = np.r_[self._t, times]
+        self._x = np.vstack([self._x, values])
+        self._end = float(self._t[-1])
+        if self._end - self._start < 2 * self.blend:
+            return self._release(0)
+        return self._release(int(np.searchsorted(self._t, self._end - self.blend, side="right")))
 
     def close(self) -> tuple[np.ndarray, np.ndarray]:
         """The rest of the targets, with the take's end known."""
-        end = self._t[-1][-1] if len(self._t[-1]) else self._end
-        self._right = self.old is not None and bool(end < self.old.t[-self.old.k - 1])
-        return self._release(sum(len(t) for t in self._t), end)
+        self._right = self.old is not None and bool(self._end < self.old.t[-self.old.k - 1])
+        return self._release(len(self._t))
 
-    def _release(self, n: int, end: float) -> tuple[np.ndarray, np.ndarray]:
-        t, x = np.concatenate(self._t), np.vstack(self._x)
-        self._t, self._x, self._end = [t[n:]], [x[n:]], end
-        w = _weights(t[:n], self._start, end, self.blend, self._left, self._right)
-        return t[:n], _targets(self.type, held_values(self._base, t[:n], self.type.is_rotation), x[:n], self.mode, w)
+    def _release(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        t, x = self._t[:n], self._x[:n]
+        self._t, self._x = self._t[n:], self._x[n:]
+        w = _weights(t, self._start, self._end, self.blend, self._left, self._right)
+        if self.old is None:
+            old = np.tile(np.asarray(self.type.default, dtype=float), (n, 1))
+        else:
+            old = held_values(self.old, t, self.type.is_rotation)
+        return t, _targets(self.type, old, x, self.mode, w)
 
 
 def _reversed(s: BSpline) -> BSpline:
@@ -220,7 +214,9 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     a, b = take.start, take.end
     if old is None and take.mode == "replace":
         return reduce_samples(type, times, np.asarray(take.values, dtype=float), tol, order)
-    base = _base(type, old, a, b, order)
+    base = hold(a, b, type.default, order) if old is None else old
+    if base.k + 1 < order:
+        base = elevate_degree(base, order - base.k - 1)
     k0 = base.k
     lo, hi = float(base.t[k0]), float(base.t[-k0 - 1])
     ext = [base]

@@ -46,7 +46,6 @@ class _Armed:
     tol: float
     mode: str
     blend: float
-    last: float = -np.inf                           # the last time queued by push
     times: list[float] = field(default_factory=list)      # pushed one at a time
     values: list = field(default_factory=list)
     columns: tuple[int, int] | None = None          # where it is in a frame
@@ -68,6 +67,11 @@ class _Frames:
         self.t[self.n] = t
         self.x[self.n] = x
         self.n += 1
+
+    @property
+    def last(self) -> float:
+        """The latest frame's time (-inf before the first)."""
+        return float(self.t[self.n - 1]) if self.n else -np.inf
 
 
 class Recorder:
@@ -167,8 +171,9 @@ class Recorder:
 
     def start(self, over: Mapping[str, Track] | None = None) -> None:
         """Start a take recorded over ``over`` (path -> track, e.g. a player's; not
-        changed): reducer streams for every armed attribute that has no continuous
-        track there and is not additive, and the journal thread."""
+        changed): a reducer stream for every armed continuous attribute (of its targets,
+        for one recorded over a continuous track there or added onto it), and the
+        journal thread."""
         if self.recording:
             raise ArgumentError("start", "already recording")
         if not self.armed:
@@ -182,7 +187,7 @@ class Recorder:
                                    dtype=np.int64).reshape(-1, 4)
         self._single_last = -np.inf
         for a in self.armed.values():
-            a.last, a.times, a.values, a.columns, a.worker = -np.inf, [], [], None, None
+            a.times, a.values, a.columns, a.worker = [], [], None, None
         for path, lo, hi in self._frame:
             self.armed[path].columns = (lo, hi)
         self._assign(shared_pool())
@@ -204,11 +209,11 @@ class Recorder:
 
         def spec(a: _Armed, w: int, columns: tuple[int, int] | None = None) -> None:
             old = self._over.get(a.path)
-            over = (old.spline if isinstance(old, ContinuousTrack) else None, a.mode, a.blend)
+            below = old.spline if isinstance(old, ContinuousTrack) else None
+            over = (below, a.mode, a.blend) if below is not None or a.mode == "additive" else None
             a.worker = w
             self._workers.setdefault(w, None)
-            specs.setdefault(w, []).append(Spec(a.path, a.type, a.tol, columns,
-                                                over if over[0] is not None or a.mode == "additive" else None))
+            specs.setdefault(w, []).append(Spec(a.path, a.type, a.tol, columns, over))
 
         for w, run in enumerate(np.array_split(np.arange(len(framed)), pool.size)):
             if len(run):
@@ -236,14 +241,14 @@ class Recorder:
             raise ArgumentError("path", f"{path!r} is not armed")
         a = self.armed[path]
         framed = a.columns is not None
-        last = max(a.last, self._frames.t[self._frames.n - 1] if self._frames.n else -np.inf) if framed else a.last
+        last = a.times[-1] if a.times else -np.inf
+        last = max(last, self._frames.last) if framed else last
         index = len(a.times) + (self._frames.n if framed else 0)
         t = self._time(t, last, index, path)
         try:
             value = a.type.check(value, path)
         except ArgumentError as err:
             raise SampleError(str(err), index=index, field=path) from None
-        a.last = t
         if framed:
             self._single_last = max(self._single_last, t)
         a.times.append(t)
@@ -258,8 +263,7 @@ class Recorder:
         if not self.recording:
             raise ArgumentError("push", "not recording: call start() first")
         frames = self._frames
-        last = max(frames.t[frames.n - 1] if frames.n else -np.inf, self._single_last)
-        t = self._time(t, last, frames.n, "frame")
+        t = self._time(t, max(frames.last, self._single_last), frames.n, "frame")
         try:
             x = np.asarray(values, dtype=float).reshape(-1)
         except (TypeError, ValueError):
