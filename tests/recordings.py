@@ -8,20 +8,19 @@ from pathlib import Path
 import numpy as np
 
 from sketchanim.io.csvio import read_samples_csv
-from sketchanim.io.recordings import read_bvh_motion, read_lasa, read_svc, read_tum
+from sketchanim.io.bvh import read_bvh
+from sketchanim.io.recordings import read_lasa, read_svc, read_tum
+from sketchanim.reducer.metric import rotation_angle
 
 LASA = Path(__file__).resolve().parents[1] / ".cache" / "lasa"
-POSITIONS = ("Xposition", "Yposition", "Zposition")
 
 
 def moving_root(path: Path) -> tuple[np.ndarray, np.ndarray]:
     """Times and positions of the first BVH joint whose position channels move."""
-    motion = read_bvh_motion(path)
-    joints = dict.fromkeys(j for j, c in motion.channels if c == "Xposition")
-    for joint in joints:
-        pos = motion.columns(joint, POSITIONS)
-        if np.ptp(pos, axis=0).max() > 0:
-            return motion.times, pos
+    clip = read_bvh(path)
+    for j in np.flatnonzero(clip.translating):
+        if np.ptp(clip.translations[:, j], axis=0).max() > 0:
+            return clip.times, clip.translations[:, j]
     raise ValueError(f"{path}: no moving joint")
 
 
@@ -56,19 +55,13 @@ def lasa_cases() -> list[tuple[str, np.ndarray, np.ndarray, float]]:
 def bvh_joint_rotations(path: Path, limit: int = 6) -> list[tuple[str, np.ndarray, np.ndarray]]:
     """Up to ``limit`` joints of a BVH file whose rotation moves: name, times and
     scalar-last quaternions (from each joint's own Euler channel order, intrinsic)."""
-    from scipy.spatial.transform import Rotation
-
-    motion = read_bvh_motion(path)
+    clip = read_bvh(path)
     out = []
-    for joint in dict.fromkeys(j for j, _ in motion.channels):
-        names = tuple(c for j, c in motion.channels if j == joint and c.endswith("rotation"))
-        if len(names) != 3:
+    for j in np.flatnonzero(clip.rotating):
+        quats = clip.rotations[:, j]
+        if np.degrees(rotation_angle(quats, np.broadcast_to(quats[0], quats.shape)).max()) < 1.0:  # barely moves
             continue
-        angles = motion.columns(joint, names)
-        if np.ptp(angles, axis=0).max() < 1.0:              # degrees: a joint that barely moves
-            continue
-        quats = Rotation.from_euler("".join(n[0] for n in names).upper(), angles, degrees=True).as_quat()
-        out.append((f"{path.name} {joint}", motion.times, quats))
+        out.append((f"{path.name} {clip.skeleton.names[j]}", clip.times, quats))
         if len(out) == limit:
             break
     return out

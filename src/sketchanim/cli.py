@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Optional
@@ -9,12 +10,16 @@ from typing import Annotated, Optional
 import numpy as np
 import typer
 from rich.console import Console
+from rich.progress import Progress, TextColumn
 from rich.table import Table
 from rich.text import Text
 from scipy.spatial.transform import Rotation
 
+from sketchanim.anim.skeleton import UNITS_M
 from sketchanim.errors import InputError, SampleError
 from sketchanim.io.atomic import write_atomic
+from sketchanim.io.batch import REPORT, Options, outcome, plan, previous_report, reduce_file, run, write_report
+from sketchanim.io.clip_files import CLIP_INPUTS, CLIP_OUTPUTS, write_reduced
 from sketchanim.io.csvio import SampleTable, read_samples_csv
 from sketchanim.motion import reduce_rotations
 from sketchanim.reducer import METHODS, FeatureOptions, Reduction, reduce
@@ -111,11 +116,14 @@ def _write(path: Path, reduction: Reduction) -> None:
 
 @app.command("reduce")
 def reduce_command(
-    input: Annotated[Path, typer.Argument(help="CSV: time in seconds, then one column per channel.")],
+    input: Annotated[Path, typer.Argument(help="CSV (time in seconds, then one column per channel), a clip (.bvh, "
+                                          ".amc) or a folder of clips.")],
     tol: Annotated[Optional[str], typer.Option("--tol", help="Tolerance: one value, or one per channel "
-                                                "(comma-separated), for every column but the rotation's.")] = None,
+                                                "(comma-separated), for every column but the rotation's. Clips: "
+                                                "a distance in the clip's units (default 0.5 cm).")] = None,
     output: Annotated[Optional[Path], typer.Option("-o", "--output", help="Write the spline JSON here (a rotation's "
-                                                   "goes beside it, as STEM.rotation.json).")] = None,
+                                                   "goes beside it, as STEM.rotation.json). Clips: .glb, .bvh, "
+                                                   ".usd(a/c) or .json; folders: the output folder.")] = None,
     order: Annotated[int, typer.Option(help="Spline order (4: cubic).")] = 4,
     method: Annotated[str, typer.Option(help=f"One of: {', '.join(METHODS)}.")] = "global",
     start: Annotated[str, typer.Option(help="Starting curve: paper or lm.")] = "paper",
@@ -133,8 +141,29 @@ def reduce_command(
     = True,
     breaks: Annotated[bool, typer.Option("--breaks/--no-breaks", help="Keep velocity breaks as corners.")] = True,
     min_pause: Annotated[float, typer.Option("--min-pause", help="Shortest pause, seconds.")] = 0.5,
+    units: Annotated[Optional[str], typer.Option(help=f"Clips: the clip's unit ({', '.join(UNITS_M)}); default: "
+                                                 "the file's, else guessed from the figure's height.")] = None,
+    skeleton: Annotated[Optional[Path], typer.Option(help="AMC clips: the ASF skeleton (default: found beside it).")]
+    = None,
+    rate: Annotated[Optional[float], typer.Option(help="Clips written as BVH or USD: frames per second "
+                                                  "(default: the source's).")] = None,
+    format: Annotated[str, typer.Option("--format", help="Folders: the output format (glb, bvh, json, usd).")]
+    = "glb",
+    workers: Annotated[int, typer.Option(help="Folders: clips reduced at once (processes).")] = 1,
+    scheduler: Annotated[Optional[str], typer.Option(help="Folders: reduce on this Dask scheduler "
+                                                     "(tcp://host:port) instead of local processes.")] = None,
 ) -> None:
-    """Reduce a CSV of samples to B-splines; print the report, write JSON and plot."""
+    """Reduce samples to B-splines: a CSV (print the report, write JSON and plot), a
+    motion clip (BVH, AMC: write .glb, .bvh, .usd or .json, by -o's extension), or a
+    folder of clips (write them all to -o, with a CSV report)."""
+    if input.is_dir() or input.suffix.lower() in CLIP_INPUTS:
+        clip_options = _clip_options(tol, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
+                                     skeleton=skeleton)
+        if input.is_dir():
+            _reduce_folder(input, output, format, clip_options, workers, scheduler)
+        else:
+            _reduce_clip(input, output, clip_options)
+        return
     try:
         features = FeatureOptions(pauses=pauses, breaks=breaks, min_pause=min_pause)
         table = read_samples_csv(input)
@@ -180,6 +209,81 @@ def reduce_command(
             console.print(f"wrote {plot}")
     except OSError as err:
         _fail(f"{err.filename or output}: cannot write ({err.strerror})")
+
+
+def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rate: float | None,
+                  skeleton: Path | None) -> Options:
+    try:
+        distance = None if tol is None else float(tol)
+    except ValueError:
+        _fail(f"--tol: clips take one distance in the clip's units, got {tol!r}")
+    if units is not None and units not in UNITS_M:
+        _fail(f"--units: one of {', '.join(UNITS_M)}, got {units!r}")
+    return Options(tol=distance, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
+                   skeleton=None if skeleton is None else str(skeleton))
+
+
+def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
+    start = time.perf_counter()
+    try:
+        clip, reduced, tol = reduce_file(input, options)
+        if output is not None:
+            write_reduced(output, reduced, rate=options.rate)
+    except InputError as err:
+        _fail(str(err))
+    except OSError as err:
+        _fail(f"{err.filename or output}: cannot write ({err.strerror})")
+    row = outcome(input, output or Path(), clip, reduced, tol, time.perf_counter() - start)
+    table = Table(title=f"{input.name}: {row.frames} frames, {row.joints} joints, tolerance {tol:.4g} units "
+                        f"and {options.rot_tol_deg:g} degrees")
+    for column in ("joint", "rotation points", "max rotation error (deg)", "position points", "max position error"):
+        table.add_column(column, justify="left" if column == "joint" else "right")
+    for j in reduced.joint_reports():
+        table.add_row(j.joint, str(j.rotation_points or ""), f"{j.rotation_error_deg:.4f}" if j.rotation_points else "",
+                      str(j.position_points or ""), f"{j.position_error:.4g}" if j.position_points else "")
+    console.print(table)
+    console.print(f"compression {row.compression:.1f}:1 ({row.reduced_bytes:,} bytes of curves vs {row.raw_bytes:,} "
+                  f"bytes of float32 channels); largest joint position error in the world {row.max_world_error:.4g} "
+                  f"units; {row.seconds:.2f} s")
+    if output is not None:
+        console.print(f"wrote {output}")
+
+
+def _reduce_folder(folder: Path, output: Path | None, fmt: str, options: Options, workers: int,
+                   scheduler: str | None) -> None:
+    if output is None:
+        _fail("-o: a folder of clips needs an output folder")
+    suffix = "." + fmt.lower().lstrip(".")
+    if suffix not in CLIP_OUTPUTS:
+        _fail(f"--format: one of {', '.join(s[1:] for s in CLIP_OUTPUTS)}, got {fmt!r}")
+    jobs = plan(folder, output, suffix)
+    if not jobs:
+        _fail(f"{folder}: no clips ({', '.join(CLIP_INPUTS)}) in it")
+    with Progress(*Progress.get_default_columns(), TextColumn("{task.fields[last]}"), console=console,
+                  transient=True) as progress:
+        task = progress.add_task("reducing", total=len(jobs), last="")
+        outcomes = run(jobs, options, workers=workers, scheduler=scheduler, previous=previous_report(output),
+                       on_done=lambda o: progress.update(task, advance=1, last=Path(o.source).name))
+    report = write_report(output / REPORT, outcomes)
+    table = Table(title=f"{len(jobs)} clips from {folder}")
+    for column in ("clip", "status", "frames", "points", "ratio", "rot err°", "pos err", "world err", "s"):
+        table.add_column(column, justify="left" if column in ("clip", "status") else "right")
+    for o in outcomes:
+        table.add_row(str(Path(o.source).relative_to(folder)), o.status,
+                      *((str(o.frames), str(o.control_points), f"{o.compression:.1f}:1",
+                         f"{o.max_rotation_error_deg:.3f}", f"{o.max_position_error:.3g}", f"{o.max_world_error:.3g}",
+                         f"{o.seconds:.2f}") if o.frames else ("",) * 7))
+    console.print(table)
+    for o in outcomes:
+        if o.status == "failed":
+            errors.print(Text.assemble(("failed: ", "red"), o.message), soft_wrap=True)
+    failed = sum(o.status == "failed" for o in outcomes)
+    console.print(f"wrote {report}; {len(jobs) - failed} of {len(jobs)} clips done"
+                  + (f", {sum(o.status == 'skipped' for o in outcomes)} of them from an earlier run" if any(
+                      o.status == "skipped" for o in outcomes) else ""))
+    if failed:
+        errors.print(f"{failed} of {len(jobs)} clips failed (see {report})")
+        raise typer.Exit(1)
 
 
 @app.command("paper")

@@ -33,6 +33,22 @@ class SampleTable:
     lines: np.ndarray
 
 
+def text_lines(path: str | os.PathLike[str]) -> list[str]:
+    """The lines of a UTF-8 text file; a file that cannot be read, or is not UTF-8,
+    raises :class:`FileFormatError` naming it.
+
+    >>> text_lines("/no/such/file")
+    Traceback (most recent call last):
+    sketchanim.errors.FileFormatError: /no/such/file: cannot read (No such file or directory)
+    """
+    try:
+        return Path(path).read_text(encoding="utf-8", errors="strict").splitlines()
+    except OSError as err:
+        raise FileFormatError(str(path), f"cannot read ({err.strerror})") from None
+    except UnicodeDecodeError:
+        raise FileFormatError(str(path), "is not UTF-8 text") from None
+
+
 def parse_number(text: str) -> float | None:
     """``text`` as a float, or ``None`` if it is not a number.
 

@@ -14,15 +14,20 @@ matters for converting to Euler angles (``scalar_first=True`` for ``(w, x, y, z)
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.interpolate import BSpline
+from scipy.sparse.linalg import spsolve
 from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer import FeatureOptions, Piece, Reduction, StreamReducer, reduce
 from sketchanim.reducer.stream import StreamStats
 from sketchanim.reducer.conditioning import check_tolerance
+from sketchanim.reducer.metric import rotation_angle
+from sketchanim.spline.knots import insert_knots
 
 #: What a rotation channel is reduced as.
 MODES = ("quaternion", "euler")
@@ -117,9 +122,45 @@ def _check_mode(mode: str, tol_deg: float) -> float:
     return np.radians(tol)
 
 
+def unit_keys(spline: BSpline, times: np.ndarray, quats: np.ndarray, angle: float) -> tuple[BSpline, np.ndarray]:
+    """A quaternion spline whose value at every breakpoint has unit norm, still within
+    ``angle`` (radians) of every sample, and the angle at each sample.
+
+    Keyframe formats store a curve's values at its breakpoints, and glTF requires a
+    rotation key to be a unit quaternion. The smallest change of control points that
+    moves each breakpoint's value onto the unit sphere along its own direction (the
+    minimum-norm solution of the banded system) changes no key's rotation; between
+    keys it may turn the curve slightly, so every sample is checked, and where one
+    misses, a knot is inserted (exactly) at its time and the change made again: a
+    sample at a breakpoint keeps the rotation the curve had there.
+
+    >>> t = np.linspace(0, 2, 241)
+    >>> q = Rotation.from_rotvec(np.c_[np.sin(3 * t), t, 0 * t]).as_quat()
+    >>> r = reduce_rotations(t, q, 0.5)
+    >>> s, err = unit_keys(r.spline, t, q, np.radians(0.5))
+    >>> keys = s(np.unique(s.t))
+    >>> bool(np.allclose(np.linalg.norm(keys, axis=1), 1.0)), bool(np.degrees(err.max()) <= 0.5)
+    (True, True)
+    """
+    while True:
+        k, knots = spline.k, np.asarray(spline.t)
+        breaks = np.unique(knots[k : len(knots) - k])
+        basis = BSpline.design_matrix(breaks, knots, k)
+        c = np.asarray(spline.c, dtype=float)
+        values = basis @ c
+        shift = values / np.linalg.norm(values, axis=1, keepdims=True) - values
+        moved = c + basis.T @ np.atleast_2d(spsolve((basis @ basis.T).tocsc(), shift)).reshape(len(breaks), -1)
+        fixed = BSpline(knots, moved, k)
+        err = rotation_angle(fixed(times), quats)
+        missed = np.setdiff1d(times[err > angle], breaks)
+        if not missed.size:
+            return fixed, err
+        spline = insert_knots(spline, missed)
+
+
 def reduce_rotations(times: ArrayLike, quats: ArrayLike, tol_deg: float, *, scalar_first: bool = False,
                      mode: str = "quaternion", seq: str = "ZXY", method: str = "global", order: int = 4,
-                     window: int = 20, features: bool | FeatureOptions = True) -> Reduction:
+                     window: int = 20, features: bool | FeatureOptions = True, keys: bool = False) -> Reduction:
     """Reduce an orientation channel, keeping every sample's rotation within ``tol_deg``.
 
     Parameters
@@ -140,6 +181,9 @@ def reduce_rotations(times: ArrayLike, quats: ArrayLike, tol_deg: float, *, scal
         Euler sequence for Euler mode (scipy's convention; BVH ``ZXY`` is ``"ZXY"``).
     method, order, window, features
         As for :func:`sketchanim.reduce` (a pause holds the orientation exactly still).
+    keys : bool
+        Quaternion mode: make the curve's value at every breakpoint a unit quaternion
+        (:func:`unit_keys`), as keyframe formats (glTF) require; may add a few knots.
 
     Returns
     -------
@@ -160,8 +204,14 @@ def reduce_rotations(times: ArrayLike, quats: ArrayLike, tol_deg: float, *, scal
         r = reduce(times, euler_angles(quats, seq, scalar_first=scalar_first), angle, method=method, order=order,
                    window=window, features=features)
     else:
-        r = reduce(times, continuous_quaternions(quats), np.sin(angle / 2), method=method, order=order,
-                   window=window, angle=angle, features=features)
+        q = continuous_quaternions(quats)
+        r = reduce(times, q, np.sin(angle / 2), method=method, order=order, window=window, angle=angle,
+                   features=features)
+        if keys:
+            before = r.n_coefficients
+            spline, err = unit_keys(r.spline, np.asarray(times, dtype=float), q, angle)
+            r = replace(r, spline=spline, max_error=np.array([err.max()]))
+            r.report["unit_keys_added"] = r.n_coefficients - before
     return _described(r, mode, seq, scalar_first)
 
 

@@ -1,0 +1,256 @@
+"""Whole-clip reduction: every joint's rotation as a quaternion curve within an angle,
+every translating joint's position within a distance, and what it all costs.
+
+Positions are reduced with ``tol / sqrt(3)`` on each axis, so that the distance between
+curve and sample (not only each coordinate) stays within ``tol``.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from sketchanim.anim.skeleton import Clip, Skeleton, world_positions
+from sketchanim.anim.tracks import held_values
+from sketchanim.errors import ArgumentError, InputError
+from sketchanim.motion import reduce_rotations
+from sketchanim.reducer import Reduction, reduce
+
+SCHEMA = "sketchanim.clip"
+VERSION = 1
+
+#: Bytes per stored number, for the compression ratio (raw channels kept as float32).
+FLOAT32 = 4
+
+
+@dataclass(frozen=True)
+class JointReport:
+    """One joint's reduced curves: control points, and the largest errors at the
+    frames (rotation in degrees, position distance in clip units; NaN where the joint
+    has no such curve)."""
+
+    joint: str
+    rotation_points: int
+    rotation_error_deg: float
+    position_points: int
+    position_error: float
+
+
+@dataclass(frozen=True)
+class ReducedClip:
+    """A clip's curves.
+
+    Attributes
+    ----------
+    skeleton : Skeleton
+    channels : tuple of tuple of str
+        The source's channel layout, per joint (for writing BVH back).
+    rotations : dict of int to Reduction
+        Joint index to its quaternion curve (scalar-last, normalised when played).
+    translations : dict of int to Reduction
+        Joint index to its position curve, for joints with translation channels.
+    frame_time : float
+        The source's seconds per frame.
+    n_frames : int
+    unit_m : float or None
+        Metres per clip unit, where known.
+    """
+
+    skeleton: Skeleton
+    channels: tuple[tuple[str, ...], ...]
+    rotations: dict[int, Reduction]
+    translations: dict[int, Reduction]
+    frame_time: float
+    n_frames: int
+    unit_m: float | None = None
+
+    @property
+    def start(self) -> float:
+        curves = [*self.rotations.values(), *self.translations.values()]
+        return min(float(r.spline.t[r.spline.k]) for r in curves) if curves else 0.0
+
+    @property
+    def end(self) -> float:
+        curves = [*self.rotations.values(), *self.translations.values()]
+        return max(float(r.spline.t[-r.spline.k - 1]) for r in curves) if curves else 0.0
+
+    def sample(self, times: np.ndarray) -> Clip:
+        """The curves evaluated at ``times`` (rotations normalised, ends held) as a clip.
+
+        >>> from sketchanim.anim.skeleton import Skeleton
+        >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
+        >>> t = np.linspace(0, 1, 31)
+        >>> q = Rotation.from_euler("Z", t[:, None]).as_quat()[:, None]
+        >>> clip = Clip(s, t, q, np.zeros((31, 1, 3)), np.ones(1, bool), np.zeros(1, bool), (("Zrotation",),))
+        >>> r = reduce_clip(clip, 0.01, 0.1)
+        >>> bool(np.allclose(r.sample(t).rotations, q, atol=1e-3))
+        True
+        """
+        t = np.asarray(times, dtype=float)
+        n, j = len(t), len(self.skeleton)
+        rot = np.zeros((n, j, 4))
+        rot[..., 3] = 1.0
+        trans = np.broadcast_to(self.skeleton.offsets, (n, j, 3)).copy()
+        for i, r in self.rotations.items():
+            rot[:, i] = held_values(r.columns, t, True)
+        for i, r in self.translations.items():
+            trans[:, i] = held_values(r.columns, t, False)
+        rotating = np.array([i in self.rotations for i in range(j)])
+        translating = np.array([i in self.translations for i in range(j)])
+        return Clip(self.skeleton, t, rot, trans, rotating, translating, self.channels, self.unit_m)
+
+    def resample(self, rate: float) -> Clip:
+        """The curves sampled at ``rate`` frames per second over their span (for
+        formats that store frames: BVH, USD).
+
+        >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
+        >>> r = reduce_clip(Clip.still(s, np.arange(31) / 30), 0.01, 0.1)
+        >>> r.resample(60).times[[0, -1]].tolist(), len(r.resample(60).times)
+        ([0.0, 1.0], 61)
+        """
+        if not np.isfinite(rate) or rate <= 0:
+            raise ArgumentError("rate", f"must be a positive number of frames per second, got {rate!r}")
+        n = int(np.floor((self.end - self.start) * rate + 1e-9)) + 1
+        return self.sample(self.start + np.arange(n) / rate)
+
+    def reduced_bytes(self) -> int:
+        """Bytes to store every curve: each distinct knot as a float32 and a byte of
+        multiplicity, each control point as float32s; a curve whose control points are
+        all equal (a joint that does not move) as its one value."""
+        total = 0
+        for r in (*self.rotations.values(), *self.translations.values()):
+            c = np.asarray(r.columns.c)
+            if np.all(c == c[0]):
+                total += FLOAT32 * c.shape[1]
+            else:
+                total += (FLOAT32 + 1) * len(np.unique(r.spline.t)) + FLOAT32 * c.size
+        return total
+
+    def raw_bytes(self) -> int:
+        """Bytes of the source's channels at every frame as float32."""
+        return FLOAT32 * self.n_frames * sum(len(c) for c in self.channels)
+
+    def compression(self) -> float:
+        """Raw bytes over reduced bytes."""
+        return self.raw_bytes() / max(self.reduced_bytes(), 1)
+
+    def joint_reports(self) -> list[JointReport]:
+        """Per joint with any curve: control points and max errors at the source frames."""
+        rows = []
+        for i, name in enumerate(self.skeleton.names):
+            rot, pos = self.rotations.get(i), self.translations.get(i)
+            if rot is None and pos is None:
+                continue
+            rows.append(JointReport(
+                name,
+                rot.n_coefficients if rot else 0, float(np.degrees(rot.max_error[0])) if rot else float("nan"),
+                pos.n_coefficients if pos else 0, float(pos.report["max_distance"]) if pos else float("nan")))
+        return rows
+
+    def world_error(self, clip: Clip) -> float:
+        """The largest distance, over frames and joints, between ``clip``'s world joint
+        positions and this reduction's at the same times (clip units)."""
+        mine = self.sample(clip.times)
+        return float(np.linalg.norm(world_positions(self.skeleton, mine.rotations, mine.translations)
+                                    - clip.world_positions(), axis=-1).max())
+
+    def to_json(self) -> str:
+        """The skeleton and every curve as JSON (schema ``sketchanim.clip``, version 1)."""
+        doc = {
+            "schema": SCHEMA, "version": VERSION,
+            "joints": [{"name": n, "parent": p, "offset": o.tolist(), "channels": list(c)}
+                       for n, p, o, c in zip(self.skeleton.names, self.skeleton.parents, self.skeleton.offsets,
+                                             self.channels)],
+            "frame_time": self.frame_time, "n_frames": self.n_frames, "unit_m": self.unit_m,
+            "rotations": {self.skeleton.names[i]: json.loads(r.to_json()) for i, r in self.rotations.items()},
+            "translations": {self.skeleton.names[i]: json.loads(r.to_json()) for i, r in self.translations.items()},
+        }
+        return json.dumps(doc, indent=1)
+
+    @classmethod
+    def from_json(cls, text: str, *, source: str = "<json>") -> ReducedClip:
+        """Read what :meth:`to_json` wrote; errors name ``source`` and the field.
+
+        >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
+        >>> r = reduce_clip(Clip.still(s, np.arange(10) / 30), 0.01, 0.1)
+        >>> ReducedClip.from_json(r.to_json()).rotations[0].n_coefficients == r.rotations[0].n_coefficients
+        True
+        """
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError as err:
+            raise InputError(f"{source}, line {err.lineno}: not JSON ({err.msg})") from None
+        if not isinstance(doc, dict) or doc.get("schema") != SCHEMA or doc.get("version") != VERSION:
+            raise InputError(f"{source}: not a {SCHEMA} document of version {VERSION}")
+        try:
+            joints = doc["joints"]
+            skeleton = Skeleton(tuple(str(j["name"]) for j in joints), tuple(int(j["parent"]) for j in joints),
+                                np.array([j["offset"] for j in joints], dtype=float).reshape(len(joints), 3))
+            channels = tuple(tuple(str(c) for c in j["channels"]) for j in joints)
+            curves = {kind: {skeleton.index(name): Reduction.from_json(json.dumps(r), source=f"{source}: {kind} "
+                                                                                           f"of {name}")
+                             for name, r in doc[kind].items()}
+                      for kind in ("rotations", "translations")}
+            unit = doc.get("unit_m")
+            return cls(skeleton, channels, curves["rotations"], curves["translations"], float(doc["frame_time"]),
+                       int(doc["n_frames"]), None if unit is None else float(unit))
+        except InputError:
+            raise
+        except (KeyError, TypeError, ValueError, AttributeError) as err:
+            raise InputError(f"{source}: malformed clip document ({type(err).__name__}: {err})") from None
+
+
+def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "global") -> ReducedClip:
+    """Reduce every joint of ``clip``: rotations within ``rot_tol_deg`` degrees (the
+    geodesic angle), translating joints' positions within ``tol`` (a distance, clip
+    units), at every frame.
+
+    Parameters
+    ----------
+    clip : Clip
+    tol : float
+        Largest distance between a translating joint's curve and its samples.
+    rot_tol_deg : float
+        Largest rotation angle, degrees, between a joint's curve and its samples.
+    method : {"global", "incremental"}
+
+    Returns
+    -------
+    ReducedClip
+
+    Examples
+    --------
+    >>> s = Skeleton(("root", "arm"), (-1, 0), np.array([[0.0, 1, 0], [0.5, 0, 0]]))
+    >>> t = np.arange(240) / 120
+    >>> clip = Clip.still(s, t)
+    >>> clip.rotations[:, 1] = Rotation.from_euler("Z", np.sin(3 * t)[:, None]).as_quat()
+    >>> r = reduce_clip(clip, 0.005, 0.5)
+    >>> r.joint_reports()[1].rotation_error_deg <= 0.5, r.compression() > 5
+    (True, True)
+    """
+    if not np.isfinite(tol) or tol <= 0:
+        raise ArgumentError("tol", f"must be a positive distance, got {tol!r}")
+    rotations = {}
+    for i in np.flatnonzero(clip.rotating):
+        rotations[int(i)] = _named(clip.skeleton.names[i], "rotation", lambda: reduce_rotations(
+            clip.times, clip.rotations[:, i], rot_tol_deg, method=method, keys=True))
+    translations = {}
+    for i in np.flatnonzero(clip.translating):
+        r = _named(clip.skeleton.names[i], "position", lambda: reduce(
+            clip.times, clip.translations[:, i], tol / np.sqrt(3.0), method=method))
+        r.report["max_distance"] = float(np.linalg.norm(r.spline(clip.times) - clip.translations[:, i], axis=1).max())
+        translations[int(i)] = r
+    return ReducedClip(clip.skeleton, clip.channels, rotations, translations, clip.frame_time, len(clip.times),
+                       clip.unit_m)
+
+
+def _named(joint: str, what: str, run: Callable[[], Reduction]) -> Reduction:
+    """``run()``, with an input error prefixed by the joint and channel it came from."""
+    try:
+        return run()
+    except InputError as err:
+        raise InputError(f"joint {joint!r} {what}: {err}") from None

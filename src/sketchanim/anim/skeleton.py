@@ -1,0 +1,186 @@
+"""Skeletons and sampled clips: joints in a hierarchy, each with a local rotation and
+translation per frame, as motion capture formats (BVH, ASF/AMC) hold them.
+
+Conventions: a joint's local transform is ``T(translation) R(rotation)``, applied after
+its parent's (``world_j = world_parent * local_j``); rotations are scalar-last unit
+quaternions ``(x, y, z, w)`` as scipy's ``Rotation``; a joint without translation
+channels sits at its rest ``offset`` from its parent. Times in seconds; positions in the
+clip's own units (``Clip.unit_m`` metres each, where known).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.spatial.transform import Rotation
+
+from sketchanim.errors import ArgumentError
+
+#: Figure heights (metres) the unit guess accepts: a person standing, within reason.
+FIGURE_HEIGHT_M = (0.9, 2.6)
+
+#: Units a clip may be in, metres each. CMU's ASF says ``length 0.45``: its lengths
+#: times 1/0.45 are inches, and the CMU BVH conversions keep those units.
+UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048, "cmu": 0.0254 / 0.45}
+
+
+@dataclass(frozen=True)
+class Skeleton:
+    """Joints in a hierarchy.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Joint names, unique; a parent comes before its children.
+    parents : tuple of int
+        Index of each joint's parent, -1 for a root.
+    offsets : ndarray, shape (J, 3)
+        Rest translation of each joint from its parent.
+
+    >>> s = Skeleton(("hips", "knee"), (-1, 0), np.array([[0, 1.0, 0], [0, -0.5, 0]]))
+    >>> s.rest_positions()[1].tolist()
+    [0.0, 0.5, 0.0]
+    """
+
+    names: tuple[str, ...]
+    parents: tuple[int, ...]
+    offsets: np.ndarray
+
+    def __post_init__(self) -> None:
+        if len(set(self.names)) != len(self.names):
+            seen = [n for i, n in enumerate(self.names) if n in self.names[:i]]
+            raise ArgumentError("names", f"joint {seen[0]!r} appears twice")
+        if len(self.parents) != len(self.names) or np.shape(self.offsets) != (len(self.names), 3):
+            raise ArgumentError("skeleton", f"{len(self.names)} names need as many parents and offsets (J, 3)")
+        bad = [i for i, p in enumerate(self.parents) if not -1 <= p < i]
+        if bad:
+            raise ArgumentError("parents", f"joint {self.names[bad[0]]!r} has parent index {self.parents[bad[0]]}, "
+                                           "which is not an earlier joint")
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def index(self, name: str) -> int:
+        """The index of joint ``name``."""
+        try:
+            return self.names.index(name)
+        except ValueError:
+            raise ArgumentError("joint", f"no joint named {name!r}") from None
+
+    def rest_positions(self) -> np.ndarray:
+        """World positions (J, 3) with every rotation the identity."""
+        out = np.zeros((len(self), 3))
+        for j, p in enumerate(self.parents):
+            out[j] = self.offsets[j] + (out[p] if p >= 0 else 0.0)
+        return out
+
+
+@dataclass(frozen=True)
+class Clip:
+    """A skeleton's motion sampled at times.
+
+    Attributes
+    ----------
+    skeleton : Skeleton
+    times : ndarray, shape (n,)
+        Seconds, increasing.
+    rotations : ndarray, shape (n, J, 4)
+        Local rotations, scalar-last unit quaternions.
+    translations : ndarray, shape (n, J, 3)
+        Local translations (the offset where a joint has no translation channels).
+    rotating, translating : ndarray of bool, shape (J,)
+        Which joints have rotation / translation channels in the source.
+    channels : tuple of tuple of str
+        Each joint's channels in the source's order, in BVH's names (``Xposition``,
+        ``Zrotation``, ...): the Euler order a BVH writer uses for it.
+    unit_m : float or None
+        Metres per clip unit, where the source says (ASF ``length``) or it was given.
+
+    >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
+    >>> c = Clip.still(s, np.arange(3) / 30)
+    >>> c.frame_time, c.rotations.shape
+    (0.03333333333333333, (3, 1, 4))
+    """
+
+    skeleton: Skeleton
+    times: np.ndarray
+    rotations: np.ndarray
+    translations: np.ndarray
+    rotating: np.ndarray
+    translating: np.ndarray
+    channels: tuple[tuple[str, ...], ...]
+    unit_m: float | None = None
+
+    def __post_init__(self) -> None:
+        n, j = len(self.times), len(self.skeleton)
+        if np.shape(self.rotations) != (n, j, 4) or np.shape(self.translations) != (n, j, 3):
+            raise ArgumentError("clip", f"{n} frames of {j} joints need rotations ({n}, {j}, 4) and translations "
+                                        f"({n}, {j}, 3), got {np.shape(self.rotations)} and "
+                                        f"{np.shape(self.translations)}")
+        if len(self.channels) != j:
+            raise ArgumentError("channels", f"needs one tuple per joint ({j}), got {len(self.channels)}")
+
+    @classmethod
+    def still(cls, skeleton: Skeleton, times: ArrayLike) -> Clip:
+        """The rest pose held at ``times``, rotation channels on every joint."""
+        t = np.asarray(times, dtype=float)
+        n, j = len(t), len(skeleton)
+        rotations = np.zeros((n, j, 4))
+        rotations[..., 3] = 1.0
+        return cls(skeleton, t, rotations, np.broadcast_to(skeleton.offsets, (n, j, 3)).copy(),
+                   np.ones(j, bool), np.zeros(j, bool), (("Zrotation", "Xrotation", "Yrotation"),) * j)
+
+    @property
+    def frame_time(self) -> float:
+        """The median time between frames, seconds."""
+        return float(np.median(np.diff(self.times))) if len(self.times) > 1 else 0.0
+
+    @property
+    def n_source_channels(self) -> int:
+        """Numbers per frame in the source (what storing every sample costs)."""
+        return sum(len(c) for c in self.channels)
+
+    def world_positions(self) -> np.ndarray:
+        """Joint positions in the world, shape (n, J, 3) (forward kinematics)."""
+        return world_positions(self.skeleton, self.rotations, self.translations)
+
+    def guess_unit_m(self) -> float | None:
+        """Metres per clip unit: ``unit_m`` if known, else the unit of :data:`UNITS_M` in
+        which the rest figure's height is a person's (:data:`FIGURE_HEIGHT_M`), else None.
+
+        >>> s = Skeleton(("foot", "hips", "head"), (-1, 0, 1), np.array([[0, 0, 0], [0, 90.0, 0], [0, 80, 0]]))
+        >>> Clip.still(s, [0.0, 0.1]).guess_unit_m()
+        0.01
+        """
+        if self.unit_m is not None:
+            return self.unit_m
+        rest = self.skeleton.rest_positions()
+        height = float(np.ptp(rest, axis=0).max()) if len(rest) > 1 else 0.0
+        lo, hi = FIGURE_HEIGHT_M
+        fits = [u for u in UNITS_M.values() if lo <= height * u <= hi]
+        return fits[0] if len(fits) == 1 else None
+
+
+def world_positions(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:
+    """Forward kinematics: world joint positions (n, J, 3) of local rotations (n, J, 4,
+    scalar-last) and translations (n, J, 3).
+
+    >>> s = Skeleton(("a", "b"), (-1, 0), np.array([[0.0, 0, 0], [1.0, 0, 0]]))
+    >>> q = np.array([[[0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)], [0, 0, 0, 1.0]]])
+    >>> world_positions(s, q, np.array([[[0.0, 0, 0], [1.0, 0, 0]]]))[0, 1].round(12).tolist()
+    [0.0, 1.0, 0.0]
+    """
+    n, j = rotations.shape[:2]
+    world_rot: list[Rotation] = []
+    out = np.empty((n, j, 3))
+    for i, p in enumerate(skeleton.parents):
+        local = Rotation.from_quat(rotations[:, i])
+        if p < 0:
+            world_rot.append(local)
+            out[:, i] = translations[:, i]
+        else:
+            world_rot.append(world_rot[p] * local)
+            out[:, i] = out[:, p] + world_rot[p].apply(translations[:, i])
+    return out

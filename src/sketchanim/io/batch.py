@@ -1,0 +1,199 @@
+"""Reducing clips, one or a whole library: on local worker processes or a Dask cluster;
+a bad file is reported and the rest go on; a rerun skips clips already done."""
+
+from __future__ import annotations
+
+import csv
+import io
+import time
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+
+import numpy as np
+
+from sketchanim.anim.clip_reduction import ReducedClip, reduce_clip
+from sketchanim.anim.skeleton import UNITS_M, Clip
+from sketchanim.errors import InputError
+from sketchanim.io.atomic import write_atomic
+from sketchanim.io.clip_files import CLIP_INPUTS, read_clip, write_reduced
+
+REPORT = "report.csv"
+
+
+@dataclass(frozen=True)
+class Options:
+    """How clips are reduced and written.
+
+    Attributes
+    ----------
+    tol : float or None
+        Position tolerance in the clip's units; None: ``tol_cm`` converted with the
+        clip's unit.
+    tol_cm : float
+        Position tolerance in centimetres, used when ``tol`` is None.
+    rot_tol_deg : float
+        Rotation tolerance, degrees.
+    units : str or None
+        The clip's unit (a key of :data:`~sketchanim.anim.skeleton.UNITS_M`); None: the
+        file's, else guessed from the figure's height.
+    rate : float or None
+        Frames per second of BVH / USD output; None: the source's.
+    skeleton : str or None
+        ASF file for AMC input; None: found beside it.
+    """
+
+    tol: float | None = None
+    tol_cm: float = 0.5
+    rot_tol_deg: float = 0.5
+    units: str | None = None
+    rate: float | None = None
+    skeleton: str | None = None
+
+    def distance(self, clip: Clip) -> float:
+        """The position tolerance for ``clip``, in its units."""
+        if self.tol is not None:
+            return self.tol
+        unit = UNITS_M[self.units] if self.units else clip.guess_unit_m()
+        if unit is None:
+            height = float(np.ptp(clip.skeleton.rest_positions(), axis=0).max())
+            raise InputError(f"cannot tell the clip's units (its figure is {height:.4g} units tall); give --tol in "
+                             f"its units or --units ({', '.join(UNITS_M)})")
+        return self.tol_cm * 0.01 / unit
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """One clip's result, a row of the report."""
+
+    source: str
+    output: str
+    status: str                  # "reduced", "skipped" (done before) or "failed"
+    message: str = ""
+    frames: int = 0
+    joints: int = 0
+    control_points: int = 0
+    raw_bytes: int = 0
+    reduced_bytes: int = 0
+    compression: float = 0.0
+    max_rotation_error_deg: float = 0.0
+    max_position_error: float = 0.0
+    max_world_error: float = 0.0
+    tol: float = 0.0
+    seconds: float = 0.0
+
+
+def reduce_file(source: Path, options: Options) -> tuple[Clip, ReducedClip, float]:
+    """Read and reduce one clip: the clip, its curves and the position tolerance used."""
+    clip = read_clip(source, skeleton=options.skeleton)
+    tol = options.distance(clip)
+    return clip, reduce_clip(clip, tol, options.rot_tol_deg), tol
+
+
+def outcome(source: Path, output: Path, clip: Clip, reduced: ReducedClip, tol: float, seconds: float) -> Outcome:
+    """The report row of a reduced clip."""
+    rows = reduced.joint_reports()
+    rot = [r.rotation_error_deg for r in rows if r.rotation_points]
+    pos = [r.position_error for r in rows if r.position_points]
+    return Outcome(str(source), str(output), "reduced", "", len(clip.times), len(clip.skeleton),
+                   sum(r.rotation_points + r.position_points for r in rows), reduced.raw_bytes(),
+                   reduced.reduced_bytes(), round(reduced.compression(), 3), max(rot, default=0.0),
+                   max(pos, default=0.0), reduced.world_error(clip), tol, round(seconds, 3))
+
+
+def convert(source: Path, output: Path, options: Options) -> Outcome:
+    """Reduce ``source`` and write ``output``; a bad file gives a failed outcome naming
+    what is wrong, never an exception."""
+    start = time.perf_counter()
+    try:
+        clip, reduced, tol = reduce_file(source, options)
+        write_reduced(output, reduced, rate=options.rate)
+    except (InputError, OSError) as err:
+        message = f"{err.filename}: {err.strerror}" if isinstance(err, OSError) and err.filename else str(err)
+        return Outcome(str(source), str(output), "failed", message, seconds=round(time.perf_counter() - start, 3))
+    return outcome(source, output, clip, reduced, tol, time.perf_counter() - start)
+
+
+def plan(folder: Path, out: Path, suffix: str) -> list[tuple[Path, Path]]:
+    """Every clip under ``folder`` (recursively) and its output under ``out``, mirroring
+    the folders, with extension ``suffix``."""
+    sources = sorted(p for p in folder.rglob("*") if p.suffix.lower() in CLIP_INPUTS and p.is_file())
+    return [(p, out / p.relative_to(folder).with_suffix(suffix)) for p in sources]
+
+
+def _done(source: Path, output: Path) -> bool:
+    return output.is_file() and output.stat().st_mtime >= source.stat().st_mtime
+
+
+def previous_report(out: Path) -> dict[str, Outcome]:
+    """The rows of an earlier run's report in ``out``, by source (none if unreadable)."""
+    try:
+        with open(out / REPORT, newline="", encoding="utf-8") as handle:
+            rows = list(csv.DictReader(handle))
+        kinds = {f.name: f.type for f in fields(Outcome)}
+        convert_value = {"int": int, "float": float, "str": str}
+        return {r["source"]: Outcome(**{k: convert_value[kinds[k]](v) for k, v in r.items()}) for r in rows}
+    except (OSError, KeyError, TypeError, ValueError):
+        return {}
+
+
+def run(jobs: list[tuple[Path, Path]], options: Options, *, workers: int = 1, scheduler: str | None = None,
+        on_done: Callable[[Outcome], None] = lambda o: None, previous: dict[str, Outcome] | None = None
+        ) -> list[Outcome]:
+    """Reduce every job not already done, ``workers`` processes at a time, or on the Dask
+    scheduler at ``scheduler`` (its workers must see the same paths); ``on_done`` hears
+    each outcome as it comes. Outcomes are returned in the order of ``jobs``."""
+    previous = previous or {}
+    results: dict[int, Outcome] = {}
+    todo = []
+    for i, (source, output) in enumerate(jobs):
+        if _done(source, output):
+            old = previous.get(str(source))
+            results[i] = (Outcome(**{**asdict(old), "status": "skipped"}) if old
+                          else Outcome(str(source), str(output), "skipped", "output newer than the source"))
+            on_done(results[i])
+        else:
+            todo.append(i)
+    for i, result in _execute([jobs[i] for i in todo], options, workers, scheduler):
+        results[todo[i]] = result
+        on_done(result)
+    return [results[i] for i in range(len(jobs))]
+
+
+def _execute(jobs: list[tuple[Path, Path]], options: Options, workers: int, scheduler: str | None
+             ) -> Iterator[tuple[int, Outcome]]:
+    if not jobs:
+        return
+    if scheduler:
+        from distributed import Client, as_completed as dask_completed
+
+        with Client(scheduler) as client:
+            futures = {client.submit(convert, s, o, options, pure=False): i for i, (s, o) in enumerate(jobs)}
+            for future in dask_completed(futures):
+                yield futures[future], future.result()
+    elif workers <= 1:
+        for i, (s, o) in enumerate(jobs):
+            yield i, convert(s, o, options)
+    else:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            pending = {pool.submit(convert, s, o, options): i for i, (s, o) in enumerate(jobs)}
+            for future in as_completed(pending):
+                yield pending[future], future.result()
+
+
+def write_report(path: Path, outcomes: list[Outcome]) -> Path:
+    """The outcomes as CSV, atomically.
+
+    >>> import tempfile, pathlib
+    >>> p = write_report(pathlib.Path(tempfile.mkdtemp()) / "r.csv", [Outcome("a.bvh", "a.glb", "failed", "bad")])
+    >>> p.read_text().splitlines()[1][:24]
+    'a.bvh,a.glb,failed,bad,0'
+    """
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=[f.name for f in fields(Outcome)], lineterminator="\n")
+    writer.writeheader()
+    for o in outcomes:
+        writer.writerow(asdict(o))
+    return write_atomic(path, text.getvalue())
+

@@ -1,0 +1,77 @@
+"""Clip files by extension: read BVH or ASF/AMC, write a reduced clip as glTF (.glb),
+BVH, USD or JSON."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from sketchanim.anim.clip_reduction import ReducedClip
+from sketchanim.anim.skeleton import Clip
+from sketchanim.errors import FileFormatError, InputError
+from sketchanim.io.amc import read_amc, read_asf
+from sketchanim.io.atomic import write_atomic
+from sketchanim.io.bvh import read_bvh, write_bvh
+
+#: Extensions read as clips.
+CLIP_INPUTS = (".bvh", ".amc")
+
+#: Extensions a reduced clip is written as.
+CLIP_OUTPUTS = (".glb", ".bvh", ".json", ".usd", ".usda", ".usdc")
+
+
+def find_asf(amc: Path) -> Path:
+    """The ASF skeleton of an AMC file: in its folder, the .asf whose name starts its
+    name (``11.asf`` for ``11_01.amc``, ``cmu_11.asf`` for ``cmu_11_01.amc``), or the
+    only .asf there.
+
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> for name in ("11.asf", "12.asf"): _ = (d / name).write_text("")
+    >>> find_asf(d / "11_01.amc").name
+    '11.asf'
+    """
+    candidates = sorted(amc.parent.glob("*.asf"))
+    prefixed = [a for a in candidates if amc.stem.startswith(a.stem + "_") or amc.stem == a.stem]
+    if prefixed:
+        return max(prefixed, key=lambda a: len(a.stem))
+    if len(candidates) == 1:
+        return candidates[0]
+    found = ", ".join(a.name for a in candidates) or "none"
+    raise FileFormatError(str(amc), f"cannot tell which .asf skeleton it uses (found: {found}); give it with "
+                                    "--skeleton")
+
+
+def read_clip(path: str | os.PathLike[str], *, skeleton: str | os.PathLike[str] | None = None) -> Clip:
+    """A clip from a BVH file, or an AMC file with its ASF ``skeleton`` (found beside it
+    when not given: :func:`find_asf`)."""
+    source = Path(path)
+    suffix = source.suffix.lower()
+    if suffix == ".bvh":
+        return read_bvh(source)
+    if suffix == ".amc":
+        return read_amc(source, read_asf(Path(skeleton) if skeleton else find_asf(source)))
+    raise FileFormatError(str(source), f"not a clip format this reads ({', '.join(CLIP_INPUTS)})")
+
+
+def write_reduced(path: str | os.PathLike[str], clip: ReducedClip, *, rate: float | None = None) -> Path:
+    """Write ``clip`` in the format its extension names: .glb (the curves, exactly),
+    .json (the curves), .bvh or .usd/.usda/.usdc (frames at ``rate`` per second, the
+    source's rate by default)."""
+    target = Path(path)
+    suffix = target.suffix.lower()
+    if suffix == ".glb":
+        from sketchanim.io.gltf import clip_glb
+
+        return write_atomic(target, clip_glb(clip, name=target.stem))
+    if suffix == ".json":
+        return write_atomic(target, clip.to_json())
+    frames = clip.resample(rate or 1.0 / clip.frame_time)
+    if suffix == ".bvh":
+        return write_bvh(target, frames)
+    if suffix in (".usd", ".usda", ".usdc"):
+        from sketchanim.io.usd import write_usd
+
+        return write_usd(target, frames)
+    raise InputError(f"{target}: cannot write {suffix or 'files without an extension'}; use one of "
+                     f"{', '.join(CLIP_OUTPUTS)}")

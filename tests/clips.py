@@ -1,0 +1,107 @@
+"""Motion clips for the interop tests: random skeletons with smooth random motion, and
+checks shared by the tests (every frame and joint against a source clip; the glTF
+validator; an independent evaluation of glTF CUBICSPLINE samplers)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pygltflib as gl
+from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
+from sketchanim.anim.skeleton import Clip, Skeleton
+from sketchanim.reducer.metric import rotation_angle
+
+ROOT = Path(__file__).resolve().parents[1]
+ORDERS = ("ZXY", "ZYX", "XYZ", "YXZ", "YZX", "XZY")
+
+
+@st.composite
+def clips(draw: st.DrawFn) -> Clip:
+    """A chain-and-branch skeleton of 2 to 6 joints, each with a random Euler order,
+    the root (and sometimes another joint) translating, smooth motion of random speed
+    (sums of sines, up to a few turns), 24 to 120 frames per second."""
+    j = draw(st.integers(2, 6))
+    parents = tuple([-1] + [draw(st.integers(0, i - 1)) for i in range(1, j)])
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    offsets = rng.normal(0, 20, (j, 3))
+    rate = draw(st.sampled_from([24.0, 30.0, 60.0, 120.0]))
+    n = draw(st.integers(20, 240))
+    t = np.arange(n) / rate
+    speed = draw(st.floats(0.2, 3.0))
+    layout, rotating, translating = [], np.ones(j, bool), np.zeros(j, bool)
+    translating[0] = True
+    if j > 2 and draw(st.booleans()):
+        translating[j - 1] = True
+    rotations = np.empty((n, j, 4))
+    translations = np.broadcast_to(offsets, (n, j, 3)).copy()
+    for i in range(j):
+        order = draw(st.sampled_from(ORDERS))
+        amp = rng.uniform(5, 120, 3)
+        freq, phase = rng.uniform(0.1, 2.0, 3) * speed, rng.uniform(0, 2 * np.pi, 3)
+        angles = amp * np.sin(np.outer(t, freq) * 2 * np.pi + phase)
+        rotations[:, i] = Rotation.from_euler(order, angles, degrees=True).as_quat()
+        rot = tuple(f"{a}rotation" for a in order)
+        if translating[i]:
+            translations[:, i] = offsets[i] + rng.uniform(5, 50, 3) * np.sin(np.outer(t, freq) + phase)
+            layout.append(("Xposition", "Yposition", "Zposition") + rot)
+        else:
+            layout.append(rot)
+    skeleton = Skeleton(tuple(f"j{i}" for i in range(j)), parents, offsets)
+    return Clip(skeleton, t, rotations, translations, rotating, translating, tuple(layout))
+
+
+def assert_within(clip: Clip, source: Clip, tol: float, rot_tol_deg: float, slack: float = 1e-6) -> None:
+    """Every frame and joint of ``clip`` within ``tol`` (distance) and ``rot_tol_deg``
+    of ``source``, over the joints ``source`` moves."""
+    assert np.allclose(clip.times, source.times, atol=1e-9)
+    for j in np.flatnonzero(source.rotating):
+        angle = np.degrees(rotation_angle(clip.rotations[:, j], source.rotations[:, j]))
+        assert angle.max() <= rot_tol_deg + slack, (source.skeleton.names[j], angle.max())
+    for j in np.flatnonzero(source.translating):
+        dist = np.linalg.norm(clip.translations[:, j] - source.translations[:, j], axis=1)
+        assert dist.max() <= tol + slack, (source.skeleton.names[j], dist.max())
+
+
+def validate(*paths: Path) -> list[dict]:
+    """The Khronos glTF-Validator's report of each file (scripts/validate-gltf.mjs)."""
+    out = subprocess.run(["node", str(ROOT / "scripts" / "validate-gltf.mjs"), *map(str, paths)],
+                         capture_output=True, text=True, check=True, cwd=ROOT)
+    return [json.loads(line) for line in out.stdout.splitlines()]
+
+
+def hermite_channels(path: Path) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:
+    """Each animated (node name, path) of a .glb: its CUBICSPLINE key times and
+    (m, 3, d) outputs, read with pygltflib from the file's bytes."""
+    doc = gl.GLTF2().load_binary(str(path))
+    blob = doc.binary_blob()
+
+    def accessor(i: int) -> np.ndarray:
+        acc = doc.accessors[i]
+        view = doc.bufferViews[acc.bufferView]
+        width = {"SCALAR": 1, "VEC3": 3, "VEC4": 4}[acc.type]
+        start = (view.byteOffset or 0) + (acc.byteOffset or 0)
+        return np.frombuffer(blob, np.float32, acc.count * width, start).reshape(acc.count, width).astype(float)
+
+    out = {}
+    for ch in doc.animations[0].channels:
+        sampler = doc.animations[0].samplers[ch.sampler]
+        assert sampler.interpolation == "CUBICSPLINE"
+        times = accessor(sampler.input)[:, 0]
+        values = accessor(sampler.output)
+        out[(doc.nodes[ch.target.node].name, ch.target.path)] = (times, values.reshape(len(times), 3, -1))
+    return out
+
+
+def hermite_at(times: np.ndarray, keys: np.ndarray, segment: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """The glTF spec's cubic Hermite formula, on ``segment`` k at normalised ``u``:
+    p = (2u^3 - 3u^2 + 1) v_k + td (u^3 - 2u^2 + u) b_k + (-2u^3 + 3u^2) v_k+1 + td (u^3 - u^2) a_k+1."""
+    td = (times[segment + 1] - times[segment])[:, None]
+    a_next, v0, b0, v1 = keys[segment + 1, 0], keys[segment, 1], keys[segment, 2], keys[segment + 1, 1]
+    u = u[:, None]
+    return ((2 * u**3 - 3 * u**2 + 1) * v0 + td * (u**3 - 2 * u**2 + u) * b0 + (-2 * u**3 + 3 * u**2) * v1
+            + td * (u**3 - u**2) * a_next)
