@@ -12,9 +12,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
-from sketchanim.anim.skeleton import Clip, Skeleton, world_positions
+from sketchanim.anim.skeleton import Clip, Skeleton
 from sketchanim.anim.tracks import held_values
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.motion import reduce_rotations
@@ -69,19 +68,22 @@ class ReducedClip:
     unit_m: float | None = None
 
     @property
+    def curves(self) -> list[Reduction]:
+        """Every curve: the rotations, then the translations."""
+        return [*self.rotations.values(), *self.translations.values()]
+
+    @property
     def start(self) -> float:
-        curves = [*self.rotations.values(), *self.translations.values()]
-        return min(float(r.spline.t[r.spline.k]) for r in curves) if curves else 0.0
+        return min((float(r.spline.t[r.spline.k]) for r in self.curves), default=0.0)
 
     @property
     def end(self) -> float:
-        curves = [*self.rotations.values(), *self.translations.values()]
-        return max(float(r.spline.t[-r.spline.k - 1]) for r in curves) if curves else 0.0
+        return max((float(r.spline.t[-r.spline.k - 1]) for r in self.curves), default=0.0)
 
     def sample(self, times: np.ndarray) -> Clip:
         """The curves evaluated at ``times`` (rotations normalised, ends held) as a clip.
 
-        >>> from sketchanim.anim.skeleton import Skeleton
+        >>> from scipy.spatial.transform import Rotation
         >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
         >>> t = np.linspace(0, 1, 31)
         >>> q = Rotation.from_euler("Z", t[:, None]).as_quat()[:, None]
@@ -91,10 +93,8 @@ class ReducedClip:
         True
         """
         t = np.asarray(times, dtype=float)
-        n, j = len(t), len(self.skeleton)
-        rot = np.zeros((n, j, 4))
-        rot[..., 3] = 1.0
-        trans = np.broadcast_to(self.skeleton.offsets, (n, j, 3)).copy()
+        j = len(self.skeleton)
+        rot, trans = self.skeleton.rest_pose(len(t))
         for i, r in self.rotations.items():
             rot[:, i] = held_values(r.columns, t, True)
         for i, r in self.translations.items():
@@ -122,7 +122,7 @@ class ReducedClip:
         multiplicity, each control point as float32s; a curve whose control points are
         all equal (a joint that does not move) as its one value."""
         total = 0
-        for r in (*self.rotations.values(), *self.translations.values()):
+        for r in self.curves:
             c = np.asarray(r.columns.c)
             if np.all(c == c[0]):
                 total += FLOAT32 * c.shape[1]
@@ -154,9 +154,8 @@ class ReducedClip:
     def world_error(self, clip: Clip) -> float:
         """The largest distance, over frames and joints, between ``clip``'s world joint
         positions and this reduction's at the same times (clip units)."""
-        mine = self.sample(clip.times)
-        return float(np.linalg.norm(world_positions(self.skeleton, mine.rotations, mine.translations)
-                                    - clip.world_positions(), axis=-1).max())
+        return float(np.linalg.norm(self.sample(clip.times).world_positions() - clip.world_positions(),
+                                    axis=-1).max())
 
     def to_json(self) -> str:
         """The skeleton and every curve as JSON (schema ``sketchanim.clip``, version 1)."""
@@ -224,6 +223,7 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "gl
 
     Examples
     --------
+    >>> from scipy.spatial.transform import Rotation
     >>> s = Skeleton(("root", "arm"), (-1, 0), np.array([[0.0, 1, 0], [0.5, 0, 0]]))
     >>> t = np.arange(240) / 120
     >>> clip = Clip.still(s, t)

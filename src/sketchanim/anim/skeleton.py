@@ -69,6 +69,13 @@ class Skeleton:
         except ValueError:
             raise ArgumentError("joint", f"no joint named {name!r}") from None
 
+    def rest_pose(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """``n`` frames of the rest pose, to fill in: identity rotations (n, J, 4,
+        scalar-last) and the offsets as translations (n, J, 3), both writable."""
+        rotations = np.zeros((n, len(self), 4))
+        rotations[..., 3] = 1.0
+        return rotations, np.broadcast_to(self.offsets, (n, len(self), 3)).copy()
+
     def rest_positions(self) -> np.ndarray:
         """World positions (J, 3) with every rotation the identity."""
         out = np.zeros((len(self), 3))
@@ -126,11 +133,9 @@ class Clip:
     def still(cls, skeleton: Skeleton, times: ArrayLike) -> Clip:
         """The rest pose held at ``times``, rotation channels on every joint."""
         t = np.asarray(times, dtype=float)
-        n, j = len(t), len(skeleton)
-        rotations = np.zeros((n, j, 4))
-        rotations[..., 3] = 1.0
-        return cls(skeleton, t, rotations, np.broadcast_to(skeleton.offsets, (n, j, 3)).copy(),
-                   np.ones(j, bool), np.zeros(j, bool), (("Zrotation", "Xrotation", "Yrotation"),) * j)
+        j = len(skeleton)
+        return cls(skeleton, t, *skeleton.rest_pose(len(t)), np.ones(j, bool), np.zeros(j, bool),
+                   (("Zrotation", "Xrotation", "Yrotation"),) * j)
 
     @property
     def frame_time(self) -> float:

@@ -205,9 +205,7 @@ def read_amc(path: str | os.PathLike[str], asf: AsfSkeleton, *, rate: float = CM
 def _clip(asf: AsfSkeleton, frames: list[dict[str, np.ndarray]], rate: float) -> Clip:
     sk = asf.skeleton
     n, j = len(frames), len(sk)
-    rotations = np.zeros((n, j, 4))
-    rotations[..., 3] = 1.0
-    translations = np.broadcast_to(sk.offsets, (n, j, 3)).copy()
+    rotations, translations = sk.rest_pose(n)
     rotating, translating = np.zeros(j, bool), np.zeros(j, bool)
     channels: list[tuple[str, ...]] = []
     for i, name in enumerate(sk.names):

@@ -231,9 +231,7 @@ def _is_number(text: str) -> bool:
 
 def _clip(skeleton: Skeleton, channels: tuple[tuple[str, ...], ...], frame_time: float, frames: np.ndarray) -> Clip:
     n, j = len(frames), len(skeleton)
-    rotations = np.zeros((n, j, 4))
-    rotations[..., 3] = 1.0
-    translations = np.broadcast_to(skeleton.offsets, (n, j, 3)).copy()
+    rotations, translations = skeleton.rest_pose(n)
     rotating, translating = np.zeros(j, bool), np.zeros(j, bool)
     col = 0
     for i, names in enumerate(channels):
