@@ -74,9 +74,10 @@ def validate(*paths: Path) -> list[dict]:
     return [json.loads(line) for line in out.stdout.splitlines()]
 
 
-def hermite_channels(path: Path) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:
-    """Each animated (node name, path) of a .glb: its CUBICSPLINE key times and
-    (m, 3, d) outputs, read with pygltflib from the file's bytes."""
+def samplers(path: Path) -> dict[tuple[str, str], tuple[str, np.ndarray, np.ndarray]]:
+    """Each animated (node name, path) of a .glb: its interpolation, key times and
+    outputs ((m, 3, d) for CUBICSPLINE, else (m, d)), read with pygltflib from the
+    file's bytes."""
     doc = gl.GLTF2().load_binary(str(path))
     blob = doc.binary_blob()
 
@@ -88,13 +89,28 @@ def hermite_channels(path: Path) -> dict[tuple[str, str], tuple[np.ndarray, np.n
         return np.frombuffer(blob, np.float32, acc.count * width, start).reshape(acc.count, width).astype(float)
 
     out = {}
-    for ch in doc.animations[0].channels:
+    for ch in (doc.animations[0].channels if doc.animations else []):
         sampler = doc.animations[0].samplers[ch.sampler]
-        assert sampler.interpolation == "CUBICSPLINE"
         times = accessor(sampler.input)[:, 0]
         values = accessor(sampler.output)
-        out[(doc.nodes[ch.target.node].name, ch.target.path)] = (times, values.reshape(len(times), 3, -1))
+        if sampler.interpolation == "CUBICSPLINE":
+            values = values.reshape(len(times), 3, -1)
+        out[(doc.nodes[ch.target.node].name, ch.target.path)] = (sampler.interpolation, times, values)
     return out
+
+
+def hermite_channels(path: Path) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:
+    """The CUBICSPLINE channels of :func:`samplers`: key times and (m, 3, d) outputs."""
+    return {k: (t, v) for k, (kind, t, v) in samplers(path).items() if kind == "CUBICSPLINE"}
+
+
+def hermite_play(times: np.ndarray, keys: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """A CUBICSPLINE sampler played at times ``t`` inside its keys' span
+    (:func:`hermite_at` on the segment holding each)."""
+    seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, max(len(times) - 2, 0))
+    if len(times) == 1:
+        return np.repeat(keys[:1, 1], len(t), axis=0)
+    return hermite_at(times, keys, seg, (t - times[seg]) / (times[seg + 1] - times[seg]))
 
 
 def hermite_at(times: np.ndarray, keys: np.ndarray, segment: np.ndarray, u: np.ndarray) -> np.ndarray:

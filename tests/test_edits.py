@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy.interpolate import BSpline
 
 from sketchanim.anim.attributes import BOOL, ORIENTATION, POSITION
 from sketchanim.anim.edits import History, moved_point, scaled, shifted, with_knot, without_knot, without_range

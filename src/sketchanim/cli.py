@@ -15,10 +15,12 @@ from rich.table import Table
 from rich.text import Text
 from scipy.spatial.transform import Rotation
 
+from sketchanim.anim.clip_reduction import ReducedClip
+from sketchanim.anim.markers import ReducedMarkers
 from sketchanim.anim.skeleton import UNITS_M
 from sketchanim.errors import InputError, SampleError
 from sketchanim.io.atomic import write_atomic
-from sketchanim.io.batch import REPORT, Options, outcome, plan, previous_report, reduce_file, run, write_report
+from sketchanim.io.batch import REPORT, Options, Outcome, outcome, plan, previous_report, reduce_file, run, write_report
 from sketchanim.io.clip_files import CLIP_INPUTS, CLIP_OUTPUTS, write_reduced
 from sketchanim.io.csvio import SampleTable, read_samples_csv
 from sketchanim.motion import reduce_rotations
@@ -234,19 +236,35 @@ def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
     except OSError as err:
         _fail(f"{err.filename or output}: cannot write ({err.strerror})")
     row = outcome(input, output or Path(), clip, reduced, tol, time.perf_counter() - start)
-    table = Table(title=f"{input.name}: {row.frames} frames, {row.joints} joints, tolerance {tol:.4g} units "
-                        f"and {options.rot_tol_deg:g} degrees")
+    console.print(_markers_table(reduced, row) if isinstance(reduced, ReducedMarkers) else _joints_table(
+        reduced, row, input.name, options.rot_tol_deg))
+    console.print(f"compression {row.compression:.1f}:1 ({row.reduced_bytes:,} bytes of curves vs {row.raw_bytes:,} "
+                  f"bytes of float32 channels); largest {'marker' if isinstance(reduced, ReducedMarkers) else 'joint'} "
+                  f"position error in the world {row.max_world_error:.4g} units; {row.seconds:.2f} s")
+    if output is not None:
+        console.print(f"wrote {output}")
+
+
+def _joints_table(reduced: ReducedClip, row: Outcome, name: str, rot_tol_deg: float) -> Table:
+    table = Table(title=f"{name}: {row.frames} frames, {row.joints} joints, tolerance {row.tol:.4g} units "
+                        f"and {rot_tol_deg:g} degrees")
     for column in ("joint", "rotation points", "max rotation error (deg)", "position points", "max position error"):
         table.add_column(column, justify="left" if column == "joint" else "right")
     for j in reduced.joint_reports():
         table.add_row(j.joint, str(j.rotation_points or ""), f"{j.rotation_error_deg:.4f}" if j.rotation_points else "",
                       str(j.position_points or ""), f"{j.position_error:.4g}" if j.position_points else "")
-    console.print(table)
-    console.print(f"compression {row.compression:.1f}:1 ({row.reduced_bytes:,} bytes of curves vs {row.raw_bytes:,} "
-                  f"bytes of float32 channels); largest joint position error in the world {row.max_world_error:.4g} "
-                  f"units; {row.seconds:.2f} s")
-    if output is not None:
-        console.print(f"wrote {output}")
+    return table
+
+
+def _markers_table(reduced: ReducedMarkers, row: Outcome) -> Table:
+    table = Table(title=f"{Path(row.source).name}: {row.frames} frames, {row.joints} markers, tolerance "
+                        f"{row.tol:.4g} units")
+    for column in ("marker", "pieces", "frames unseen", "control points", "max distance"):
+        table.add_column(column, justify="left" if column == "marker" else "right")
+    for m in reduced.reports():
+        table.add_row(m.marker, str(m.pieces), str(m.gap_frames), str(m.control_points),
+                      f"{m.max_distance:.4g}" if m.pieces else "")
+    return table
 
 
 def _reduce_folder(folder: Path, output: Path | None, fmt: str, options: Options, workers: int,

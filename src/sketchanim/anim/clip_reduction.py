@@ -12,6 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.interpolate import BSpline
 
 from sketchanim.anim.skeleton import Clip, Skeleton
 from sketchanim.anim.tracks import held_values
@@ -24,6 +25,20 @@ VERSION = 1
 
 #: Bytes per stored number, for the compression ratio (raw channels kept as float32).
 FLOAT32 = 4
+
+
+def curve_bytes(spline: BSpline) -> int:
+    """Bytes to store a curve: each distinct knot as a float32 and a byte of
+    multiplicity, each control point as float32s; a curve whose control points are all
+    equal (a joint that does not move) as its one value.
+
+    >>> curve_bytes(BSpline(np.r_[[0.0] * 4, [1.0] * 4], np.arange(8.0).reshape(4, 2), 3))
+    42
+    """
+    c = np.asarray(spline.c).reshape(len(spline.c), -1)
+    if np.all(c == c[0]):
+        return FLOAT32 * c.shape[1]
+    return (FLOAT32 + 1) * len(np.unique(spline.t)) + FLOAT32 * c.size
 
 
 @dataclass(frozen=True)
@@ -118,17 +133,8 @@ class ReducedClip:
         return self.sample(self.start + np.arange(n) / rate)
 
     def reduced_bytes(self) -> int:
-        """Bytes to store every curve: each distinct knot as a float32 and a byte of
-        multiplicity, each control point as float32s; a curve whose control points are
-        all equal (a joint that does not move) as its one value."""
-        total = 0
-        for r in self.curves:
-            c = np.asarray(r.columns.c)
-            if np.all(c == c[0]):
-                total += FLOAT32 * c.shape[1]
-            else:
-                total += (FLOAT32 + 1) * len(np.unique(r.spline.t)) + FLOAT32 * c.size
-        return total
+        """Bytes to store every curve (:func:`curve_bytes`)."""
+        return sum(curve_bytes(r.columns) for r in self.curves)
 
     def raw_bytes(self) -> int:
         """Bytes of the source's channels at every frame as float32."""

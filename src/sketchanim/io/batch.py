@@ -1,5 +1,6 @@
-"""Reducing clips, one or a whole library: on local worker processes or a Dask cluster;
-a bad file is reported and the rest go on; a rerun skips clips already done."""
+"""Reducing clips (skeletal clips or C3D markers), one or a whole library: on local
+worker processes or a Dask cluster; a bad file is reported and the rest go on; a rerun
+skips clips already done."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from sketchanim.anim.clip_reduction import ReducedClip, reduce_clip
+from sketchanim.anim.markers import Markers, ReducedMarkers, reduce_markers
 from sketchanim.anim.skeleton import UNITS_M, Clip
 from sketchanim.errors import InputError
 from sketchanim.io.atomic import write_atomic
@@ -51,15 +53,18 @@ class Options:
     rate: float | None = None
     skeleton: str | None = None
 
-    def distance(self, clip: Clip) -> float:
+    def distance(self, clip: Clip | Markers) -> float:
         """The position tolerance for ``clip``, in its units."""
         if self.tol is not None:
             return self.tol
-        unit = UNITS_M[self.units] if self.units else clip.guess_unit_m()
+        if self.units:
+            return self.tol_cm * 0.01 / UNITS_M[self.units]
+        unit = clip.unit_m if isinstance(clip, Markers) else clip.guess_unit_m()
         if unit is None:
-            height = float(np.ptp(clip.skeleton.rest_positions(), axis=0).max())
-            raise InputError(f"cannot tell the clip's units (its figure is {height:.4g} units tall); give --tol in "
-                             f"its units or --units ({', '.join(UNITS_M)})")
+            why = ("the file does not say" if isinstance(clip, Markers) else
+                   f"its figure is {float(np.ptp(clip.skeleton.rest_positions(), axis=0).max()):.4g} units tall")
+            raise InputError(f"cannot tell the clip's units ({why}); give --tol in its units or --units "
+                             f"({', '.join(UNITS_M)})")
         return self.tol_cm * 0.01 / unit
 
 
@@ -72,7 +77,7 @@ class Outcome:
     status: str                  # "reduced", "skipped" (done before) or "failed"
     message: str = ""
     frames: int = 0
-    joints: int = 0
+    joints: int = 0              # markers, for C3D
     control_points: int = 0
     raw_bytes: int = 0
     reduced_bytes: int = 0
@@ -84,20 +89,32 @@ class Outcome:
     seconds: float = 0.0
 
 
-def reduce_file(source: Path, options: Options) -> tuple[Clip, ReducedClip, float]:
-    """Read and reduce one clip: the clip, its curves and the position tolerance used."""
+def reduce_file(source: Path, options: Options) -> tuple[Clip | Markers, ReducedClip | ReducedMarkers, float]:
+    """Read and reduce one clip (or C3D markers): the source, its curves and the
+    position tolerance used."""
     clip = read_clip(source, skeleton=options.skeleton)
     tol = options.distance(clip)
+    if isinstance(clip, Markers):
+        return clip, reduce_markers(clip, tol), tol
     return clip, reduce_clip(clip, tol, options.rot_tol_deg), tol
 
 
-def outcome(source: Path, output: Path, clip: Clip, reduced: ReducedClip, tol: float, seconds: float) -> Outcome:
-    """The report row of a reduced clip."""
-    rows = reduced.joint_reports()
-    rot = [r.rotation_error_deg for r in rows if r.rotation_points]
-    pos = [r.position_error for r in rows if r.position_points]
+def outcome(source: Path, output: Path, clip: Clip | Markers, reduced: ReducedClip | ReducedMarkers, tol: float,
+            seconds: float) -> Outcome:
+    """The report row of a reduced clip (markers: one "joint" per marker, no rotation,
+    and their position error is their world error)."""
+    if isinstance(reduced, ReducedMarkers):
+        rows = reduced.reports()
+        worst = max((r.max_distance for r in rows), default=0.0)
+        return Outcome(str(source), str(output), "reduced", "", len(reduced.times), len(rows),
+                       sum(r.control_points for r in rows), reduced.raw_bytes(), reduced.reduced_bytes(),
+                       round(reduced.compression(), 3), 0.0, worst, worst, tol, round(seconds, 3))
+    assert isinstance(clip, Clip)
+    joints = reduced.joint_reports()
+    rot = [r.rotation_error_deg for r in joints if r.rotation_points]
+    pos = [r.position_error for r in joints if r.position_points]
     return Outcome(str(source), str(output), "reduced", "", len(clip.times), len(clip.skeleton),
-                   sum(r.rotation_points + r.position_points for r in rows), reduced.raw_bytes(),
+                   sum(r.rotation_points + r.position_points for r in joints), reduced.raw_bytes(),
                    reduced.reduced_bytes(), round(reduced.compression(), 3), max(rot, default=0.0),
                    max(pos, default=0.0), reduced.world_error(clip), tol, round(seconds, 3))
 

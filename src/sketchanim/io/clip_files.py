@@ -1,5 +1,5 @@
-"""Clip files by extension: read BVH or ASF/AMC, write a reduced clip as glTF (.glb),
-BVH, USD or JSON."""
+"""Motion capture files by extension: read BVH or ASF/AMC clips and C3D markers; write a
+reduced clip as glTF (.glb), BVH, USD or JSON, reduced markers as glTF or JSON."""
 
 from __future__ import annotations
 
@@ -7,17 +7,22 @@ import os
 from pathlib import Path
 
 from sketchanim.anim.clip_reduction import ReducedClip
+from sketchanim.anim.markers import Markers, ReducedMarkers
 from sketchanim.anim.skeleton import Clip
 from sketchanim.errors import FileFormatError, InputError
 from sketchanim.io.amc import read_amc, read_asf
 from sketchanim.io.atomic import write_atomic
 from sketchanim.io.bvh import read_bvh, write_bvh
+from sketchanim.io.c3d import read_c3d
 
-#: Extensions read as clips.
-CLIP_INPUTS = (".bvh", ".amc")
+#: Extensions read as clips (.c3d: markers).
+CLIP_INPUTS = (".bvh", ".amc", ".c3d")
 
 #: Extensions a reduced clip is written as.
 CLIP_OUTPUTS = (".glb", ".bvh", ".json", ".usd", ".usda", ".usdc")
+
+#: Extensions reduced markers are written as.
+MARKER_OUTPUTS = (".glb", ".json")
 
 
 def find_asf(amc: Path) -> Path:
@@ -42,30 +47,37 @@ def find_asf(amc: Path) -> Path:
                                     "--skeleton")
 
 
-def read_clip(path: str | os.PathLike[str], *, skeleton: str | os.PathLike[str] | None = None) -> Clip:
+def read_clip(path: str | os.PathLike[str], *, skeleton: str | os.PathLike[str] | None = None) -> Clip | Markers:
     """A clip from a BVH file, or an AMC file with its ASF ``skeleton`` (found beside it
-    when not given: :func:`find_asf`)."""
+    when not given: :func:`find_asf`); the markers of a C3D file."""
     source = Path(path)
     suffix = source.suffix.lower()
     if suffix == ".bvh":
         return read_bvh(source)
     if suffix == ".amc":
         return read_amc(source, read_asf(Path(skeleton) if skeleton else find_asf(source)))
+    if suffix == ".c3d":
+        return read_c3d(source)
     raise FileFormatError(str(source), f"not a clip format this reads ({', '.join(CLIP_INPUTS)})")
 
 
-def write_reduced(path: str | os.PathLike[str], clip: ReducedClip, *, rate: float | None = None) -> Path:
+def write_reduced(path: str | os.PathLike[str], clip: ReducedClip | ReducedMarkers, *, rate: float | None = None
+                  ) -> Path:
     """Write ``clip`` in the format its extension names: .glb (the curves, exactly),
     .json (the curves), .bvh or .usd/.usda/.usdc (frames at ``rate`` per second, the
-    source's rate by default)."""
+    source's rate by default; clips only, markers have no skeleton)."""
     target = Path(path)
     suffix = target.suffix.lower()
     if suffix == ".glb":
-        from sketchanim.io.gltf import clip_glb
+        from sketchanim.io.gltf_motion import clip_glb, markers_glb
 
-        return write_atomic(target, clip_glb(clip, name=target.stem))
+        return write_atomic(target, markers_glb(clip, name=target.stem) if isinstance(clip, ReducedMarkers)
+                            else clip_glb(clip, name=target.stem))
     if suffix == ".json":
         return write_atomic(target, clip.to_json())
+    if isinstance(clip, ReducedMarkers):
+        raise InputError(f"{target}: markers are written as {' or '.join(MARKER_OUTPUTS)}, not "
+                         f"{suffix or 'files without an extension'}")
     frames = clip.resample(rate or 1.0 / clip.frame_time)
     if suffix == ".bvh":
         return write_bvh(target, frames)

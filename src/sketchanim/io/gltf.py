@@ -1,28 +1,33 @@
-"""glTF 2.0 binary (.glb) export, with pygltflib: reduced clips as a skinned skeleton
-animated by CUBICSPLINE samplers.
+"""glTF 2.0 binary (.glb) writing, with pygltflib: nodes, meshes, skins, cameras and
+KHR_lights_punctual lights, animated by samplers made exactly from our B-splines.
 
 A cubic B-spline converts exactly to a CUBICSPLINE sampler: one key per breakpoint, its
 value and one-sided derivatives (:func:`sketchanim.spline.hermite.to_hermite`). An
 order-2 curve is exactly a LINEAR sampler, an order-3 one is raised to cubic exactly;
 higher orders have no exact glTF form and are refused (reduce with ``order <= 4``).
 Orientation curves are quaternion splines normalised when played: that is how glTF
-plays a CUBICSPLINE rotation, so they too are exact (to float32).
+plays a CUBICSPLINE rotation, so they too are exact (to float32), once their keys are
+unit quaternions (:func:`sketchanim.motion.rotations.unit_keys`).
+
+glTF's unit is the metre. Content in other units is written as it is, under one root
+node that scales it to metres (``unit_m``), so every curve stays exact.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import pygltflib as gl
 from scipy.interpolate import BSpline
 
-from sketchanim.anim.clip_reduction import ReducedClip
 from sketchanim.errors import ArgumentError
 from sketchanim.spline.hermite import to_hermite
 from sketchanim.spline.knots import elevate_degree
 
 GENERATOR = "sketchanim"
+LIGHTS = "KHR_lights_punctual"
 
 _FLOAT = gl.FLOAT
 _TYPES = {1: gl.SCALAR, 3: gl.VEC3, 4: gl.VEC4, 16: gl.MAT4}
@@ -30,24 +35,57 @@ _TYPES = {1: gl.SCALAR, 3: gl.VEC3, 4: gl.VEC4, 16: gl.MAT4}
 
 @dataclass
 class Node:
-    """A glTF node: name, parent index (-1 for the scene's roots), rest translation, and
-    the mesh and skin it carries."""
+    """A glTF node: name, parent index (-1 for the scene's roots), rest transform
+    (translation, scalar-last rotation, scale), and what it carries (indices of a mesh,
+    skin, camera, light)."""
 
     name: str
     parent: int = -1
     translation: list[float] | None = None
+    rotation: list[float] | None = None
+    scale: list[float] | None = None
     mesh: int | None = None
     skin: int | None = None
+    camera: int | None = None
+    light: int | None = None
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """Triangles: positions (v, 3), indices (f, 3), and for a skinned mesh the joints
+    (v, 4) and weights (v, 4) of each vertex."""
+
+    name: str
+    positions: np.ndarray
+    faces: np.ndarray
+    joints: np.ndarray | None = None
+    weights: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Skin:
+    """Joint node indices and their inverse bind matrices (J, 4, 4)."""
+
+    joints: list[int]
+    inverse_binds: np.ndarray
 
 
 @dataclass(frozen=True)
 class Channel:
-    """One animated property: node index, glTF path (translation, rotation, scale) and
-    the curve (evaluating to (n, 3) or (n, 4))."""
+    """One animated property: node index, glTF path (translation, rotation, scale), and
+    its sampler's interpolation, key times (m,) and outputs ((m, 3, d) for
+    CUBICSPLINE: in-tangent, value, out-tangent; else (m, d))."""
 
     node: int
     path: str
-    spline: BSpline
+    interpolation: str
+    times: np.ndarray
+    values: np.ndarray
+
+    @classmethod
+    def curve(cls, node: int, path: str, spline: BSpline) -> Channel:
+        """The channel playing ``spline`` exactly (:func:`sampler_keys`)."""
+        return cls(node, path, *sampler_keys(spline))
 
 
 def sampler_keys(spline: BSpline) -> tuple[str, np.ndarray, np.ndarray]:
@@ -96,38 +134,53 @@ class _Buffer:
         self.doc.accessors.append(accessor)
         return len(self.doc.accessors) - 1
 
+    def mesh(self, mesh: Mesh) -> gl.Mesh:
+        attributes = gl.Attributes(POSITION=self.add(mesh.positions, 3, bounds=True, target=gl.ARRAY_BUFFER))
+        if mesh.joints is not None and mesh.weights is not None:
+            attributes.JOINTS_0 = self.add(mesh.joints, 4, component=gl.UNSIGNED_SHORT, target=gl.ARRAY_BUFFER)
+            attributes.WEIGHTS_0 = self.add(mesh.weights, 4, target=gl.ARRAY_BUFFER)
+        indices = self.add(mesh.faces.reshape(-1), 1, component=gl.UNSIGNED_SHORT, target=gl.ELEMENT_ARRAY_BUFFER)
+        return gl.Mesh(name=mesh.name, primitives=[gl.Primitive(attributes=attributes, indices=indices)])
 
-def glb_bytes(nodes: list[Node], channels: list[Channel], *, animation: str = "take",
-              mesh: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None,
-              skin_joints: list[int] | None = None, inverse_binds: np.ndarray | None = None) -> bytes:
-    """A .glb of ``nodes`` animated by ``channels``; an optional skinned ``mesh``
-    (positions (v, 3), triangle indices (f, 3), joints (v, 4), weights (v, 4)) bound to
-    ``skin_joints`` with ``inverse_binds`` (J, 4, 4), carried by a root node of its own."""
+
+def glb_bytes(nodes: Sequence[Node], channels: Sequence[Channel] = (), *, animation: str = "take",
+              meshes: Sequence[Mesh] = (), skins: Sequence[Skin] = (), cameras: Sequence[gl.Camera] = (),
+              lights: Sequence[dict] = (), unit_m: float | None = None) -> bytes:
+    """A .glb of ``nodes`` (and the ``meshes``, ``skins``, ``cameras`` and
+    KHR_lights_punctual ``lights`` they refer to), animated by ``channels``; content in
+    units of ``unit_m`` metres sits under a root node scaling it to metres.
+
+    >>> glb = glb_bytes([Node("box", translation=[0.0, 1.0, 0.0])], unit_m=0.01)
+    >>> doc = gl.GLTF2.load_from_bytes(glb)
+    >>> [(n.name, n.scale) for n in doc.nodes], doc.scenes[0].nodes
+    ([('box', None), ('to metres', [0.01, 0.01, 0.01])], [1])
+    """
     doc = gl.GLTF2(asset=gl.Asset(version="2.0", generator=GENERATOR), scene=0, scenes=[gl.Scene(nodes=[])])
     buf = _Buffer(doc)
-    all_nodes = list(nodes)
-    if mesh is not None:
-        positions, faces, joints, weights = mesh
-        prim = gl.Primitive(attributes=gl.Attributes(
-            POSITION=buf.add(positions, 3, bounds=True, target=gl.ARRAY_BUFFER),
-            JOINTS_0=buf.add(joints, 4, component=gl.UNSIGNED_SHORT, target=gl.ARRAY_BUFFER),
-            WEIGHTS_0=buf.add(weights, 4, target=gl.ARRAY_BUFFER)),
-            indices=buf.add(faces.reshape(-1), 1, component=gl.UNSIGNED_SHORT, target=gl.ELEMENT_ARRAY_BUFFER))
-        doc.meshes.append(gl.Mesh(name="bones", primitives=[prim]))
-        doc.skins.append(gl.Skin(name="skeleton", joints=list(skin_joints or []),
-                                 inverseBindMatrices=buf.add(np.transpose(inverse_binds, (0, 2, 1)), 16)))
-        all_nodes.append(Node("bones", mesh=0, skin=0))
-    for node in all_nodes:
-        doc.nodes.append(gl.Node(name=node.name, translation=node.translation, mesh=node.mesh, skin=node.skin))
-    for i, node in enumerate(all_nodes):
-        (doc.scenes[0].nodes if node.parent < 0 else doc.nodes[node.parent].children).append(i)
+    doc.meshes = [buf.mesh(m) for m in meshes]
+    doc.skins = [gl.Skin(joints=list(s.joints), inverseBindMatrices=buf.add(np.transpose(s.inverse_binds, (0, 2, 1)),
+                                                                             16)) for s in skins]
+    doc.cameras = list(cameras)
+    if lights:
+        doc.extensions = {LIGHTS: {"lights": list(lights)}}
+        doc.extensionsUsed = [LIGHTS]
+    roots = []
+    for node in nodes:
+        doc.nodes.append(gl.Node(name=node.name, translation=node.translation, rotation=node.rotation,
+                                 scale=node.scale, mesh=node.mesh, skin=node.skin, camera=node.camera,
+                                 extensions={LIGHTS: {"light": node.light}} if node.light is not None else {}))
+    for i, node in enumerate(nodes):
+        (roots if node.parent < 0 else doc.nodes[node.parent].children).append(i)
+    if unit_m is not None and unit_m != 1.0:
+        doc.nodes.append(gl.Node(name="to metres", scale=[unit_m] * 3, children=roots))
+        roots = [len(doc.nodes) - 1]
+    doc.scenes[0].nodes = roots
     if channels:
         anim = gl.Animation(name=animation)
         for ch in channels:
-            kind, times, out = sampler_keys(ch.spline)
-            width = out.shape[-1]
-            anim.samplers.append(gl.AnimationSampler(input=buf.add(times, 1, bounds=True),
-                                                     output=buf.add(out, width), interpolation=kind))
+            width = ch.values.shape[-1]
+            anim.samplers.append(gl.AnimationSampler(input=buf.add(ch.times, 1, bounds=True),
+                                                     output=buf.add(ch.values, width), interpolation=ch.interpolation))
             anim.channels.append(gl.AnimationChannel(sampler=len(anim.samplers) - 1,
                                                      target=gl.AnimationChannelTarget(node=ch.node, path=ch.path)))
         doc.animations.append(anim)
@@ -137,12 +190,12 @@ def glb_bytes(nodes: list[Node], channels: list[Channel], *, animation: str = "t
     return b"".join(doc.save_to_bytes())
 
 
-def bone_mesh(rest: np.ndarray, parents: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def bone_mesh(rest: np.ndarray, parents: tuple[int, ...]) -> Mesh:
     """A thin double pyramid from each joint's parent to the joint, at rest positions
-    ``rest`` (J, 3), skinned to the parent: positions, faces, joints, weights.
+    ``rest`` (J, 3), skinned to the parent.
 
-    >>> pos, faces, joints, weights = bone_mesh(np.array([[0.0, 0, 0], [0, 1.0, 0]]), (-1, 0))
-    >>> pos.shape, faces.shape, joints[:, 0].tolist(), weights.sum(axis=1).tolist()
+    >>> m = bone_mesh(np.array([[0.0, 0, 0], [0, 1.0, 0]]), (-1, 0))
+    >>> m.positions.shape, m.faces.shape, m.joints[:, 0].tolist(), m.weights.sum(axis=1).tolist()
     ((6, 3), (8, 3), [0, 0, 0, 0, 0, 0], [1.0, 1.0, 1.0, 1.0, 1.0, 1.0])
     """
     positions, faces, joints = [], [], []
@@ -168,23 +221,19 @@ def bone_mesh(rest: np.ndarray, parents: tuple[int, ...]) -> tuple[np.ndarray, n
     joint_rows[:, 0] = joints
     weight_rows = np.zeros((n, 4))
     weight_rows[:, 0] = 1.0
-    return np.array(positions, dtype=float).reshape(n, 3), np.array(faces, dtype=int).reshape(-1, 3), joint_rows, \
-        weight_rows
+    return Mesh("bones", np.array(positions, dtype=float).reshape(n, 3), np.array(faces, dtype=int).reshape(-1, 3),
+                joint_rows, weight_rows)
 
 
-def clip_glb(clip: ReducedClip, *, name: str = "clip") -> bytes:
-    """A reduced clip as a .glb: one node per joint (rest offsets), a skinned bone mesh,
-    and one animation whose channels are the clip's curves, exactly."""
-    sk = clip.skeleton
-    nodes = [Node(n, p, translation=o.tolist()) for n, p, o in zip(sk.names, sk.parents, sk.offsets)]
-    channels = [Channel(i, "rotation", r.columns) for i, r in sorted(clip.rotations.items())]
-    channels += [Channel(i, "translation", r.columns) for i, r in sorted(clip.translations.items())]
-    rest = sk.rest_positions()
-    inverse = np.tile(np.eye(4), (len(sk), 1, 1))
-    inverse[:, :3, 3] = -rest
-    mesh = bone_mesh(rest, sk.parents)
-    if not len(mesh[0]):
-        return glb_bytes(nodes, channels, animation=name)
-    return glb_bytes(nodes, channels, animation=name, mesh=mesh, skin_joints=list(range(len(sk))),
-                     inverse_binds=inverse)
+def octahedron(name: str, radius: float) -> Mesh:
+    """An octahedron of ``radius`` about the origin: a marker, a light, a camera.
 
+    >>> m = octahedron("dot", 2.0)
+    >>> float(m.positions.max()), m.faces.shape
+    (2.0, (8, 3))
+    """
+    positions = radius * np.vstack([np.eye(3), -np.eye(3)])
+    faces = [[a, b, c] for a in (0, 3) for b in (1, 4) for c in (2, 5)]
+    # outward winding: flip the faces whose corners are an odd number of negative axes
+    faces = [f if (sum(i >= 3 for i in f) % 2 == 0) else f[::-1] for f in faces]
+    return Mesh(name, positions, np.array(faces))
