@@ -23,6 +23,7 @@ from sketchanim.io.atomic import write_atomic
 from sketchanim.io.batch import REPORT, Options, Outcome, outcome, plan, previous_report, reduce_file, run, write_report
 from sketchanim.io.clip_files import CLIP_INPUTS, CLIP_OUTPUTS, write_reduced
 from sketchanim.io.csvio import SampleTable, read_samples_csv
+from sketchanim.io.jsonio import JSON_SAMPLES, read_samples_json
 from sketchanim.motion import reduce_rotations
 from sketchanim.reducer import METHODS, FeatureOptions, Reduction, reduce
 
@@ -108,7 +109,7 @@ def _on_lines(table: SampleTable, input: Path, run: Callable[[], Reduction]) -> 
     except SampleError as err:
         if err.index is None:
             raise
-        raise InputError(f"{input}, line {table.lines[err.index]}: {err}") from None
+        raise InputError(f"{input}, {table.where(err.index)}: {err}") from None
 
 
 def _write(path: Path, reduction: Reduction) -> None:
@@ -118,8 +119,9 @@ def _write(path: Path, reduction: Reduction) -> None:
 
 @app.command("reduce")
 def reduce_command(
-    input: Annotated[Path, typer.Argument(help="CSV (time in seconds, then one column per channel), a clip (.bvh, "
-                                          ".amc) or a folder of clips.")],
+    input: Annotated[Path, typer.Argument(help="Samples: CSV (time in seconds, then one column per channel) or "
+                                          "JSON (.json, .jsonl: records with t and channels); a clip (.bvh, .amc, "
+                                          ".c3d markers) or a folder of clips.")],
     tol: Annotated[Optional[str], typer.Option("--tol", help="Tolerance: one value, or one per channel "
                                                 "(comma-separated), for every column but the rotation's. Clips: "
                                                 "a distance in the clip's units (default 0.5 cm).")] = None,
@@ -155,9 +157,10 @@ def reduce_command(
     scheduler: Annotated[Optional[str], typer.Option(help="Folders: reduce on this Dask scheduler "
                                                      "(tcp://host:port) instead of local processes.")] = None,
 ) -> None:
-    """Reduce samples to B-splines: a CSV (print the report, write JSON and plot), a
-    motion clip (BVH, AMC: write .glb, .bvh, .usd or .json, by -o's extension), or a
-    folder of clips (write them all to -o, with a CSV report)."""
+    """Reduce samples to B-splines: a CSV or JSON sample stream (print the report, write
+    JSON and plot), a motion clip (BVH, AMC: write .glb, .bvh, .usd or .json, by -o's
+    extension; C3D markers: .glb or .json), or a folder of clips (write them all to -o,
+    with a CSV report)."""
     if input.is_dir() or input.suffix.lower() in CLIP_INPUTS:
         clip_options = _clip_options(tol, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
                                      skeleton=skeleton)
@@ -168,7 +171,7 @@ def reduce_command(
         return
     try:
         features = FeatureOptions(pauses=pauses, breaks=breaks, min_pause=min_pause)
-        table = read_samples_csv(input)
+        table = read_samples_json(input) if input.suffix.lower() in JSON_SAMPLES else read_samples_csv(input)
         rot = _rotation_columns(table, rot_cols) if rot_cols else []
         rest = [j for j in range(len(table.channels)) if j not in rot]
         if rest and tol is None:

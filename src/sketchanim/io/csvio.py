@@ -24,13 +24,25 @@ class SampleTable:
     channels : list of str
         Column names (from the header, or ``x1 .. xd``).
     lines : ndarray of int, shape (n,)
-        1-based file line of each sample, to point at a sample the reducer rejects.
+        Where each sample is, to point at one the reducer rejects: its 1-based file
+        line, or (``unit == "record"``) its index in a JSON array.
+    unit : {"line", "record"}
     """
 
     times: np.ndarray
     values: np.ndarray
     channels: list[str]
     lines: np.ndarray
+    unit: str = "line"
+
+    def where(self, index: int) -> str:
+        """Where sample ``index`` is in the file: ``"line 12"`` or ``"record [10]"``.
+
+        >>> SampleTable(np.zeros(1), np.zeros((1, 1)), ["x"], np.array([4])).where(0)
+        'line 4'
+        """
+        number = int(self.lines[index])
+        return f"line {number}" if self.unit == "line" else f"record [{number}]"
 
 
 def text_lines(path: str | os.PathLike[str]) -> list[str]:
