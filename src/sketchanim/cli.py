@@ -307,6 +307,39 @@ def _reduce_folder(folder: Path, output: Path | None, fmt: str, options: Options
         raise typer.Exit(1)
 
 
+@app.command("export")
+def export_command(
+    project: Annotated[Path, typer.Argument(help="A project file (.sketchanim).")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="The scene as glTF (.glb), or the whole project as "
+                                         "JSON (.json).")],
+) -> None:
+    """Export a project: its scene as glTF (objects, cameras, lights, and their
+    position, orientation and scale tracks), or everything as JSON."""
+    from sketchanim.io.gltf_scene import scene_glb
+    from sketchanim.io.project import Project
+
+    suffix = output.suffix.lower()
+    if suffix not in (".glb", ".json"):
+        _fail(f"-o: a project exports to .glb or .json, not {suffix or 'a file without an extension'}")
+    try:
+        with Project(project, create=False) as opened:
+            if suffix == ".json":
+                opened.export_json(output)
+                left_out: list[str] = []
+            else:
+                scene, tracks = opened.load()
+                glb, left_out = scene_glb(scene, tracks, name=output.stem)
+                write_atomic(output, glb)
+    except InputError as err:
+        _fail(str(err))
+    except OSError as err:
+        _fail(f"{err.filename or output}: cannot write ({err.strerror})")
+    console.print(f"wrote {output}")
+    if left_out:
+        errors.print(f"not in the glTF (core glTF animates only position, orientation and scale): "
+                     f"{', '.join(left_out)}", soft_wrap=True)
+
+
 @app.command("paper")
 def paper_command(
     output: Annotated[Path, typer.Option("-o", "--output", help="Folder for the PNG plots.")] = Path("out/paper"),

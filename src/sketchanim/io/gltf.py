@@ -15,6 +15,7 @@ node that scales it to metres (``unit_m``), so every curve stays exact.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -184,10 +185,20 @@ def glb_bytes(nodes: Sequence[Node], channels: Sequence[Channel] = (), *, animat
             anim.channels.append(gl.AnimationChannel(sampler=len(anim.samplers) - 1,
                                                      target=gl.AnimationChannelTarget(node=ch.node, path=ch.path)))
         doc.animations.append(anim)
+    if not buf.data:
+        return _json_only_glb(doc)
     buf.data += b"\0" * (-len(buf.data) % 4)
     doc.buffers.append(gl.Buffer(byteLength=len(buf.data)))
     doc.set_binary_blob(bytes(buf.data))
     return b"".join(doc.save_to_bytes())
+
+
+def _json_only_glb(doc: gl.GLTF2) -> bytes:
+    """A .glb of a document with no binary data: the header and the JSON chunk only
+    (pygltflib always writes a BIN chunk, and an empty one is invalid)."""
+    body = doc.gltf_to_json(separators=(",", ":"), indent=None).encode("utf-8")
+    body += b" " * (-len(body) % 4)
+    return struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(body)) + struct.pack("<I4s", len(body), b"JSON") + body
 
 
 def bone_mesh(rest: np.ndarray, parents: tuple[int, ...]) -> Mesh:

@@ -1,0 +1,115 @@
+"""A scene of the animation model as glTF: its objects, cameras and lights as nodes,
+their position, orientation and scale tracks as animation channels.
+
+Conventions (three.js's, which the studio draws with): scene units are metres, a camera
+looks down its local -Z with +Y up and ``fov`` is its vertical field of view in degrees;
+a light is a KHR_lights_punctual spot light shining down its local -Z. Plain objects carry
+a small octahedron so a viewer shows them.
+
+Core glTF animates only translation, rotation and scale. The other tracks (colour,
+intensity, field of view, visibility, events, custom attributes) are not written; their
+values at the scene's current state are, where glTF has a place for them, and
+:func:`scene_glb` lists the tracks it left out.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pygltflib as gl
+from scipy.interpolate import BSpline
+
+from sketchanim.anim.scene import Scene
+from sketchanim.anim.tracks import ContinuousTrack, Track
+from sketchanim.io.gltf import Channel, Node, glb_bytes, octahedron
+from sketchanim.motion.rotations import unit_keys
+
+#: Attributes written as glTF channels, and their glTF paths.
+PATHS = {"position": "translation", "orientation": "rotation", "scale": "scale"}
+
+#: Of an orientation track's tolerance, what making its keys unit quaternions may use.
+KEY_SHARE = 0.1
+
+#: Size of a plain object's octahedron, scene units.
+OBJECT_RADIUS = 0.1
+
+#: Near clipping plane of exported cameras, scene units.
+ZNEAR = 0.01
+
+#: Cone of exported spot lights, radians (KHR_lights_punctual's default outer angle).
+SPOT_OUTER = np.pi / 4
+
+
+def rotation_keys(track: ContinuousTrack) -> BSpline:
+    """An orientation track's curve with unit-quaternion keys (as glTF requires),
+    within ``KEY_SHARE`` of the track's tolerance of its own curve at every time it was
+    sampled (its takes' times; without takes, eight times per knot span).
+
+    >>> from sketchanim.anim.attributes import ORIENTATION
+    >>> from scipy.spatial.transform import Rotation
+    >>> from sketchanim.motion import reduce_rotations
+    >>> t = np.linspace(0, 2, 121)
+    >>> r = reduce_rotations(t, Rotation.from_rotvec(np.c_[np.sin(3 * t), t, 0 * t]).as_quat(), 0.5)
+    >>> s = rotation_keys(ContinuousTrack("cam.orientation", ORIENTATION, r.columns, 0.5))
+    >>> bool(np.allclose(np.linalg.norm(s(np.unique(s.t)), axis=1), 1.0))
+    True
+    """
+    spline = track.spline
+    times = np.unique(np.concatenate([t.times for t in track.takes])) if track.takes else np.array([])
+    times = times[(times >= track.start) & (times <= track.end)]
+    if not times.size:
+        breaks = np.unique(spline.t)
+        times = np.unique(np.concatenate([np.linspace(a, b, 9) for a, b in zip(breaks[:-1], breaks[1:])]))
+    fixed, _ = unit_keys(spline, times, track.evaluate(times), np.radians(KEY_SHARE * track.tol))
+    return fixed
+
+
+def _rest(scene: Scene, name: str, attribute: str) -> list[float] | None:
+    obj = scene.objects[name]
+    return np.asarray(scene.get(f"{name}.{attribute}"), dtype=float).tolist() if attribute in obj.attributes else None
+
+
+def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene") -> tuple[bytes, list[str]]:
+    """The scene as a .glb: one node per object (its current position, orientation and
+    scale at rest), a perspective camera for each camera, a spot light for each light,
+    and one animation of every position, orientation and scale track (exactly; an
+    orientation's keys made unit quaternions by :func:`rotation_keys`). Also returns
+    the paths of the tracks glTF cannot animate, which are left out.
+
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> scene = Scene(); _ = scene.add("cam", "camera"); _ = scene.add("lamp", "light")
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 2, 3]]), 1)
+    >>> glb, left_out = scene_glb(scene, {"cam.position": ContinuousTrack("cam.position", POSITION, s, 0.005)})
+    >>> doc = gl.GLTF2.load_from_bytes(glb)
+    >>> [n.name for n in doc.nodes], bool(doc.cameras[0].perspective.yfov == np.radians(50)), left_out
+    (['cam', 'lamp'], True, [])
+    """
+    nodes, cameras, lights, meshes = [], [], [], []
+    for obj in scene.objects.values():
+        node = Node(obj.name, translation=_rest(scene, obj.name, "position"),
+                    rotation=_rest(scene, obj.name, "orientation"), scale=_rest(scene, obj.name, "scale"))
+        if obj.kind == "camera":
+            node.camera = len(cameras)
+            cameras.append(gl.Camera(name=obj.name, type="perspective", perspective=gl.Perspective(
+                yfov=float(np.radians(scene.get(f"{obj.name}.fov")[0])), znear=ZNEAR)))
+        elif obj.kind == "light":
+            node.light = len(lights)
+            on = bool(scene.get(f"{obj.name}.on"))
+            lights.append({"name": obj.name, "type": "spot", "color": _rest(scene, obj.name, "color"),
+                           "intensity": float(scene.get(f"{obj.name}.intensity")[0]) if on else 0.0,
+                           "spot": {"outerConeAngle": SPOT_OUTER}})
+        else:
+            if not meshes:
+                meshes.append(octahedron("object", OBJECT_RADIUS))
+            node.mesh = 0
+        nodes.append(node)
+    index = {n.name: i for i, n in enumerate(nodes)}
+    channels, left_out = [], []
+    for path, track in sorted(tracks.items()):
+        obj, attribute = path.split(".")
+        if not isinstance(track, ContinuousTrack) or attribute not in PATHS or obj not in index:
+            left_out.append(path)
+            continue
+        spline = rotation_keys(track) if track.type.is_rotation else track.spline
+        channels.append(Channel.curve(index[obj], PATHS[attribute], spline))
+    return glb_bytes(nodes, channels, animation=name, meshes=meshes, cameras=cameras, lights=lights), left_out
+
