@@ -14,6 +14,10 @@ each clip's unit, guessed from the figure's height):
   kinematics, in cm; errors of a chain add up, so this is measured, not bounded);
 - seconds to read and reduce, and clips per second, in one run on this machine.
 
+Then every C3D file in ``DATA/c3d``: its markers reduced piece by piece (gaps split
+them) at 0.5 cm and 0.1 cm, with the same byte counts (raw: x, y, z of every marker at
+every frame as float32, gaps included, as C3D stores them).
+
 The .glb written for each clip is checked by nothing here (the tests validate them).
 """
 
@@ -27,6 +31,8 @@ from rich.console import Console
 from rich.table import Table
 
 from sketchanim.anim.clip_reduction import reduce_clip
+from sketchanim.anim.markers import reduce_markers
+from sketchanim.io.c3d import read_c3d
 from sketchanim.io.clip_files import read_clip
 
 REPO = Path(__file__).resolve().parents[1]
@@ -71,6 +77,33 @@ def main() -> None:
         console.print(table)
         console.print(f"{len(sources) / seconds_total:.2f} clips/s, {frames / seconds_total:,.0f} frames/s "
                       "(one process)")
+    markers_table(sorted((args.data / "c3d").glob("*.c3d")), console)
+
+
+def markers_table(sources: list[Path], console: Console) -> None:
+    """C3D markers at each distance of :data:`TOLERANCES`."""
+    if not sources:
+        return
+    table = Table(title="C3D markers (gaps split each marker into pieces)")
+    for column in ("file", "tol (cm)", "frames", "markers", "frames unseen", "pieces", "raw float32 bytes",
+                   "curve bytes", "compression", "max distance (cm)", "seconds"):
+        table.add_column(column, justify="left" if column == "file" else "right")
+    for source in sources:
+        for tol_cm, _ in TOLERANCES:
+            start = time.perf_counter()
+            markers = read_c3d(source)
+            unit = markers.unit_m
+            if unit is None:
+                table.add_row(source.name, "unit unknown: skipped")
+                break
+            reduced = reduce_markers(markers, tol_cm * 0.01 / unit)
+            seconds = time.perf_counter() - start
+            rows = reduced.reports()
+            table.add_row(source.name, f"{tol_cm}", str(len(markers.times)), str(len(rows)),
+                          f"{sum(r.gap_frames for r in rows):,}", str(sum(r.pieces for r in rows)),
+                          f"{reduced.raw_bytes():,}", f"{reduced.reduced_bytes():,}", f"{reduced.compression():.1f}:1",
+                          f"{max(r.max_distance for r in rows) * unit * 100:.3f}", f"{seconds:.2f}")
+    console.print(table)
 
 
 if __name__ == "__main__":

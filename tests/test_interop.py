@@ -12,6 +12,7 @@ import csv
 from pathlib import Path
 
 import numpy as np
+import pygltflib as gl
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -260,6 +261,9 @@ def test_cli_needs_units_or_tolerance_when_it_cannot_tell(tmp_path: Path) -> Non
     result = runner.invoke(app, ["reduce", str(source), "-o", str(tmp_path / "o.glb"), "--units", "cm"])
     assert result.exit_code == 0, result.output
     assert source.read_text() == text
+    doc = gl.GLTF2().load_binary(str(tmp_path / "o.glb"))          # shown in metres, curves untouched
+    (root,) = doc.scenes[0].nodes
+    assert doc.nodes[root].name == "to metres" and doc.nodes[root].scale == [0.01] * 3
 
 
 def test_batch_reports_a_corrupt_clip_and_skips_done_ones(tmp_path: Path) -> None:

@@ -9,7 +9,7 @@ import io
 import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -53,13 +53,18 @@ class Options:
     rate: float | None = None
     skeleton: str | None = None
 
+    def unit_m(self, clip: Clip | Markers) -> float | None:
+        """Metres per unit of ``clip``: ``units`` if given, else the file's, else (a
+        skeleton) guessed from the figure's height."""
+        if self.units:
+            return UNITS_M[self.units]
+        return clip.unit_m if isinstance(clip, Markers) else clip.guess_unit_m()
+
     def distance(self, clip: Clip | Markers) -> float:
         """The position tolerance for ``clip``, in its units."""
         if self.tol is not None:
             return self.tol
-        if self.units:
-            return self.tol_cm * 0.01 / UNITS_M[self.units]
-        unit = clip.unit_m if isinstance(clip, Markers) else clip.guess_unit_m()
+        unit = self.unit_m(clip)
         if unit is None:
             why = ("the file does not say" if isinstance(clip, Markers) else
                    f"its figure is {float(np.ptp(clip.skeleton.rest_positions(), axis=0).max()):.4g} units tall")
@@ -90,9 +95,10 @@ class Outcome:
 
 
 def reduce_file(source: Path, options: Options) -> tuple[Clip | Markers, ReducedClip | ReducedMarkers, float]:
-    """Read and reduce one clip (or C3D markers): the source, its curves and the
-    position tolerance used."""
+    """Read and reduce one clip (or C3D markers): the source (with its unit, where
+    known or guessed), its curves and the position tolerance used."""
     clip = read_clip(source, skeleton=options.skeleton)
+    clip = replace(clip, unit_m=options.unit_m(clip))
     tol = options.distance(clip)
     if isinstance(clip, Markers):
         return clip, reduce_markers(clip, tol), tol
