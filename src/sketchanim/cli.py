@@ -149,6 +149,10 @@ def reduce_command(
                                                  "the file's, else guessed from the figure's height.")] = None,
     skeleton: Annotated[Optional[Path], typer.Option(help="AMC clips: the ASF skeleton (default: found beside it).")]
     = None,
+    world: Annotated[bool, typer.Option("--world", help="Clips: keep every joint, and every point --shell cm from "
+                                        "a joint, within --tol in the world (each joint's angle follows from how "
+                                        "far it reaches) instead of every rotation within --rot-tol-deg.")] = False,
+    shell: Annotated[float, typer.Option(help="With --world: the shell's distance from each joint, cm.")] = 3.0,
     rate: Annotated[Optional[float], typer.Option(help="Clips written as BVH or USD: frames per second "
                                                   "(default: the source's).")] = None,
     format: Annotated[str, typer.Option("--format", help="Folders: the output format (glb, bvh, json, usd).")]
@@ -163,7 +167,7 @@ def reduce_command(
     with a CSV report)."""
     if input.is_dir() or input.suffix.lower() in CLIP_INPUTS:
         clip_options = _clip_options(tol, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
-                                     skeleton=skeleton)
+                                     skeleton=skeleton, world=world, shell_cm=shell)
         if input.is_dir():
             _reduce_folder(input, output, format, clip_options, workers, scheduler)
         else:
@@ -217,15 +221,17 @@ def reduce_command(
 
 
 def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rate: float | None,
-                  skeleton: Path | None) -> Options:
+                  skeleton: Path | None, world: bool, shell_cm: float) -> Options:
     try:
         distance = None if tol is None else float(tol)
     except ValueError:
         _fail(f"--tol: clips take one distance in the clip's units, got {tol!r}")
     if units is not None and units not in UNITS_M:
         _fail(f"--units: one of {', '.join(UNITS_M)}, got {units!r}")
+    if not (np.isfinite(shell_cm) and shell_cm >= 0):
+        _fail(f"--shell: a distance in cm, 0 or more, got {shell_cm!r}")
     return Options(tol=distance, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
-                   skeleton=None if skeleton is None else str(skeleton))
+                   skeleton=None if skeleton is None else str(skeleton), world=world, shell_cm=shell_cm)
 
 
 def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
@@ -240,7 +246,7 @@ def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
         _fail(f"{err.filename or output}: cannot write ({err.strerror})")
     row = outcome(input, output or Path(), clip, reduced, tol, time.perf_counter() - start)
     console.print(_markers_table(reduced, row) if isinstance(reduced, ReducedMarkers) else _joints_table(
-        reduced, row, input.name, options.rot_tol_deg))
+        reduced, row, options))
     console.print(f"compression {row.compression:.1f}:1 ({row.reduced_bytes:,} bytes of curves vs {row.raw_bytes:,} "
                   f"bytes of float32 channels); largest {'marker' if isinstance(reduced, ReducedMarkers) else 'joint'} "
                   f"position error in the world {row.max_world_error:.4g} units; {row.seconds:.2f} s")
@@ -248,9 +254,10 @@ def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
         console.print(f"wrote {output}")
 
 
-def _joints_table(reduced: ReducedClip, row: Outcome, name: str, rot_tol_deg: float) -> Table:
-    table = Table(title=f"{name}: {row.frames} frames, {row.joints} joints, tolerance {row.tol:.4g} units "
-                        f"and {rot_tol_deg:g} degrees")
+def _joints_table(reduced: ReducedClip, row: Outcome, options: Options) -> Table:
+    promise = (f"every joint and {options.shell_cm:g} cm shell within {row.tol:.4g} units in the world"
+               if options.world else f"tolerance {row.tol:.4g} units and {options.rot_tol_deg:g} degrees")
+    table = Table(title=f"{Path(row.source).name}: {row.frames} frames, {row.joints} joints, {promise}")
     for column in ("joint", "rotation points", "max rotation error (deg)", "position points", "max position error"):
         table.add_column(column, justify="left" if column == "joint" else "right")
     for j in reduced.joint_reports():

@@ -240,18 +240,27 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "gl
     """
     if not np.isfinite(tol) or tol <= 0:
         raise ArgumentError("tol", f"must be a positive distance, got {tol!r}")
-    rotations = {}
-    for i in np.flatnonzero(clip.rotating):
-        rotations[int(i)] = _named(clip.skeleton.names[i], "rotation", lambda: reduce_rotations(
-            clip.times, clip.rotations[:, i], rot_tol_deg, method=method, keys=True))
-    translations = {}
-    for i in np.flatnonzero(clip.translating):
-        r = _named(clip.skeleton.names[i], "position", lambda: reduce(
-            clip.times, clip.translations[:, i], tol / np.sqrt(3.0), method=method))
-        r.report["max_distance"] = float(np.linalg.norm(r.spline(clip.times) - clip.translations[:, i], axis=1).max())
-        translations[int(i)] = r
+    rotations = {int(i): joint_rotation(clip, int(i), rot_tol_deg, method) for i in np.flatnonzero(clip.rotating)}
+    translations = {int(i): joint_position(clip, int(i), tol, method) for i in np.flatnonzero(clip.translating)}
     return ReducedClip(clip.skeleton, clip.channels, rotations, translations, clip.frame_time, len(clip.times),
                        clip.unit_m)
+
+
+def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "global") -> Reduction:
+    """Joint ``joint``'s rotation as a quaternion curve within ``tol_deg`` degrees at
+    every frame, its keys unit quaternions; errors name the joint."""
+    return _named(clip.skeleton.names[joint], "rotation", lambda: reduce_rotations(
+        clip.times, clip.rotations[:, joint], tol_deg, method=method, keys=True))
+
+
+def joint_position(clip: Clip, joint: int, tol: float, method: str = "global") -> Reduction:
+    """Joint ``joint``'s translation as a curve within the distance ``tol`` at every
+    frame (``report["max_distance"]``); errors name the joint."""
+    r = _named(clip.skeleton.names[joint], "position", lambda: reduce(
+        clip.times, clip.translations[:, joint], tol / np.sqrt(3.0), method=method))
+    r.report["max_distance"] = float(np.linalg.norm(r.spline(clip.times) - clip.translations[:, joint],
+                                                    axis=1).max())
+    return r
 
 
 def _named(joint: str, what: str, run: Callable[[], Reduction]) -> Reduction:

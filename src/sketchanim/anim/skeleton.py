@@ -76,6 +76,32 @@ class Skeleton:
         rotations[..., 3] = 1.0
         return rotations, np.broadcast_to(self.offsets, (n, len(self), 3)).copy()
 
+    def reach(self) -> np.ndarray:
+        """For each joint, the longest path (summed offset lengths) from it down to a
+        descendant: how far a turn of the joint can move a joint below it.
+
+        >>> Skeleton(("a", "b", "c"), (-1, 0, 1), np.array([[5.0, 0, 0], [0, 2.0, 0], [0, 0, 3.0]])).reach().tolist()
+        [5.0, 3.0, 0.0]
+        """
+        out = np.zeros(len(self))
+        bones = np.linalg.norm(self.offsets, axis=1)
+        for j in reversed(range(len(self))):
+            p = self.parents[j]
+            if p >= 0:
+                out[p] = max(out[p], out[j] + bones[j])
+        return out
+
+    def chains(self) -> list[list[int]]:
+        """Each joint with its ancestors, from itself up to its root.
+
+        >>> Skeleton(("a", "b", "c"), (-1, 0, 0), np.zeros((3, 3))).chains()
+        [[0], [1, 0], [2, 0]]
+        """
+        out: list[list[int]] = []
+        for j, p in enumerate(self.parents):
+            out.append([j] + (out[p] if p >= 0 else []))
+        return out
+
     def rest_positions(self) -> np.ndarray:
         """World positions (J, 3) with every rotation the identity."""
         out = np.zeros((len(self), 3))
@@ -168,14 +194,16 @@ class Clip:
         return fits[0] if len(fits) == 1 else None
 
 
-def world_positions(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:
-    """Forward kinematics: world joint positions (n, J, 3) of local rotations (n, J, 4,
-    scalar-last) and translations (n, J, 3).
+def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> tuple[list[Rotation], np.ndarray]:
+    """Forward kinematics: each joint's world rotation (a ``Rotation`` of n frames) and
+    world position (n, J, 3), from local rotations (n, J, 4, scalar-last) and
+    translations (n, J, 3).
 
     >>> s = Skeleton(("a", "b"), (-1, 0), np.array([[0.0, 0, 0], [1.0, 0, 0]]))
     >>> q = np.array([[[0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)], [0, 0, 0, 1.0]]])
-    >>> world_positions(s, q, np.array([[[0.0, 0, 0], [1.0, 0, 0]]]))[0, 1].round(12).tolist()
-    [0.0, 1.0, 0.0]
+    >>> turns, positions = world_pose(s, q, np.array([[[0.0, 0, 0], [1.0, 0, 0]]]))
+    >>> positions[0, 1].round(12).tolist(), round(float(np.degrees(turns[1].magnitude()[0])), 6)
+    ([0.0, 1.0, 0.0], 90.0)
     """
     n, j = rotations.shape[:2]
     world_rot: list[Rotation] = []
@@ -188,4 +216,9 @@ def world_positions(skeleton: Skeleton, rotations: np.ndarray, translations: np.
         else:
             world_rot.append(world_rot[p] * local)
             out[:, i] = out[:, p] + world_rot[p].apply(translations[:, i])
-    return out
+    return world_rot, out
+
+
+def world_positions(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:
+    """World joint positions (n, J, 3) (:func:`world_pose`)."""
+    return world_pose(skeleton, rotations, translations)[1]

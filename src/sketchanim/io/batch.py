@@ -17,6 +17,7 @@ import numpy as np
 from sketchanim.anim.clip_reduction import ReducedClip, reduce_clip
 from sketchanim.anim.markers import Markers, ReducedMarkers, reduce_markers
 from sketchanim.anim.skeleton import UNITS_M, Clip
+from sketchanim.anim.world_reduction import reduce_clip_world
 from sketchanim.errors import InputError
 from sketchanim.io.atomic import write_atomic
 from sketchanim.io.clip_files import CLIP_INPUTS, read_clip, write_reduced
@@ -44,6 +45,12 @@ class Options:
         Frames per second of BVH / USD output; None: the source's.
     skeleton : str or None
         ASF file for AMC input; None: found beside it.
+    world : bool
+        Skeletal clips: keep every joint, and every point ``shell_cm`` from a joint,
+        within the distance in the world (:func:`~sketchanim.anim.world_reduction.reduce_clip_world`),
+        instead of every joint's rotation within ``rot_tol_deg``.
+    shell_cm : float
+        The shell's distance from each joint, centimetres.
     """
 
     tol: float | None = None
@@ -52,6 +59,8 @@ class Options:
     units: str | None = None
     rate: float | None = None
     skeleton: str | None = None
+    world: bool = False
+    shell_cm: float = 3.0
 
     def unit_m(self, clip: Clip | Markers) -> float | None:
         """Metres per unit of ``clip``: ``units`` if given, else the file's, else (a
@@ -102,6 +111,11 @@ def reduce_file(source: Path, options: Options) -> tuple[Clip | Markers, Reduced
     tol = options.distance(clip)
     if isinstance(clip, Markers):
         return clip, reduce_markers(clip, tol), tol
+    if options.world:
+        if clip.unit_m is None:
+            raise InputError(f"--world: cannot tell the clip's units, to put its {options.shell_cm:g} cm shell in "
+                             f"them; give --units ({', '.join(UNITS_M)})")
+        return clip, reduce_clip_world(clip, tol, options.shell_cm * 0.01 / clip.unit_m), tol
     return clip, reduce_clip(clip, tol, options.rot_tol_deg), tol
 
 
