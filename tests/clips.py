@@ -107,9 +107,9 @@ def hermite_channels(path: Path) -> dict[tuple[str, str], tuple[np.ndarray, np.n
 def hermite_play(times: np.ndarray, keys: np.ndarray, t: np.ndarray) -> np.ndarray:
     """A CUBICSPLINE sampler played at times ``t`` inside its keys' span
     (:func:`hermite_at` on the segment holding each)."""
-    seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, max(len(times) - 2, 0))
     if len(times) == 1:
         return np.repeat(keys[:1, 1], len(t), axis=0)
+    seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)
     return hermite_at(times, keys, seg, (t - times[seg]) / (times[seg + 1] - times[seg]))
 
 

@@ -19,6 +19,7 @@ from sketchanim.anim.tracks import held_values
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.motion import reduce_rotations
 from sketchanim.reducer import Reduction, reduce
+from sketchanim.reducer.result import load_document
 
 SCHEMA = "sketchanim.clip"
 VERSION = 1
@@ -185,12 +186,7 @@ class ReducedClip:
         >>> ReducedClip.from_json(r.to_json()).rotations[0].n_coefficients == r.rotations[0].n_coefficients
         True
         """
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as err:
-            raise InputError(f"{source}, line {err.lineno}: not JSON ({err.msg})") from None
-        if not isinstance(doc, dict) or doc.get("schema") != SCHEMA or doc.get("version") != VERSION:
-            raise InputError(f"{source}: not a {SCHEMA} document of version {VERSION}")
+        doc = load_document(text, source, SCHEMA, VERSION)
         try:
             joints = doc["joints"]
             skeleton = Skeleton(tuple(str(j["name"]) for j in joints), tuple(int(j["parent"]) for j in joints),

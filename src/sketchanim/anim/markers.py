@@ -17,8 +17,10 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
 from sketchanim.anim.clip_reduction import FLOAT32, curve_bytes
+from sketchanim.anim.skeleton import frame_time
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.reducer import reduce
+from sketchanim.reducer.result import load_document
 
 SCHEMA = "sketchanim.markers"
 VERSION = 1
@@ -60,7 +62,7 @@ class Markers:
     @property
     def frame_time(self) -> float:
         """The median time between frames, seconds."""
-        return float(np.median(np.diff(self.times))) if len(self.times) > 1 else 0.0
+        return frame_time(self.times)
 
     def runs(self, marker: int) -> list[tuple[int, int]]:
         """The gap-free runs of ``marker``: frame ranges ``[first, stop)``."""
@@ -128,7 +130,8 @@ class ReducedMarkers:
 
     @property
     def frame_time(self) -> float:
-        return float(np.median(np.diff(self.times))) if len(self.times) > 1 else 0.0
+        """The median time between the source's frames, seconds."""
+        return frame_time(self.times)
 
     def evaluate(self, times: ArrayLike) -> np.ndarray:
         """Positions (n, M, 3) at ``times``: each marker's piece holding there, NaN in
@@ -189,12 +192,7 @@ class ReducedMarkers:
         >>> ReducedMarkers.from_json(r.to_json()).evaluate(t).tolist() == r.evaluate(t).tolist()
         True
         """
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as err:
-            raise InputError(f"{source}, line {err.lineno}: not JSON ({err.msg})") from None
-        if not isinstance(doc, dict) or doc.get("schema") != SCHEMA or doc.get("version") != VERSION:
-            raise InputError(f"{source}: not a {SCHEMA} document of version {VERSION}")
+        doc = load_document(text, source, SCHEMA, VERSION)
         try:
             names = tuple(str(n) for n in doc["markers"])
             pieces = tuple(tuple(

@@ -166,7 +166,7 @@ class Clip:
     @property
     def frame_time(self) -> float:
         """The median time between frames, seconds."""
-        return float(np.median(np.diff(self.times))) if len(self.times) > 1 else 0.0
+        return frame_time(self.times)
 
     @property
     def n_source_channels(self) -> int:
@@ -192,6 +192,15 @@ class Clip:
         lo, hi = FIGURE_HEIGHT_M
         fits = [u for u in UNITS_M.values() if lo <= height * u <= hi]
         return fits[0] if len(fits) == 1 else None
+
+
+def frame_time(times: np.ndarray) -> float:
+    """The median time between ``times``, seconds (0 for one frame).
+
+    >>> frame_time(np.array([0.0, 0.5, 1.0, 2.0]))
+    0.5
+    """
+    return float(np.median(np.diff(times))) if len(times) > 1 else 0.0
 
 
 def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> tuple[list[Rotation], np.ndarray]:

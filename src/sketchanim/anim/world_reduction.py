@@ -16,6 +16,7 @@ so the result always holds; it is checked at every frame.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.clip_reduction import ReducedClip, joint_position, joint_rotation
 from sketchanim.anim.skeleton import Clip, world_pose
@@ -44,7 +45,12 @@ def world_errors(clip: Clip, reduced: ReducedClip, shell: float) -> np.ndarray:
     >>> float(world_errors(clip, reduce_clip(clip, 0.1, 0.1), 3.0).max())
     0.0
     """
-    source_rot, source_pos = world_pose(clip.skeleton, clip.rotations, clip.translations)
+    return _errors(clip, world_pose(clip.skeleton, clip.rotations, clip.translations), reduced, shell)
+
+
+def _errors(clip: Clip, source: tuple[list[Rotation], np.ndarray], reduced: ReducedClip, shell: float) -> np.ndarray:
+    """:func:`world_errors`, given the source's world pose."""
+    source_rot, source_pos = source
     frames = reduced.sample(clip.times)
     rot, pos = world_pose(clip.skeleton, frames.rotations, frames.translations)
     out = np.linalg.norm(pos - source_pos, axis=-1)
@@ -86,6 +92,7 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "gl
     cap = np.radians(MAX_ANGLE_DEG)
     angle = np.minimum(budget / np.maximum(arm, 1e-300), cap)
     provable = np.minimum(budget / np.maximum(turning * arm, 1e-300), cap)
+    source = world_pose(sk, clip.rotations, clip.translations)
     rotations, made = {}, {}
     for round in range(ROUNDS + 1):
         for i in np.flatnonzero(clip.rotating):
@@ -94,7 +101,7 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "gl
                 made[int(i)] = angle[i]
         reduced = ReducedClip(sk, clip.channels, rotations, translations, clip.frame_time, len(clip.times),
                               clip.unit_m)
-        worst = world_errors(clip, reduced, shell).max(axis=0)
+        worst = _errors(clip, source, reduced, shell).max(axis=0)
         over = np.flatnonzero(worst > tol)
         if not over.size:
             return reduced

@@ -70,10 +70,11 @@ class Options:
         return clip.unit_m if isinstance(clip, Markers) else clip.guess_unit_m()
 
     def distance(self, clip: Clip | Markers) -> float:
-        """The position tolerance for ``clip``, in its units."""
+        """The position tolerance for ``clip``, in its units (``clip.unit_m``, as
+        :func:`reduce_file` sets it with :meth:`unit_m`)."""
         if self.tol is not None:
             return self.tol
-        unit = self.unit_m(clip)
+        unit = clip.unit_m
         if unit is None:
             why = ("the file does not say" if isinstance(clip, Markers) else
                    f"its figure is {float(np.ptp(clip.skeleton.rest_positions(), axis=0).max()):.4g} units tall")

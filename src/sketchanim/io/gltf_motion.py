@@ -40,8 +40,8 @@ def clip_glb(clip: ReducedClip, *, name: str = "clip") -> bytes:
                      unit_m=clip.unit_m)
 
 
-def marker_channels(node: int, markers: ReducedMarkers, marker: int) -> list[Channel]:
-    """A marker's translation (every piece's CUBICSPLINE keys, one sampler) and its
+def marker_channels(markers: ReducedMarkers, marker: int) -> list[Channel]:
+    """Marker ``marker``'s (its node's) translation (every piece's CUBICSPLINE keys, one sampler) and its
     scale (STEP: 1 on its pieces, 0 from half a frame after a piece's last frame until
     the next piece, and before the first): the pieces exactly, nothing shown in a gap.
     A marker never seen gets none. A piece shows from the float32 time at or before its
@@ -67,8 +67,8 @@ def marker_channels(node: int, markers: ReducedMarkers, marker: int) -> list[Cha
             show_times.append(p.end + markers.frame_time / 2)
             shown.append(0.0)
     scale = np.repeat(np.array(shown)[:, None], 3, axis=1)
-    return [Channel(node, "translation", "CUBICSPLINE", np.concatenate(times), np.concatenate(keys)),
-            Channel(node, "scale", "STEP", np.array(show_times), scale)]
+    return [Channel(marker, "translation", "CUBICSPLINE", np.concatenate(times), np.concatenate(keys)),
+            Channel(marker, "scale", "STEP", np.array(show_times), scale)]
 
 
 def markers_glb(markers: ReducedMarkers, *, name: str = "markers") -> bytes:
@@ -84,7 +84,7 @@ def markers_glb(markers: ReducedMarkers, *, name: str = "markers") -> bytes:
     """
     unit = markers.unit_m or 1.0
     nodes = [Node(n, mesh=0) for n in markers.names]
-    channels = [ch for m in range(len(nodes)) for ch in marker_channels(m, markers, m)]
+    channels = [ch for m in range(len(nodes)) for ch in marker_channels(markers, m)]
     return glb_bytes(nodes, channels, animation=name, meshes=[octahedron("marker", MARKER_RADIUS_M / unit)],
                      unit_m=markers.unit_m)
 

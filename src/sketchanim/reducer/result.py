@@ -16,6 +16,25 @@ SCHEMA = "sketchanim.reduction"
 VERSION = 1
 
 
+def load_document(text: str, source: str, schema: str, version: int) -> dict[str, Any]:
+    """The JSON object in ``text``, checked to be a ``schema`` document of ``version``;
+    :class:`InputError` naming ``source`` (and the line, for text that is not JSON).
+
+    >>> load_document('{"schema": "s", "version": 2}', "f.json", "s", 1)
+    Traceback (most recent call last):
+    sketchanim.errors.InputError: f.json: version 2, this reader knows 1
+    """
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise InputError(f"{source}, line {err.lineno}: not JSON ({err.msg})") from None
+    if not isinstance(doc, dict) or doc.get("schema") != schema:
+        raise InputError(f"{source}: not a {schema} document")
+    if doc.get("version") != version:
+        raise InputError(f"{source}: version {doc.get('version')!r}, this reader knows {version}")
+    return doc
+
+
 @dataclass(frozen=True)
 class Reduction:
     """A reduced curve and what it promises.
@@ -115,14 +134,7 @@ class Reduction:
     @classmethod
     def from_json(cls, text: str, *, source: str = "<json>") -> Reduction:
         """Read a document written by :meth:`to_json`; errors name ``source`` and the field."""
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as err:
-            raise InputError(f"{source}, line {err.lineno}: not JSON ({err.msg})") from None
-        if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
-            raise InputError(f"{source}: not a {SCHEMA} document")
-        if doc.get("version") != VERSION:
-            raise InputError(f"{source}: version {doc.get('version')!r}, this reader knows {VERSION}")
+        doc = load_document(text, source, SCHEMA, VERSION)
 
         def field_array(name: str, ndim: tuple[int, ...]) -> np.ndarray:
             try:
