@@ -49,6 +49,24 @@ def test_every_joint_and_shell_point_within_tolerance(clip: Clip, tol: float, sh
     assert_world_within(reduced, clip, tol, shell)
 
 
+def test_a_joint_translated_beyond_its_offset_counts_at_its_translation() -> None:
+    """A child whose translation channels carry it 30 units from a parent whose offset
+    says 0.1: the parent's turn moves it as a 30-unit bone (found by the property test
+    above: the reach from offsets alone broke the provable angles)."""
+    from sketchanim.anim.skeleton import Skeleton
+
+    s = Skeleton(("root", "hand"), (-1, 0), np.array([[0.0, 0, 0], [0.1, 0, 0]]))
+    t = np.arange(300) / 60
+    rng = np.random.default_rng(3)
+    clip = Clip.still(s, t)
+    clip.translating[:] = True
+    clip.translations[:, 1] = np.stack([30 * np.cos(t), 5 * np.sin(3 * t), 0 * t], axis=1)
+    angles = 40 * np.sin(2 * t)[:, None] + rng.normal(0, 0.3, (len(t), 1))
+    clip.rotations[:, 0] = Rotation.from_euler("Y", angles, degrees=True).as_quat()
+    for shell in (0.0, 3.0):
+        assert_world_within(reduce_clip_world(clip, 0.2, shell), clip, 0.2, shell)
+
+
 def test_a_far_reaching_joint_gets_a_finer_angle_than_a_leaf() -> None:
     from sketchanim.anim.skeleton import Skeleton
 

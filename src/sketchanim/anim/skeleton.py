@@ -76,15 +76,20 @@ class Skeleton:
         rotations[..., 3] = 1.0
         return rotations, np.broadcast_to(self.offsets, (n, len(self), 3)).copy()
 
-    def reach(self) -> np.ndarray:
-        """For each joint, the longest path (summed offset lengths) from it down to a
+    def reach(self, bones: np.ndarray | None = None) -> np.ndarray:
+        """For each joint, the longest path (summed bone lengths) from it down to a
         descendant: how far a turn of the joint can move a joint below it.
 
-        >>> Skeleton(("a", "b", "c"), (-1, 0, 1), np.array([[5.0, 0, 0], [0, 2.0, 0], [0, 0, 3.0]])).reach().tolist()
-        [5.0, 3.0, 0.0]
+        ``bones`` (J,) are the lengths from each joint's parent to it; by default the
+        offsets' lengths. A joint whose translation channels move it further than its
+        offset needs the longest translation instead (see :meth:`Clip.bones`).
+
+        >>> s = Skeleton(("a", "b", "c"), (-1, 0, 1), np.array([[5.0, 0, 0], [0, 2.0, 0], [0, 0, 3.0]]))
+        >>> s.reach().tolist(), s.reach(np.array([5.0, 2.0, 30.0])).tolist()
+        ([5.0, 3.0, 0.0], [32.0, 30.0, 0.0])
         """
         out = np.zeros(len(self))
-        bones = np.linalg.norm(self.offsets, axis=1)
+        bones = np.linalg.norm(self.offsets, axis=1) if bones is None else bones
         for j in reversed(range(len(self))):
             p = self.parents[j]
             if p >= 0:
@@ -172,6 +177,18 @@ class Clip:
     def n_source_channels(self) -> int:
         """Numbers per frame in the source (what storing every sample costs)."""
         return sum(len(c) for c in self.channels)
+
+    def bones(self) -> np.ndarray:
+        """For each joint, the longest distance from its parent over the clip (J,): its
+        offset's length, or its translation's where translation channels move it.
+
+        >>> s = Skeleton(("root", "arm"), (-1, 0), np.array([[0.0, 0, 0], [1.0, 0, 0]]))
+        >>> clip = Clip.still(s, [0.0, 0.1])
+        >>> clip.translations[1, 1] = [0, 4.0, 3.0]
+        >>> clip.bones().tolist()
+        [0.0, 5.0]
+        """
+        return np.linalg.norm(self.translations, axis=-1).max(axis=0, initial=0.0)
 
     def world_positions(self) -> np.ndarray:
         """Joint positions in the world, shape (n, J, 3) (forward kinematics)."""

@@ -10,7 +10,10 @@ forward kinematics; the joints above any joint or shell point still out of toler
 are tightened, and the clip reduced again. After :data:`ROUNDS` rounds, the joints
 above any that still miss get an angle that provably keeps their chains within ``tol``
 (a chain's errors at most add up: ``sum of budget / (depth * (r + shell)) * (r + shell)``),
-so the result always holds; it is checked at every frame.
+and if a chain still misses (a joint it shares with one just tightened was reduced
+again), every joint gets it, so the result always holds; it is checked at every frame.
+``r`` follows the source's longest translations where a joint's translation channels
+carry it further than its offset.
 """
 
 from __future__ import annotations
@@ -88,13 +91,13 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "gl
     moved = {i: r.report["max_distance"] for i, r in translations.items()}
     budget = tol - max(sum(moved.get(a, 0.0) for a in chain) for chain in chains)
     turning = max(max(sum(bool(clip.rotating[a]) for a in chain) for chain in chains), 1)
-    arm = sk.reach() + shell
+    arm = sk.reach(clip.bones()) + shell
     cap = np.radians(MAX_ANGLE_DEG)
     angle = np.minimum(budget / np.maximum(arm, 1e-300), cap)
     provable = np.minimum(budget / np.maximum(turning * arm, 1e-300), cap)
     source = world_pose(sk, clip.rotations, clip.translations)
     rotations, made = {}, {}
-    for round in range(ROUNDS + 1):
+    for round in range(ROUNDS + 2):
         for i in np.flatnonzero(clip.rotating):
             if made.get(int(i)) != angle[i]:
                 rotations[int(i)] = joint_rotation(clip, int(i), float(np.degrees(angle[i])), method)
@@ -105,6 +108,9 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "gl
         over = np.flatnonzero(worst > tol)
         if not over.size:
             return reduced
+        if round >= ROUNDS:                          # the last resort: every chain provably within
+            angle = np.minimum(angle, provable)
+            continue
         factor = np.ones(len(sk))                    # each joint tightened once, by its worst descendant
         for d in over:
             factor[chains[d]] = np.minimum(factor[chains[d]], np.clip(0.95 * tol / worst[d], 0.5, 0.95))
