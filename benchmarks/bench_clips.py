@@ -35,7 +35,8 @@ from rich.table import Table
 
 from sketchanim.anim.clip_reduction import reduce_clip
 from sketchanim.anim.markers import reduce_markers
-from sketchanim.anim.world_reduction import reduce_clip_world, world_errors
+from sketchanim.anim.world_reduction import reduce_clip_world
+from sketchanim.io.batch import outcome
 from sketchanim.io.c3d import read_c3d
 from sketchanim.io.clip_files import read_clip
 
@@ -74,16 +75,14 @@ def main() -> None:
             reduced = (reduce_clip(clip, tol_cm * 0.01 / unit, tol_deg) if tol_deg else
                        reduce_clip_world(clip, tol_cm * 0.01 / unit, shell))
             seconds = time.perf_counter() - start
-            rows = reduced.joint_reports()
-            rot = max((r.rotation_error_deg for r in rows if r.rotation_points), default=0.0)
-            pos = max((r.position_error for r in rows if r.position_points), default=0.0)
-            raw, curves = reduced.raw_bytes(), reduced.reduced_bytes()
+            row = outcome(source, Path(), clip, reduced, tol_cm * 0.01 / unit, seconds)
+            raw, curves = row.raw_bytes, row.reduced_bytes
             frames += len(clip.times)
             raw_total, reduced_total, seconds_total = raw_total + raw, reduced_total + curves, seconds_total + seconds
             table.add_row(source.name, str(len(clip.times)), str(len(clip.skeleton)), f"{raw:,}", f"{curves:,}",
-                          f"{raw / curves:.1f}:1", f"{rot:.3f}", f"{pos * unit * 100:.3f}",
-                          f"{reduced.world_error(clip) * unit * 100:.2f}",
-                          f"{world_errors(clip, reduced, shell).max() * unit * 100:.2f}", f"{seconds:.2f}")
+                          f"{raw / curves:.1f}:1", f"{row.max_rotation_error_deg:.3f}",
+                          f"{row.max_position_error * unit * 100:.3f}", f"{row.max_world_error * unit * 100:.2f}",
+                          f"{reduced.world_errors(clip, shell).max() * unit * 100:.2f}", f"{seconds:.2f}")
         table.add_row("all", "", "", f"{raw_total:,}", f"{reduced_total:,}",
                       f"{raw_total / max(reduced_total, 1):.1f}:1", "", "", "", "", f"{seconds_total:.2f}")
         console.print(table)

@@ -13,8 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.interpolate import BSpline
+from scipy.spatial.transform import Rotation
 
-from sketchanim.anim.skeleton import Clip, Skeleton
+from sketchanim.anim.skeleton import Clip, Skeleton, world_pose
 from sketchanim.anim.tracks import held_values
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.motion import reduce_rotations
@@ -158,11 +159,27 @@ class ReducedClip:
                 pos.n_coefficients if pos else 0, float(pos.report["max_distance"]) if pos else float("nan")))
         return rows
 
-    def world_error(self, clip: Clip) -> float:
-        """The largest distance, over frames and joints, between ``clip``'s world joint
-        positions and this reduction's at the same times (clip units)."""
-        return float(np.linalg.norm(self.sample(clip.times).world_positions() - clip.world_positions(),
-                                    axis=-1).max())
+    def world_errors(self, clip: Clip, shell: float = 0.0, *,
+                     source: tuple[list[Rotation], np.ndarray] | None = None) -> np.ndarray:
+        """Per frame and joint (n, J), at ``clip``'s times: how far these curves put the
+        joint from ``clip``'s in the world, plus the most a point ``shell`` from the joint
+        moves by the difference of their world rotations (``2 shell sin(angle / 2)``).
+        ``source``: ``clip``'s :func:`~sketchanim.anim.skeleton.world_pose`, where the
+        caller has it already.
+
+        >>> s = Skeleton(("a",), (-1,), np.zeros((1, 3)))
+        >>> clip = Clip.still(s, np.arange(5) / 30)
+        >>> float(reduce_clip(clip, 0.1, 0.1).world_errors(clip, 3.0).max())
+        0.0
+        """
+        source_rot, source_pos = source or world_pose(clip.skeleton, clip.rotations, clip.translations)
+        frames = self.sample(clip.times)
+        rot, pos = world_pose(clip.skeleton, frames.rotations, frames.translations)
+        out = np.linalg.norm(pos - source_pos, axis=-1)
+        if shell:
+            for j in range(len(clip.skeleton)):
+                out[:, j] += 2 * shell * np.sin((rot[j] * source_rot[j].inv()).magnitude() / 2)
+        return out
 
     def to_json(self) -> str:
         """The skeleton and every curve as JSON (schema ``sketchanim.clip``, version 1)."""

@@ -173,11 +173,6 @@ class Clip:
         """The median time between frames, seconds."""
         return frame_time(self.times)
 
-    @property
-    def n_source_channels(self) -> int:
-        """Numbers per frame in the source (what storing every sample costs)."""
-        return sum(len(c) for c in self.channels)
-
     def bones(self) -> np.ndarray:
         """For each joint, the longest distance from its parent over the clip (J,): its
         offset's length, or its translation's where translation channels move it.
@@ -192,7 +187,7 @@ class Clip:
 
     def world_positions(self) -> np.ndarray:
         """Joint positions in the world, shape (n, J, 3) (forward kinematics)."""
-        return world_positions(self.skeleton, self.rotations, self.translations)
+        return world_pose(self.skeleton, self.rotations, self.translations)[1]
 
     def guess_unit_m(self) -> float | None:
         """Metres per clip unit: ``unit_m`` if known, else the unit of :data:`UNITS_M` in
@@ -243,8 +238,3 @@ def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarr
             world_rot.append(world_rot[p] * local)
             out[:, i] = out[:, p] + world_rot[p].apply(translations[:, i])
     return world_rot, out
-
-
-def world_positions(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:
-    """World joint positions (n, J, 3) (:func:`world_pose`)."""
-    return world_pose(skeleton, rotations, translations)[1]

@@ -19,7 +19,6 @@ carry it further than its offset.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.clip_reduction import ReducedClip, joint_position, joint_rotation
 from sketchanim.anim.skeleton import Clip, world_pose
@@ -36,32 +35,6 @@ MAX_ANGLE_DEG = 30.0
 ROUNDS = 6
 
 
-def world_errors(clip: Clip, reduced: ReducedClip, shell: float) -> np.ndarray:
-    """Per frame and joint (n, J): how far the curves put the joint from the source, plus
-    the most a point ``shell`` from the joint moves by the difference of their world
-    rotations (``2 shell sin(angle / 2)``).
-
-    >>> from sketchanim.anim.skeleton import Skeleton
-    >>> from sketchanim.anim.clip_reduction import reduce_clip
-    >>> s = Skeleton(("a",), (-1,), np.zeros((1, 3)))
-    >>> clip = Clip.still(s, np.arange(5) / 30)
-    >>> float(world_errors(clip, reduce_clip(clip, 0.1, 0.1), 3.0).max())
-    0.0
-    """
-    return _errors(clip, world_pose(clip.skeleton, clip.rotations, clip.translations), reduced, shell)
-
-
-def _errors(clip: Clip, source: tuple[list[Rotation], np.ndarray], reduced: ReducedClip, shell: float) -> np.ndarray:
-    """:func:`world_errors`, given the source's world pose."""
-    source_rot, source_pos = source
-    frames = reduced.sample(clip.times)
-    rot, pos = world_pose(clip.skeleton, frames.rotations, frames.translations)
-    out = np.linalg.norm(pos - source_pos, axis=-1)
-    for j in range(len(clip.skeleton)):
-        out[:, j] += 2 * shell * np.sin((rot[j] * source_rot[j].inv()).magnitude() / 2)
-    return out
-
-
 def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "global") -> ReducedClip:
     """Reduce ``clip`` so that every joint, and every point ``shell`` from a joint, is
     within the distance ``tol`` (clip units) of the source in the world at every frame.
@@ -76,7 +49,7 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "gl
     >>> clip.rotations[:, 0] = Rotation.from_euler("Z", 0.3 * np.sin(3 * t)[:, None]).as_quat()
     >>> clip.rotations[:, 1] = Rotation.from_euler("X", np.sin(5 * t)[:, None]).as_quat()
     >>> r = reduce_clip_world(clip, 0.5, 3.0)
-    >>> bool(world_errors(clip, r, 3.0).max() <= 0.5)
+    >>> bool(r.world_errors(clip, 3.0).max() <= 0.5)
     True
     """
     for name, value in (("tol", tol), ("shell", shell)):
@@ -104,7 +77,7 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "gl
                 made[int(i)] = angle[i]
         reduced = ReducedClip(sk, clip.channels, rotations, translations, clip.frame_time, len(clip.times),
                               clip.unit_m)
-        worst = _errors(clip, source, reduced, shell).max(axis=0)
+        worst = reduced.world_errors(clip, shell, source=source).max(axis=0)
         over = np.flatnonzero(worst > tol)
         if not over.size:
             return reduced

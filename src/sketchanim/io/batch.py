@@ -137,7 +137,7 @@ def outcome(source: Path, output: Path, clip: Clip | Markers, reduced: ReducedCl
     return Outcome(str(source), str(output), "reduced", "", len(clip.times), len(clip.skeleton),
                    sum(r.rotation_points + r.position_points for r in joints), reduced.raw_bytes(),
                    reduced.reduced_bytes(), round(reduced.compression(), 3), max(rot, default=0.0),
-                   max(pos, default=0.0), reduced.world_error(clip), tol, round(seconds, 3))
+                   max(pos, default=0.0), float(reduced.world_errors(clip).max()), tol, round(seconds, 3))
 
 
 def convert(source: Path, output: Path, options: Options) -> Outcome:
