@@ -1,0 +1,80 @@
+"""Blender plays our files as we do (the bpy wheel from PyPI, in .venv-blender, which
+scripts/setup installs): .glb clips and scenes imported by our add-on
+(blender/sketchanim_import.py) are our curves at every frame (within float32), and
+``--keys frames`` files imported by Blender's own glTF importer are within the asked
+tolerance of the source; the add-on refuses, with a message, what it cannot play
+exactly."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from blender_client import Refused, blender_play, joint_locals, object_pose
+from sketchanim.anim.attributes import ORIENTATION, POSITION
+from sketchanim.anim.clip_reduction import reduce_clip
+from sketchanim.anim.layers import reduce_samples
+from sketchanim.anim.scene import Scene
+from sketchanim.anim.tracks import ContinuousTrack, Take
+from sketchanim.io.clip_files import read_clip, write_reduced
+from sketchanim.io.gltf_scene import scene_glb
+from sketchanim.reducer.metric import rotation_angle
+
+
+def _errors(clip, rot: np.ndarray, trans: np.ndarray) -> tuple[float, float]:
+    """Largest rotation angle (degrees) and translation distance against ``clip``."""
+    angle = max(float(np.degrees(rotation_angle(rot[:, j], clip.rotations[:, j])).max())
+                for j in np.flatnonzero(clip.rotating))
+    dist = max((float(np.linalg.norm(trans[:, j] - clip.translations[:, j], axis=1).max())
+                for j in np.flatnonzero(clip.translating)), default=0.0)
+    return angle, dist
+
+
+@pytest.mark.realdata
+def test_real_clips_in_blender(data_dir: Path, tmp_path: Path) -> None:
+    for source in [*sorted((data_dir / "bvh").glob("*.bvh")), data_dir / "amc" / "cmu_11_01.amc"]:
+        clip = read_clip(source)
+        tol = 0.005 / clip.guess_unit_m()
+        reduced = reduce_clip(clip, tol, 0.5)
+        ours = reduced.sample(clip.times)
+        curves = write_reduced(tmp_path / f"{source.stem}.glb", reduced)
+        frames = write_reduced(tmp_path / f"{source.stem}.frames.glb", reduced, keys="frames")
+        rot, trans = joint_locals(blender_play("addon", curves, clip.times), clip.skeleton, clip.unit_m)
+        scale = float(np.abs(clip.translations).max())
+        angle, dist = _errors(ours, rot, trans)                        # our curves, within float32
+        assert angle < 2e-3 and dist < 2e-6 * scale * 10, (source.name, angle, dist)
+        angle, dist = _errors(clip, rot, trans)                        # the source, within the tolerance
+        assert angle <= 0.5 and dist <= tol, (source.name, angle, dist)
+        rot, trans = joint_locals(blender_play("gltf", frames, clip.times), clip.skeleton, clip.unit_m)
+        angle, dist = _errors(clip, rot, trans)
+        assert angle <= 0.5 and dist <= tol, (source.name, "glTF importer", angle, dist)
+        with pytest.raises(Refused, match="LINEAR rotation keys.*File > Import > glTF 2.0"):
+            blender_play("addon", frames, clip.times[:2])
+
+
+def test_scene_in_blender_through_the_addon(tmp_path: Path) -> None:
+    t = np.arange(240) / 60
+    pos = np.c_[np.sin(t), 0.5 + 0.5 * np.abs(np.sin(2 * t)), np.cos(3 * t)]
+    q = Rotation.from_rotvec(np.c_[0.3 * np.sin(2 * t), 1.5 * t, 0.2 * t]).as_quat()
+    scene = Scene()
+    scene.add("cam", "camera")
+    scene.add("box")
+    tracks = {"cam.orientation": ContinuousTrack("cam.orientation", ORIENTATION,
+                                                 reduce_samples(ORIENTATION, t, q, 0.5, 4), 0.5, (Take(t, q),)),
+              "box.position": ContinuousTrack("box.position", POSITION, reduce_samples(POSITION, t, pos, 0.005, 4),
+                                              0.005, (Take(t, pos),))}
+    path = tmp_path / "scene.glb"
+    path.write_bytes(scene_glb(scene, tracks)[0])
+    poses = blender_play("addon", path, t)
+    cam_q, _ = object_pose(poses, "cam")
+    _, box_p = object_pose(poses, "box")
+    ours_q = tracks["cam.orientation"].evaluate(t)
+    assert np.degrees(rotation_angle(cam_q, ours_q)).max() < 0.5 * 0.1 + 1e-3      # unit keys: KEY_SHARE
+    assert np.degrees(rotation_angle(cam_q, q)).max() <= 0.5 * 1.1
+    assert np.abs(box_p - tracks["box.position"].evaluate(t)).max() < 1e-5
+    with pytest.raises(Refused, match="not a binary glTF"):
+        (tmp_path / "bad.glb").write_bytes(b"not glTF at all")
+        blender_play("addon", tmp_path / "bad.glb", t[:2])
