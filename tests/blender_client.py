@@ -72,9 +72,12 @@ def joint_locals(poses: dict[str, np.ndarray], skeleton: Skeleton, unit_m: float
     return rot, trans
 
 
-def object_pose(poses: dict[str, np.ndarray], name: str) -> tuple[np.ndarray, np.ndarray]:
+def object_pose(poses: dict[str, np.ndarray], name: str, mode: str) -> tuple[np.ndarray, np.ndarray]:
     """An object's world rotation (n, 4) and position (n, 3) in glTF's axes (for objects
-    without a parent other than the import's root)."""
+    without a parent other than the import's root), as imported by ``mode``: our add-on
+    keeps glTF's local axes under a root turned to +Z up; Blender's glTF importer turns
+    each object's axes too (its meshes with them)."""
     m = poses[f"object:{name}"]
-    r = np.einsum("ij,njk,kl->nil", Y_UP.T, _rotations(m), Y_UP)
+    r = np.einsum("ij,njk->nik", Y_UP.T, _rotations(m))
+    r = r if mode == "addon" else np.einsum("nik,kl->nil", r, Y_UP)
     return Rotation.from_matrix(r).as_quat(), np.einsum("ij,nj->ni", Y_UP.T, m[:, :3, 3])

@@ -4,8 +4,8 @@ save every pose bone's and object's world matrix.
 
     .venv-blender/bin/python tests/blender_probe.py addon|gltf FILE.glb TIMES.npy FPS OUT.npz
 
-The scene runs at FPS (the source's rate: its frames are whole frames, as an animator
-plays them).
+With the add-on the scene runs at FPS (the source's rate: its frames are whole frames,
+as an animator plays them).
 """
 
 from __future__ import annotations
@@ -22,7 +22,10 @@ bpy.ops.wm.read_factory_settings(use_empty=True)
 scene = bpy.context.scene
 fps = float(rate)
 scene.render.fps = max(1, round(fps))
-scene.render.fps_base = scene.render.fps / fps
+# Blender's glTF importer places keys at seconds x fps x fps_base (where playback runs at
+# fps / fps_base): give it fps_base 1, and play at the fractional frames of the times.
+scene.render.fps_base = scene.render.fps / fps if mode == "addon" else 1.0
+fps = scene.render.fps / scene.render.fps_base
 if mode == "addon":
     spec = importlib.util.spec_from_file_location("sketchanim_import",
                                                   Path(__file__).resolve().parents[1] / "blender" / "sketchanim_import.py")

@@ -162,3 +162,16 @@ def linear_play32(times: np.ndarray, keys: np.ndarray, t: np.ndarray, rotation: 
     sin = np.where(small, f(1), np.sin(angle))
     out = np.where(small, (f(1) - s) * a + s * b, (np.sin((f(1) - s) * angle) * a + np.sin(s * angle) * b) / sin)
     return out / np.linalg.norm(out, axis=1, keepdims=True)
+
+
+def float32_shares(clip: Clip, tol: float, rot_tol_deg: float) -> tuple[float, float]:
+    """The largest share of the tolerances that reduce_clip leaves to float32 over the
+    clip's joints (rotation degrees, distance): how far a float32 client may play from
+    our float64 curves."""
+    from sketchanim.anim.clip_reduction import position_budget, rotation_budget
+
+    angle = max(rot_tol_deg - rotation_budget(clip.times, clip.rotations[:, j], rot_tol_deg)
+                for j in np.flatnonzero(clip.rotating))
+    dist = max((tol - position_budget(clip.times, clip.translations[:, j], tol)
+                for j in np.flatnonzero(clip.translating)), default=0.0)
+    return angle, dist

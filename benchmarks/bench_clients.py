@@ -1,0 +1,177 @@
+"""What the clients animators use play from our files: max error against the source.
+
+    .venv/bin/python benchmarks/bench_clients.py [--data ../shared/data]
+
+For every BVH clip in ``DATA/bvh`` and the CMU ASF/AMC clip, reduced at 0.5 cm / 0.5
+degree (centimetres through the clip's guessed unit), and for the layered-take
+example's scene (examples/layered_take.py: its position and orientation tracks against
+the samples each take asked for), each file is played at every source frame by:
+
+- three.js (scripts/play-gltf.mjs: GLTFLoader, AnimationMixer, in node) from the .glb;
+- Blender through our add-on (blender/sketchanim_import.py, the bpy wheel) from the .glb;
+- Blender's own glTF importer from the ``--keys frames`` .glb (and, to show why that
+  option exists, from the exact .glb, whose tangents it drops);
+- usd-core from the .usda (clips only: scenes have no USD export).
+
+Errors are the largest over joints (objects) and frames: the rotation angle (degrees,
+geodesic) of each joint's local rotation, and the distance (cm) of each translating
+joint's local translation; for the scene, each track's error in its own unit. "ok" says
+whether both are within what was asked.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+
+from blender_client import blender_play, joint_locals, object_pose  # noqa: E402
+from threejs_client import three_play  # noqa: E402
+
+from sketchanim.anim.clip_reduction import reduce_clip  # noqa: E402
+from sketchanim.anim.skeleton import Clip  # noqa: E402
+from sketchanim.io.clip_files import read_clip, write_reduced  # noqa: E402
+from sketchanim.io.gltf_scene import scene_glb  # noqa: E402
+from sketchanim.reducer.metric import rotation_angle  # noqa: E402
+
+TOL_CM, ROT_TOL = 0.5, 0.5
+
+
+def clip_errors(rot: np.ndarray, trans: np.ndarray, clip: Clip) -> tuple[float, float]:
+    """Largest local rotation angle (degrees) and translation distance (clip units)."""
+    angle = max(float(np.degrees(rotation_angle(rot[:, j], clip.rotations[:, j])).max())
+                for j in np.flatnonzero(clip.rotating))
+    dist = max((float(np.linalg.norm(trans[:, j] - clip.translations[:, j], axis=1).max())
+                for j in np.flatnonzero(clip.translating)), default=0.0)
+    return angle, dist
+
+
+def three_locals(glb: Path, clip: Clip) -> tuple[np.ndarray, np.ndarray]:
+    played = three_play(glb, clip.times)
+    names = clip.skeleton.names
+    return (np.stack([played[n]["quaternion"] for n in names], axis=1),
+            np.stack([played[n]["position"] for n in names], axis=1))
+
+
+def usd_locals(path: Path, clip: Clip) -> tuple[np.ndarray, np.ndarray]:
+    from pxr import Usd, UsdGeom
+
+    stage = Usd.Stage.Open(str(path))
+    prims = {p.GetName(): UsdGeom.Xformable(p) for p in stage.Traverse()}
+    n, j = len(clip.times), len(clip.skeleton)
+    rot, trans = np.empty((n, j, 4)), np.empty((n, j, 3))
+    for k, name in enumerate(clip.skeleton.names):
+        for f in range(n):
+            m = prims[name].GetLocalTransformation(Usd.TimeCode(f))
+            q = m.ExtractRotationQuat()
+            rot[f, k] = [*q.GetImaginary(), q.GetReal()]
+            trans[f, k] = m.ExtractTranslation()
+    return rot, trans
+
+
+def clip_rows(source: Path, folder: Path) -> list[tuple]:
+    clip = read_clip(source)
+    unit = clip.guess_unit_m()
+    tol = TOL_CM / 100 / unit
+    reduced = reduce_clip(clip, tol, ROT_TOL)
+    curves = write_reduced(folder / f"{source.stem}.glb", reduced)
+    frames = write_reduced(folder / f"{source.stem}.frames.glb", reduced, keys="frames")
+    usd = write_reduced(folder / f"{source.stem}.usda", reduced)
+    clients = [
+        ("three.js", lambda: three_locals(curves, clip)),
+        ("three.js, --keys frames", lambda: three_locals(frames, clip)),
+        ("Blender, our add-on", lambda: joint_locals(blender_play("addon", curves, clip.times), clip.skeleton,
+                                                      clip.unit_m)),
+        ("Blender glTF importer, --keys frames", lambda: joint_locals(blender_play("gltf", frames, clip.times),
+                                                                      clip.skeleton, clip.unit_m)),
+        ("Blender glTF importer, exact keys", lambda: joint_locals(blender_play("gltf", curves, clip.times),
+                                                                   clip.skeleton, clip.unit_m)),
+        ("usd-core", lambda: usd_locals(usd, clip)),
+    ]
+    rows = []
+    for client, play in clients:
+        start = time.perf_counter()
+        angle, dist = clip_errors(*play(), clip)
+        rows.append((source.name, client, angle, dist * unit * 100, angle <= ROT_TOL and dist <= tol,
+                     time.perf_counter() - start))
+    return rows
+
+
+@dataclass
+class Played:
+    """A track as a client played it at ``times`` (what the example's max_error reads)."""
+
+    takes: tuple
+    type: object
+    times: np.ndarray
+    values: np.ndarray
+
+    def evaluate(self, t: np.ndarray) -> np.ndarray:
+        return self.values[np.searchsorted(self.times, t)]
+
+
+def scene_rows(folder: Path) -> list[tuple]:
+    spec = importlib.util.spec_from_file_location("layered_take", ROOT / "examples" / "layered_take.py")
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    scene, player, _, first = example.perform()
+    tracks = {p: t for p, t in player.tracks.items() if p.split(".")[1] in ("position", "orientation")}
+    times = np.unique(np.concatenate([take.times for t in tracks.values() for take in t.takes]))
+    curves, frames = folder / "scene.glb", folder / "scene.frames.glb"
+    curves.write_bytes(scene_glb(scene, player.tracks)[0])
+    frames.write_bytes(scene_glb(scene, player.tracks, keys="frames")[0])
+
+    def three(path: Path) -> dict[str, np.ndarray]:
+        played = three_play(path, times)
+        return {p: played[p.split(".")[0]]["quaternion" if p.endswith("orientation") else "position"] for p in tracks}
+
+    def blender(mode: str, path: Path) -> dict[str, np.ndarray]:
+        poses = blender_play(mode, path, times)
+        return {p: object_pose(poses, p.split(".")[0], mode)[1 if p.endswith("position") else 0] for p in tracks}
+
+    clients = [("three.js", lambda: three(curves)), ("three.js, --keys frames", lambda: three(frames)),
+               ("Blender, our add-on", lambda: blender("addon", curves)),
+               ("Blender glTF importer, --keys frames", lambda: blender("gltf", frames)),
+               ("Blender glTF importer, exact keys", lambda: blender("gltf", curves))]
+    rows = []
+    for client, play in clients:
+        start = time.perf_counter()
+        values = play()
+        worst = {p: example.max_error(Played(t.takes, t.type, times, values[p]), first.get(p))
+                 for p, t in tracks.items()}
+        angle = max(v for p, v in worst.items() if p.endswith("orientation"))
+        dist = max(v for p, v in worst.items() if p.endswith("position"))
+        ok = all(worst[p] <= tracks[p].tol for p in tracks)
+        rows.append(("layered take (scene)", client, angle, dist * 100, ok, time.perf_counter() - start))
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    args = parser.parse_args()
+    sources = [*sorted((args.data / "bvh").glob("*.bvh")), args.data / "amc" / "cmu_11_01.amc"]
+    table = Table(title=f"max error against the source, per client (asked: {ROT_TOL} degree, {TOL_CM} cm; "
+                        "scene: 0.5 degree, 0.5 cm = 0.005 scene units)")
+    for col in ("file", "client", "rotation (deg)", "position (cm)", "within", "seconds"):
+        table.add_column(col, justify="left" if col in ("file", "client") else "right")
+    with tempfile.TemporaryDirectory() as tmp:
+        rows = [row for s in sources if s.exists() for row in clip_rows(s, Path(tmp))] + scene_rows(Path(tmp))
+    for file, client, angle, dist, ok, seconds in rows:
+        table.add_row(file, client, f"{angle:.5f}", f"{dist:.5f}", "yes" if ok else "NO", f"{seconds:.1f}")
+    Console(width=160).print(table)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,74 @@
+"""three.js plays every .glb we export (clips, exactly or as frames; markers; scenes) at
+every source frame as our curves (within float32) and within the asked tolerance of the
+source, the last frame included (a looping mixer wraps at the clip's end)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import find
+
+from clips import clips, float32_shares
+from sketchanim.anim.clip_reduction import reduce_clip
+from sketchanim.anim.skeleton import Clip
+from sketchanim.io.c3d import read_c3d
+from sketchanim.anim.markers import reduce_markers
+from sketchanim.io.clip_files import read_clip, write_reduced
+from sketchanim.reducer.metric import rotation_angle
+from threejs_client import three_play
+
+
+def clip_errors(played: dict, clip: Clip) -> tuple[float, float]:
+    """Largest joint rotation angle (degrees) and translation distance of a played
+    clip against ``clip``."""
+    names = clip.skeleton.names
+    angle = max(float(np.degrees(rotation_angle(played[names[j]]["quaternion"], clip.rotations[:, j])).max())
+                for j in np.flatnonzero(clip.rotating))
+    dist = max((float(np.linalg.norm(played[names[j]]["position"] - clip.translations[:, j], axis=1).max())
+                for j in np.flatnonzero(clip.translating)), default=0.0)
+    return angle, dist
+
+
+def _check_clip(clip: Clip, tol: float, folder: Path) -> None:
+    reduced = reduce_clip(clip, tol, 0.5)
+    ours = reduced.sample(clip.times)
+    share = float32_shares(clip, tol, 0.5)
+    for keys in ("curves", "frames"):
+        path = write_reduced(folder / f"clip.{keys}.glb", reduced, keys=keys)
+        played = three_play(path, clip.times)
+        angle, dist = clip_errors(played, clip)
+        assert angle <= 0.5 and dist <= tol, (keys, angle, dist)
+        if keys == "curves":
+            angle, dist = clip_errors(played, ours)
+            assert angle <= share[0] and dist <= share[1], (angle, dist, share)      # float32's share
+
+
+def test_threejs_plays_a_clip(tmp_path: Path) -> None:
+    _check_clip(find(clips(), lambda c: len(c.times) > 100), 0.5, tmp_path)
+
+
+@pytest.mark.realdata
+def test_threejs_plays_the_real_clips(data_dir: Path, tmp_path: Path) -> None:
+    for source in [*sorted((data_dir / "bvh").glob("*.bvh")), data_dir / "amc" / "cmu_11_01.amc"]:
+        clip = read_clip(source)
+        _check_clip(clip, 0.005 / clip.guess_unit_m(), tmp_path)
+
+
+@pytest.mark.realdata
+def test_threejs_plays_the_real_markers(data_dir: Path, tmp_path: Path) -> None:
+    for source in sorted((data_dir / "c3d").glob("*.c3d")):
+        markers = read_c3d(source)
+        tol = 0.005 / (markers.unit_m or 0.001)
+        reduced = reduce_markers(markers, tol)
+        for keys in ("curves", "frames"):
+            played = three_play(write_reduced(tmp_path / f"m.{keys}.glb", reduced, keys=keys), markers.times)
+            for m, name in enumerate(markers.names):
+                seen = np.all(np.isfinite(markers.positions[:, m]), axis=1)
+                if not seen.any():
+                    continue
+                dist = np.linalg.norm(played[name]["position"][seen] - markers.positions[seen, m], axis=1)
+                assert dist.max() <= tol, (keys, name, dist.max())
+                shown = played[name]["scale"][:, 0] > 0
+                assert np.array_equal(shown, seen), (keys, name)
