@@ -72,3 +72,47 @@ def test_threejs_plays_the_real_markers(data_dir: Path, tmp_path: Path) -> None:
                 assert dist.max() <= tol, (keys, name, dist.max())
                 shown = played[name]["scale"][:, 0] > 0
                 assert np.array_equal(shown, seen), (keys, name)
+
+
+def test_threejs_and_blender_play_a_scene(tmp_path: Path) -> None:
+    from scipy.spatial.transform import Rotation
+    from typer.testing import CliRunner
+
+    from blender_client import blender_play, object_pose
+    from sketchanim.anim.attributes import ORIENTATION, POSITION, SCALE
+    from sketchanim.anim.layers import reduce_samples
+    from sketchanim.anim.scene import Scene
+    from sketchanim.anim.tracks import ContinuousTrack, Take
+    from sketchanim.cli import app
+    from sketchanim.io.gltf_scene import KEY_SHARE
+    from sketchanim.io.project import Project
+
+    t = np.arange(300) / 60 + 0.25
+    pos = np.c_[np.sin(t), 0.5 + 0.5 * np.abs(np.sin(2 * t)), np.cos(3 * t)]
+    q = Rotation.from_rotvec(np.c_[0.3 * np.sin(2 * t), 1.5 * t, 0.2 * t]).as_quat()
+    size = 1.0 + 0.3 * np.c_[np.sin(t), np.cos(t), np.sin(2 * t)]
+    scene = Scene()
+    scene.add("cam", "camera")
+    scene.add("box")
+    tracks = {}
+    for path, kind, values, tol in (("cam.orientation", ORIENTATION, q, 0.5), ("box.position", POSITION, pos, 0.005),
+                                    ("box.scale", SCALE, size, 0.005)):
+        tracks[path] = ContinuousTrack(path, kind, reduce_samples(kind, t, values, tol, 4), tol, (Take(t, values),))
+    with Project(tmp_path / "s.sketchanim") as project:
+        project.save(scene, tracks)
+    runner = CliRunner()
+    for keys in ("curves", "frames"):
+        out = tmp_path / f"s.{keys}.glb"
+        result = runner.invoke(app, ["export", str(tmp_path / "s.sketchanim"), "-o", str(out), "--keys", keys])
+        assert result.exit_code == 0, result.output
+        played = three_play(out, t)
+        slack = 1e-5 * (1 + np.abs(pos).max())                       # float32 (scene tracks keep no budget)
+        assert np.abs(played["box"]["position"] - pos).max() <= 0.005 + slack, keys
+        assert np.abs(played["box"]["scale"] - size).max() <= 0.005 + slack, keys
+        angle = np.degrees(rotation_angle(played["cam"]["quaternion"], q)).max()
+        assert angle <= 0.5 * (1 + KEY_SHARE if keys == "curves" else 1) + 1e-3, (keys, angle)
+        assert float(played["box"]["position"][-1, 0]) == pytest.approx(pos[-1, 0], abs=0.006)   # no wrap at the end
+    _, box = object_pose(blender_play("gltf", tmp_path / "s.frames.glb", t), "box", "gltf")
+    assert np.abs(box - pos).max() <= 0.005 + slack                  # Blender's own importer, frames
+    result = runner.invoke(app, ["export", str(tmp_path / "s.sketchanim"), "-o", str(out), "--keys", "spline"])
+    assert result.exit_code == 2 and "--keys" in result.output

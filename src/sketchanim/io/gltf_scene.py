@@ -22,8 +22,9 @@ from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError
 from sketchanim.io.gltf import Channel, Node, glb_bytes, octahedron
-from sketchanim.io.gltf_frames import FRAME_SHARE, KEYS, frame_channel, frame_times
+from sketchanim.io.gltf_frames import FRAME_SHARE, KEYS, allowance, frame_channel, frame_times
 from sketchanim.motion.rotations import unit_keys
+from sketchanim.reducer.metric import max_errors
 
 #: Attributes written as glTF channels, and their glTF paths.
 PATHS = {"position": "translation", "orientation": "rotation", "scale": "scale"}
@@ -73,6 +74,30 @@ def _rest(scene: Scene, name: str, attribute: str) -> list[float] | None:
     return np.asarray(scene.get(f"{name}.{attribute}"), dtype=float).tolist() if attribute in obj.attributes else None
 
 
+def frame_allowance(track: ContinuousTrack) -> float:
+    """What dropping frame keys may add to a track (a distance, or radians): for a track
+    of one take, what its tolerance leaves over the curve's error at the take's samples
+    (at most ``FRAME_SHARE`` of it), so the keys stay within the tolerance of the take;
+    over layered takes, ``FRAME_SHARE`` of the tolerance.
+
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> from sketchanim.anim.tracks import Take
+    >>> t = np.linspace(0, 1, 11)
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 0, 0]]), 1)
+    >>> take = Take(t, np.c_[t + 0.004, 0 * t, 0 * t])
+    >>> round(frame_allowance(ContinuousTrack("a.position", POSITION, s, 0.005, (take,))), 6)
+    0.0005
+    """
+    rotation = track.type.is_rotation
+    tol = float(np.radians(track.tol)) if rotation else float(track.tol)
+    if len(track.takes) != 1:
+        return FRAME_SHARE * tol
+    take = track.takes[0]
+    inside = (take.times >= track.start) & (take.times <= track.end)
+    error = float(max_errors(track.evaluate(take.times[inside]), take.values[inside], 1.0 if rotation else 0.0).max())
+    return allowance(tol, error)
+
+
 def track_times(track: ContinuousTrack, rate: float | None = None) -> np.ndarray:
     """Where a track was sampled: its takes' times inside its span; or ``rate`` per
     second over its span (also where it has no takes: ``FRAME_RATE``).
@@ -94,7 +119,7 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
     and one animation of every position, orientation and scale track (exactly; an
     orientation's keys made unit quaternions by :func:`rotation_keys`; or with
     ``keys="frames"``, LINEAR keys at :func:`track_times`, dropping those within
-    ``FRAME_SHARE`` of the track's tolerance). Also returns the paths of the tracks
+    :func:`frame_allowance`). Also returns the paths of the tracks
     glTF cannot animate, which are left out.
 
     >>> from sketchanim.anim.attributes import POSITION
@@ -134,9 +159,8 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
             left_out.append(path)
             continue
         if keys == "frames":
-            tol = np.radians(track.tol) if track.type.is_rotation else track.tol
             channels.append(frame_channel(index[obj], PATHS[attribute], track.spline, track_times(track, rate),
-                                          FRAME_SHARE * tol))
+                                          frame_allowance(track)))
         else:
             spline = rotation_keys(track) if track.type.is_rotation else track.spline
             channels.append(Channel.curve(index[obj], PATHS[attribute], spline))
