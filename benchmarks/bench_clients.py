@@ -16,7 +16,7 @@ the samples each take asked for), each file is played at every source frame by:
 Errors are the largest over joints (objects) and frames: the rotation angle (degrees,
 geodesic) of each joint's local rotation, and the distance (cm) of each translating
 joint's local translation; for the scene, each track's error in its own unit. "ok" says
-whether both are within what was asked.
+whether both are within what was asked; "play s": seconds to import and play (one run).
 """
 
 from __future__ import annotations
@@ -164,7 +164,7 @@ def main() -> None:
     sources = [*sorted((args.data / "bvh").glob("*.bvh")), args.data / "amc" / "cmu_11_01.amc"]
     table = Table(title=f"max error against the source, per client (asked: {ROT_TOL} degree, {TOL_CM} cm; "
                         "scene: 0.5 degree, 0.5 cm = 0.005 scene units)")
-    for col in ("file", "client", "rotation (deg)", "position (cm)", "within", "seconds"):
+    for col in ("file", "client", "rotation (deg)", "position (cm)", "within", "play s"):
         table.add_column(col, justify="left" if col in ("file", "client") else "right")
     with tempfile.TemporaryDirectory() as tmp:
         rows = [row for s in sources if s.exists() for row in clip_rows(s, Path(tmp))] + scene_rows(Path(tmp))

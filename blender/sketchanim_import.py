@@ -228,6 +228,8 @@ def load(path: str, context=None, fps: float | None = None) -> list:
             action_of[target.name] = action
         offset = {"translation": np.array(nodes[i].get("translation", [0, 0, 0]))} if i in joints else {}
         _animate(target, action_of[target.name], chans, offset, fps, nodes[i].get("name", f"node{i}"))
+    end = max((float(times[-1]) for chans in channels.values() for _, _, times, _ in chans), default=0.0)
+    scene.frame_end = max(scene.frame_end, math.ceil(end * fps - SNAP))       # the timeline shows all of it
     return [root]
 
 

@@ -79,3 +79,23 @@ def test_scene_in_blender_through_the_addon(tmp_path: Path) -> None:
     with pytest.raises(Refused, match="not a binary glTF"):
         (tmp_path / "bad.glb").write_bytes(b"not glTF at all")
         blender_play("addon", tmp_path / "bad.glb", t[:2])
+
+
+def test_addon_command_line(tmp_path: Path) -> None:
+    import subprocess
+
+    from hypothesis import find
+
+    from blender_client import PYTHON, ROOT
+    from clips import clips
+
+    reduced = reduce_clip(find(clips(), lambda c: len(c.times) > 30), 0.5, 0.5)
+    curves = write_reduced(tmp_path / "c.glb", reduced)
+    frames = write_reduced(tmp_path / "f.glb", reduced, keys="frames")
+    addon = str(ROOT / "blender" / "sketchanim_import.py")
+    run = subprocess.run([str(PYTHON), addon, str(curves), "--save", str(tmp_path / "c.blend")],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert (tmp_path / "c.blend").stat().st_size > 0
+    run = subprocess.run([str(PYTHON), addon, str(frames)], capture_output=True, text=True)
+    assert run.returncode == 2 and "LINEAR rotation keys" in run.stderr
