@@ -1,4 +1,4 @@
-"""Blender as a client of our .glb files (tests/blender_probe.py in the bpy wheel's
+"""Blender as a client of our .glb files (scripts/blender_probe.py in the bpy wheel's
 Python, .venv-blender): poses played by our add-on or by Blender's glTF importer, turned
 back into glTF's terms (+Y up, node-local rotations and translations)."""
 
@@ -31,7 +31,7 @@ def blender_play(mode: str, glb: Path, times: np.ndarray) -> dict[str, np.ndarra
     rate = 1.0 / float(np.median(np.diff(times))) if len(times) > 1 else 24.0
     with tempfile.TemporaryDirectory() as tmp:
         np.save(Path(tmp) / "t.npy", np.asarray(times, dtype=float))
-        run = subprocess.run([str(PYTHON), str(ROOT / "tests" / "blender_probe.py"), mode, str(glb),
+        run = subprocess.run([str(PYTHON), str(ROOT / "scripts" / "blender_probe.py"), mode, str(glb),
                               str(Path(tmp) / "t.npy"), repr(rate), str(Path(tmp) / "out.npz")], capture_output=True, text=True)
         if run.returncode == 3:
             raise Refused(run.stdout.strip().splitlines()[-1])

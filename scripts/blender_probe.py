@@ -2,7 +2,7 @@
 (``addon``) or Blender's own glTF importer (``gltf``), play it at the given times and
 save every pose bone's and object's world matrix.
 
-    .venv-blender/bin/python tests/blender_probe.py addon|gltf FILE.glb TIMES.npy FPS OUT.npz
+    .venv-blender/bin/python scripts/blender_probe.py addon|gltf FILE.glb TIMES.npy FPS OUT.npz
 
 With the add-on the scene runs at FPS (the source's rate: its frames are whole frames,
 as an animator plays them).
