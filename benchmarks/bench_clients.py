@@ -22,11 +22,9 @@ whether both are within what was asked; "play s": seconds to import and play (on
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import sys
 import tempfile
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -36,7 +34,8 @@ from rich.table import Table
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-from blender_client import blender_play, joint_locals, object_pose  # noqa: E402
+import layered  # noqa: E402
+from blender_client import blender_play, joint_locals  # noqa: E402
 from threejs_client import three_play  # noqa: E402
 
 from sketchanim.anim.clip_reduction import reduce_clip  # noqa: E402
@@ -108,52 +107,25 @@ def clip_rows(source: Path, folder: Path) -> list[tuple]:
     return rows
 
 
-@dataclass
-class Played:
-    """A track as a client played it at ``times`` (what the example's max_error reads)."""
-
-    takes: tuple
-    type: object
-    times: np.ndarray
-    values: np.ndarray
-
-    def evaluate(self, t: np.ndarray) -> np.ndarray:
-        return self.values[np.searchsorted(self.times, t)]
-
-
 def scene_rows(folder: Path) -> list[tuple]:
-    spec = importlib.util.spec_from_file_location("layered_take", ROOT / "examples" / "layered_take.py")
-    example = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(example)
-    scene, player, _, first = example.perform()
-    tracks = {p: t for p, t in player.tracks.items() if p.split(".")[1] in ("position", "orientation")}
-    times = np.unique(np.concatenate([take.times for t in tracks.values() for take in t.takes]))
+    module = layered.example()
+    scene, player, _, first = module.perform()
+    tracks = layered.transform_tracks(player.tracks)
+    times = layered.take_times(tracks)
     curves, frames = folder / "scene.glb", folder / "scene.frames.glb"
     curves.write_bytes(scene_glb(scene, player.tracks)[0])
     frames.write_bytes(scene_glb(scene, player.tracks, keys="frames")[0])
-
-    def three(path: Path) -> dict[str, np.ndarray]:
-        played = three_play(path, times)
-        return {p: played[p.split(".")[0]]["quaternion" if p.endswith("orientation") else "position"] for p in tracks}
-
-    def blender(mode: str, path: Path) -> dict[str, np.ndarray]:
-        poses = blender_play(mode, path, times)
-        return {p: object_pose(poses, p.split(".")[0], mode)[1 if p.endswith("position") else 0] for p in tracks}
-
-    clients = [("three.js", lambda: three(curves)), ("three.js, --keys frames", lambda: three(frames)),
-               ("Blender, our add-on", lambda: blender("addon", curves)),
-               ("Blender glTF importer, --keys frames", lambda: blender("gltf", frames)),
-               ("Blender glTF importer, exact keys", lambda: blender("gltf", curves))]
+    clients = [("three.js", "three", curves), ("three.js, --keys frames", "three", frames),
+               ("Blender, our add-on", "addon", curves), ("Blender glTF importer, --keys frames", "gltf", frames),
+               ("Blender glTF importer, exact keys", "gltf", curves)]
     rows = []
-    for client, play in clients:
+    for name, kind, path in clients:
         start = time.perf_counter()
-        values = play()
-        worst = {p: example.max_error(Played(t.takes, t.type, times, values[p]), first.get(p))
-                 for p, t in tracks.items()}
+        worst = layered.errors(module, tracks, first, times, layered.client(kind, path, tracks, times))
         angle = max(v for p, v in worst.items() if p.endswith("orientation"))
         dist = max(v for p, v in worst.items() if p.endswith("position"))
         ok = all(worst[p] <= tracks[p].tol for p in tracks)
-        rows.append(("layered take (scene)", client, angle, dist * 100, ok, time.perf_counter() - start))
+        rows.append(("layered take (scene)", name, angle, dist * 100, ok, time.perf_counter() - start))
     return rows
 
 

@@ -99,3 +99,31 @@ def test_addon_command_line(tmp_path: Path) -> None:
     assert (tmp_path / "c.blend").stat().st_size > 0
     run = subprocess.run([str(PYTHON), addon, str(frames)], capture_output=True, text=True)
     assert run.returncode == 2 and "LINEAR rotation keys" in run.stderr
+
+
+def test_layered_take_scene_in_every_client(tmp_path: Path) -> None:
+    """examples/layered_take.py's scene: our add-on plays our curves (positions within
+    float32, the orientation within the share its unit keys may take), and the add-on,
+    three.js and Blender's importer (frames) are within each track's tolerance of what
+    its takes asked for."""
+    import layered
+    from sketchanim.io.gltf_scene import KEY_SHARE
+
+    module = layered.example()
+    scene, player, _, first = module.perform()
+    tracks = layered.transform_tracks(player.tracks)
+    times = layered.take_times(tracks)
+    curves, frames = tmp_path / "scene.glb", tmp_path / "scene.frames.glb"
+    curves.write_bytes(scene_glb(scene, player.tracks)[0])
+    frames.write_bytes(scene_glb(scene, player.tracks, keys="frames")[0])
+    addon = layered.client("addon", curves, tracks, times)
+    for p, track in tracks.items():
+        ours = track.evaluate(times)
+        if track.type.is_rotation:
+            assert np.degrees(rotation_angle(addon[p], ours)).max() <= KEY_SHARE * track.tol + 1e-4, p
+        else:
+            assert np.abs(addon[p] - ours).max() <= 1e-5, p
+    for kind, path in (("addon", curves), ("three", curves), ("three", frames), ("gltf", frames)):
+        played = addon if kind == "addon" else layered.client(kind, path, tracks, times)
+        for p, error in layered.errors(module, tracks, first, times, played).items():
+            assert error <= tracks[p].tol, (kind, path.name, p, error)
