@@ -35,25 +35,15 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 import layered  # noqa: E402
+from clips import local_errors  # noqa: E402
 from blender_client import blender_play, joint_locals  # noqa: E402
 from threejs_client import three_play  # noqa: E402
 
 from sketchanim.anim.clip_reduction import reduce_clip  # noqa: E402
 from sketchanim.anim.skeleton import Clip  # noqa: E402
 from sketchanim.io.clip_files import read_clip, write_reduced  # noqa: E402
-from sketchanim.io.gltf_scene import scene_glb  # noqa: E402
-from sketchanim.reducer.metric import rotation_angle  # noqa: E402
 
 TOL_CM, ROT_TOL = 0.5, 0.5
-
-
-def clip_errors(rot: np.ndarray, trans: np.ndarray, clip: Clip) -> tuple[float, float]:
-    """Largest local rotation angle (degrees) and translation distance (clip units)."""
-    angle = max(float(np.degrees(rotation_angle(rot[:, j], clip.rotations[:, j])).max())
-                for j in np.flatnonzero(clip.rotating))
-    dist = max((float(np.linalg.norm(trans[:, j] - clip.translations[:, j], axis=1).max())
-                for j in np.flatnonzero(clip.translating)), default=0.0)
-    return angle, dist
 
 
 def three_locals(glb: Path, clip: Clip) -> tuple[np.ndarray, np.ndarray]:
@@ -101,30 +91,24 @@ def clip_rows(source: Path, folder: Path) -> list[tuple]:
     rows = []
     for client, play in clients:
         start = time.perf_counter()
-        angle, dist = clip_errors(*play(), clip)
+        angle, dist = local_errors(*play(), clip)
         rows.append((source.name, client, angle, dist * unit * 100, angle <= ROT_TOL and dist <= tol,
                      time.perf_counter() - start))
     return rows
 
 
 def scene_rows(folder: Path) -> list[tuple]:
-    module = layered.example()
-    scene, player, _, first = module.perform()
-    tracks = layered.transform_tracks(player.tracks)
-    times = layered.take_times(tracks)
-    curves, frames = folder / "scene.glb", folder / "scene.frames.glb"
-    curves.write_bytes(scene_glb(scene, player.tracks)[0])
-    frames.write_bytes(scene_glb(scene, player.tracks, keys="frames")[0])
-    clients = [("three.js", "three", curves), ("three.js, --keys frames", "three", frames),
-               ("Blender, our add-on", "addon", curves), ("Blender glTF importer, --keys frames", "gltf", frames),
-               ("Blender glTF importer, exact keys", "gltf", curves)]
+    ex = layered.exported(folder)
+    clients = [("three.js", "three", ex.curves), ("three.js, --keys frames", "three", ex.frames),
+               ("Blender, our add-on", "addon", ex.curves), ("Blender glTF importer, --keys frames", "gltf", ex.frames),
+               ("Blender glTF importer, exact keys", "gltf", ex.curves)]
     rows = []
     for name, kind, path in clients:
         start = time.perf_counter()
-        worst = layered.errors(module, tracks, first, times, layered.client(kind, path, tracks, times))
+        worst = layered.errors(ex, layered.client(kind, path, ex.tracks, ex.times))
         angle = max(v for p, v in worst.items() if p.endswith("orientation"))
         dist = max(v for p, v in worst.items() if p.endswith("position"))
-        ok = all(worst[p] <= tracks[p].tol for p in tracks)
+        ok = all(worst[p] <= ex.tracks[p].tol for p in ex.tracks)
         rows.append(("layered take (scene)", name, angle, dist * 100, ok, time.perf_counter() - start))
     return rows
 

@@ -23,8 +23,6 @@ rotation, and files not written by sketchanim.
 Needs nothing beyond Blender (4.2 or later).
 """
 
-from __future__ import annotations
-
 import json
 import math
 import struct
@@ -32,7 +30,6 @@ import sys
 
 import bpy
 import numpy as np
-from mathutils import Matrix
 
 bl_info = {
     "name": "Import: sketchanim glTF",

@@ -175,3 +175,14 @@ def float32_shares(clip: Clip, tol: float, rot_tol_deg: float) -> tuple[float, f
     dist = max((tol - position_budget(clip.times, clip.translations[:, j], tol)
                 for j in np.flatnonzero(clip.translating)), default=0.0)
     return angle, dist
+
+
+def local_errors(rot: np.ndarray, trans: np.ndarray, clip: Clip) -> tuple[float, float]:
+    """Largest joint-local rotation angle (degrees) and translation distance (clip
+    units) of played rotations (n, J, 4) and translations (n, J, 3) against ``clip``,
+    over the joints it moves."""
+    angle = max(float(np.degrees(rotation_angle(rot[:, j], clip.rotations[:, j])).max())
+                for j in np.flatnonzero(clip.rotating))
+    dist = max((float(np.linalg.norm(trans[:, j] - clip.translations[:, j], axis=1).max())
+                for j in np.flatnonzero(clip.translating)), default=0.0)
+    return angle, dist

@@ -13,6 +13,7 @@ import numpy as np
 
 from blender_client import blender_play, object_pose
 from sketchanim.anim.tracks import ContinuousTrack
+from sketchanim.io.gltf_scene import scene_glb
 from threejs_client import three_play
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -39,14 +40,30 @@ class Played:
         return self.values[np.searchsorted(self.times, t)]
 
 
-def transform_tracks(tracks: dict) -> dict[str, ContinuousTrack]:
-    """The position and orientation tracks (what glTF animates and the example measures)."""
-    return {p: t for p, t in tracks.items() if p.split(".")[1] in ("position", "orientation")}
+@dataclass
+class Exported:
+    """The example performed and exported: its module, the position and orientation
+    tracks (what glTF animates and the example measures), the tracks as pass 1 left
+    them, every take's sample times, and the scene as .glb (exact, and frames)."""
+
+    module: object
+    tracks: dict[str, ContinuousTrack]
+    first: dict
+    times: np.ndarray
+    curves: Path
+    frames: Path
 
 
-def take_times(tracks: dict[str, ContinuousTrack]) -> np.ndarray:
-    """Every sample time of every take of ``tracks``."""
-    return np.unique(np.concatenate([take.times for t in tracks.values() for take in t.takes]))
+def exported(folder: Path) -> Exported:
+    """Perform the example and export its scene into ``folder``."""
+    module = example()
+    scene, player, _, first = module.perform()
+    tracks = {p: t for p, t in player.tracks.items() if p.split(".")[1] in ("position", "orientation")}
+    times = np.unique(np.concatenate([take.times for t in tracks.values() for take in t.takes]))
+    curves, frames = folder / "scene.glb", folder / "scene.frames.glb"
+    curves.write_bytes(scene_glb(scene, player.tracks)[0])
+    frames.write_bytes(scene_glb(scene, player.tracks, keys="frames")[0])
+    return Exported(module, tracks, first, times, curves, frames)
 
 
 def client(kind: str, path: Path, tracks: dict[str, ContinuousTrack], times: np.ndarray
@@ -59,9 +76,8 @@ def client(kind: str, path: Path, tracks: dict[str, ContinuousTrack], times: np.
     return {p: object_pose(poses, p.split(".")[0], kind)[1 if p.endswith("position") else 0] for p in tracks}
 
 
-def errors(module, tracks: dict[str, ContinuousTrack], first: dict, times: np.ndarray,  # type: ignore[no-untyped-def]
-           values: dict[str, np.ndarray]) -> dict[str, float]:
+def errors(ex: Exported, values: dict[str, np.ndarray]) -> dict[str, float]:
     """Each track's error (its unit; degrees for orientations) against what its takes
     asked for, as the example measures it, from the played ``values``."""
-    error: Callable = module.max_error
-    return {p: error(Played(t.takes, t.type, times, values[p]), first.get(p)) for p, t in tracks.items()}
+    error: Callable = ex.module.max_error  # type: ignore[attr-defined]
+    return {p: error(Played(t.takes, t.type, ex.times, values[p]), ex.first.get(p)) for p, t in ex.tracks.items()}

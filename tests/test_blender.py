@@ -14,7 +14,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from blender_client import Refused, blender_play, joint_locals, object_pose
-from clips import float32_shares
+from clips import float32_shares, local_errors
 from sketchanim.anim.attributes import ORIENTATION, POSITION
 from sketchanim.anim.clip_reduction import reduce_clip
 from sketchanim.anim.layers import reduce_samples
@@ -23,15 +23,6 @@ from sketchanim.anim.tracks import ContinuousTrack, Take
 from sketchanim.io.clip_files import read_clip, write_reduced
 from sketchanim.io.gltf_scene import scene_glb
 from sketchanim.reducer.metric import rotation_angle
-
-
-def _errors(clip, rot: np.ndarray, trans: np.ndarray) -> tuple[float, float]:
-    """Largest rotation angle (degrees) and translation distance against ``clip``."""
-    angle = max(float(np.degrees(rotation_angle(rot[:, j], clip.rotations[:, j])).max())
-                for j in np.flatnonzero(clip.rotating))
-    dist = max((float(np.linalg.norm(trans[:, j] - clip.translations[:, j], axis=1).max())
-                for j in np.flatnonzero(clip.translating)), default=0.0)
-    return angle, dist
 
 
 @pytest.mark.realdata
@@ -44,13 +35,13 @@ def test_real_clips_in_blender(data_dir: Path, tmp_path: Path) -> None:
         curves = write_reduced(tmp_path / f"{source.stem}.glb", reduced)
         frames = write_reduced(tmp_path / f"{source.stem}.frames.glb", reduced, keys="frames")
         rot, trans = joint_locals(blender_play("addon", curves, clip.times), clip.skeleton, clip.unit_m)
-        angle, dist = _errors(ours, rot, trans)                        # our curves, within float32's share
+        angle, dist = local_errors(rot, trans, ours)                        # our curves, within float32's share
         share = float32_shares(clip, tol, 0.5)
         assert angle <= share[0] and dist <= share[1], (source.name, angle, dist, share)
-        angle, dist = _errors(clip, rot, trans)                        # the source, within the tolerance
+        angle, dist = local_errors(rot, trans, clip)                        # the source, within the tolerance
         assert angle <= 0.5 and dist <= tol, (source.name, angle, dist)
         rot, trans = joint_locals(blender_play("gltf", frames, clip.times), clip.skeleton, clip.unit_m)
-        angle, dist = _errors(clip, rot, trans)
+        angle, dist = local_errors(rot, trans, clip)
         assert angle <= 0.5 and dist <= tol, (source.name, "glTF importer", angle, dist)
         with pytest.raises(Refused, match="LINEAR rotation keys.*File > Import > glTF 2.0"):
             blender_play("addon", frames, clip.times[:2])
@@ -99,6 +90,17 @@ def test_addon_command_line(tmp_path: Path) -> None:
     assert (tmp_path / "c.blend").stat().st_size > 0
     run = subprocess.run([str(PYTHON), addon, str(frames)], capture_output=True, text=True)
     assert run.returncode == 2 and "LINEAR rotation keys" in run.stderr
+    # Installed as an add-on: its operator (File > Import) imports, or reports why not.
+    script = ("import importlib.util, sys, bpy\n"
+              f"spec = importlib.util.spec_from_file_location('sketchanim_import', {addon!r})\n"
+              "m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m); m.register()\n"
+              f"assert bpy.ops.import_scene.sketchanim_glb(filepath={str(curves)!r}) == {{'FINISHED'}}\n"
+              "assert any(o.type == 'ARMATURE' for o in bpy.data.objects)\n"
+              f"try:\n    bpy.ops.import_scene.sketchanim_glb(filepath={str(frames)!r})\n"
+              "except RuntimeError as err:\n    print('refused:', err)\n")
+    run = subprocess.run([str(PYTHON), "-c", script], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "refused: Error:" in run.stdout and "LINEAR rotation keys" in run.stdout
 
 
 def test_layered_take_scene_in_every_client(tmp_path: Path) -> None:
@@ -109,21 +111,15 @@ def test_layered_take_scene_in_every_client(tmp_path: Path) -> None:
     import layered
     from sketchanim.io.gltf_scene import KEY_SHARE
 
-    module = layered.example()
-    scene, player, _, first = module.perform()
-    tracks = layered.transform_tracks(player.tracks)
-    times = layered.take_times(tracks)
-    curves, frames = tmp_path / "scene.glb", tmp_path / "scene.frames.glb"
-    curves.write_bytes(scene_glb(scene, player.tracks)[0])
-    frames.write_bytes(scene_glb(scene, player.tracks, keys="frames")[0])
-    addon = layered.client("addon", curves, tracks, times)
-    for p, track in tracks.items():
-        ours = track.evaluate(times)
+    ex = layered.exported(tmp_path)
+    addon = layered.client("addon", ex.curves, ex.tracks, ex.times)
+    for p, track in ex.tracks.items():
+        ours = track.evaluate(ex.times)
         if track.type.is_rotation:
             assert np.degrees(rotation_angle(addon[p], ours)).max() <= KEY_SHARE * track.tol + 1e-4, p
         else:
             assert np.abs(addon[p] - ours).max() <= 1e-5, p
-    for kind, path in (("addon", curves), ("three", curves), ("three", frames), ("gltf", frames)):
-        played = addon if kind == "addon" else layered.client(kind, path, tracks, times)
-        for p, error in layered.errors(module, tracks, first, times, played).items():
-            assert error <= tracks[p].tol, (kind, path.name, p, error)
+    for kind, path in (("addon", ex.curves), ("three", ex.curves), ("three", ex.frames), ("gltf", ex.frames)):
+        played = addon if kind == "addon" else layered.client(kind, path, ex.tracks, ex.times)
+        for p, error in layered.errors(ex, played).items():
+            assert error <= ex.tracks[p].tol, (kind, path.name, p, error)

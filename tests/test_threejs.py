@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import find
 
-from clips import clips, float32_shares
+from clips import clips, float32_shares, local_errors
 from sketchanim.anim.clip_reduction import reduce_clip
 from sketchanim.anim.skeleton import Clip
 from sketchanim.io.c3d import read_c3d
@@ -21,14 +21,10 @@ from threejs_client import three_play
 
 
 def clip_errors(played: dict, clip: Clip) -> tuple[float, float]:
-    """Largest joint rotation angle (degrees) and translation distance of a played
-    clip against ``clip``."""
+    """:func:`local_errors` of a clip as three.js played it."""
     names = clip.skeleton.names
-    angle = max(float(np.degrees(rotation_angle(played[names[j]]["quaternion"], clip.rotations[:, j])).max())
-                for j in np.flatnonzero(clip.rotating))
-    dist = max((float(np.linalg.norm(played[names[j]]["position"] - clip.translations[:, j], axis=1).max())
-                for j in np.flatnonzero(clip.translating)), default=0.0)
-    return angle, dist
+    return local_errors(np.stack([played[n]["quaternion"] for n in names], axis=1),
+                        np.stack([played[n]["position"] for n in names], axis=1), clip)
 
 
 def _check_clip(clip: Clip, tol: float, folder: Path) -> None:
