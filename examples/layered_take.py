@@ -68,10 +68,9 @@ def max_error(track: ContinuousTrack, before: ContinuousTrack | None) -> float:
     return float(np.degrees(err)) if angle else err
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--project", type=Path, default=Path(tempfile.mkdtemp()) / "layered.sketchanim")
-    args = parser.parse_args()
+def perform() -> tuple[Scene, Player, History, dict[str, ContinuousTrack]]:
+    """Both passes: the scene, its player (the tracks after pass 2), the history, and
+    the tracks as pass 1 left them."""
     scene = Scene()
     scene.add("ball")
     scene.add("cube")
@@ -102,7 +101,14 @@ def main() -> None:
         rec.push("ball.position", t, ball)
         rec.push("cube.position", t, [0.0, 0.05 * np.sin(8 * t), 0.0])
     history.apply("record pass 2", rec.stop())
+    return scene, player, history, first
 
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--project", type=Path, default=Path(tempfile.mkdtemp()) / "layered.sketchanim")
+    args = parser.parse_args()
+    scene, player, history, first = perform()
     with Project(args.project) as project:
         project.save(scene, player.tracks)
 

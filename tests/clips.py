@@ -121,3 +121,68 @@ def hermite_at(times: np.ndarray, keys: np.ndarray, segment: np.ndarray, u: np.n
     u = u[:, None]
     return ((2 * u**3 - 3 * u**2 + 1) * v0 + td * (u**3 - 2 * u**2 + u) * b0 + (-2 * u**3 + 3 * u**2) * v1
             + td * (u**3 - u**2) * a_next)
+
+
+def play32(times: np.ndarray, keys: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """A CUBICSPLINE sampler (float32 keys) played as a float32 client does: every
+    operation in float32, the time clamped to the keys' span."""
+    f = np.float32
+    times, keys, t = times.astype(f), keys.astype(f), np.clip(t, times[0], times[-1]).astype(f)
+    if len(times) == 1:
+        return np.repeat(keys[:1, 1], len(t), axis=0)
+    seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)
+    td = (times[seg + 1] - times[seg])[:, None]
+    u = ((t - times[seg]) / td[:, 0])[:, None]
+    u2, u3 = u * u, u * u * u
+    return ((f(2) * u3 - f(3) * u2 + f(1)) * keys[seg, 1] + td * (u3 - f(2) * u2 + u) * keys[seg, 2]
+            + (f(-2) * u3 + f(3) * u2) * keys[seg + 1, 1] + td * (u3 - u2) * keys[seg + 1, 0])
+
+
+def linear_play32(times: np.ndarray, keys: np.ndarray, t: np.ndarray, rotation: bool, spherical: bool = True
+                  ) -> np.ndarray:
+    """A LINEAR sampler played in float32 at ``t`` (clamped to its keys): rotations
+    spherically (glTF's rule, three.js) or, ``spherical=False``, component-wise and
+    normalised (Blender's F-curves)."""
+    f = np.float32
+    times, keys, t = times.astype(f), keys.astype(f), np.clip(t, times[0], times[-1]).astype(f)
+    if len(times) == 1:
+        return np.repeat(keys[:1], len(t), axis=0)
+    seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)
+    s = ((t - times[seg]) / (times[seg + 1] - times[seg]))[:, None]
+    a, b = keys[seg], keys[seg + 1]
+    if not rotation:
+        return a + s * (b - a)
+    if not spherical:
+        out = (f(1) - s) * a + s * b
+        return out / np.linalg.norm(out, axis=1, keepdims=True)
+    dot = np.clip(np.sum(a * b, axis=1, keepdims=True), -1, 1)
+    b = np.where(dot < 0, -b, b)
+    angle = np.arccos(np.abs(dot)).astype(f)
+    small = angle < f(1e-6)
+    sin = np.where(small, f(1), np.sin(angle))
+    out = np.where(small, (f(1) - s) * a + s * b, (np.sin((f(1) - s) * angle) * a + np.sin(s * angle) * b) / sin)
+    return out / np.linalg.norm(out, axis=1, keepdims=True)
+
+
+def float32_shares(clip: Clip, tol: float, rot_tol_deg: float) -> tuple[float, float]:
+    """The largest share of the tolerances that reduce_clip leaves to float32 over the
+    clip's joints (rotation degrees, distance): how far a float32 client may play from
+    our float64 curves."""
+    from sketchanim.anim.clip_reduction import position_budget, rotation_budget
+
+    angle = max(rot_tol_deg - rotation_budget(clip.times, clip.rotations[:, j], rot_tol_deg)
+                for j in np.flatnonzero(clip.rotating))
+    dist = max((tol - position_budget(clip.times, clip.translations[:, j], tol)
+                for j in np.flatnonzero(clip.translating)), default=0.0)
+    return angle, dist
+
+
+def local_errors(rot: np.ndarray, trans: np.ndarray, clip: Clip) -> tuple[float, float]:
+    """Largest joint-local rotation angle (degrees) and translation distance (clip
+    units) of played rotations (n, J, 4) and translations (n, J, 3) against ``clip``,
+    over the joints it moves."""
+    angle = max(float(np.degrees(rotation_angle(rot[:, j], clip.rotations[:, j])).max())
+                for j in np.flatnonzero(clip.rotating))
+    dist = max((float(np.linalg.norm(trans[:, j] - clip.translations[:, j], axis=1).max())
+                for j in np.flatnonzero(clip.translating)), default=0.0)
+    return angle, dist

@@ -262,8 +262,9 @@ def test_cli_needs_units_or_tolerance_when_it_cannot_tell(tmp_path: Path) -> Non
     assert result.exit_code == 0, result.output
     assert source.read_text() == text
     doc = gl.GLTF2().load_binary(str(tmp_path / "o.glb"))          # shown in metres, curves untouched
-    (root,) = doc.scenes[0].nodes
+    root, mesh = doc.scenes[0].nodes                              # the skinned mesh at the root, as the spec advises
     assert doc.nodes[root].name == "to metres" and doc.nodes[root].scale == [0.01] * 3
+    assert doc.nodes[mesh].skin == 0
 
 
 def test_batch_reports_a_corrupt_clip_and_skips_done_ones(tmp_path: Path) -> None:

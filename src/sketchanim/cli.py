@@ -22,6 +22,7 @@ from sketchanim.errors import InputError, SampleError
 from sketchanim.io.atomic import write_atomic
 from sketchanim.io.batch import REPORT, Options, Outcome, outcome, plan, previous_report, reduce_file, run, write_report
 from sketchanim.io.clip_files import CLIP_INPUTS, CLIP_OUTPUTS, write_reduced
+from sketchanim.io.gltf_frames import KEYS
 from sketchanim.io.csvio import SampleTable, read_samples_csv
 from sketchanim.io.jsonio import JSON_SAMPLES, read_samples_json
 from sketchanim.motion import reduce_rotations
@@ -153,13 +154,16 @@ def reduce_command(
                                         "a joint, within --tol in the world (each joint's angle follows from how "
                                         "far it reaches) instead of every rotation within --rot-tol-deg.")] = False,
     shell: Annotated[float, typer.Option(help="With --world: the shell's distance from each joint, cm.")] = 3.0,
-    rate: Annotated[Optional[float], typer.Option(help="Clips written as BVH or USD: frames per second "
-                                                  "(default: the source's).")] = None,
+    rate: Annotated[Optional[float], typer.Option(help="Clips written as BVH or USD (or .glb with --keys frames): "
+                                                  "frames per second (default: the source's).")] = None,
     format: Annotated[str, typer.Option("--format", help="Folders: the output format (glb, bvh, json, usd).")]
     = "glb",
     workers: Annotated[int, typer.Option(help="Folders: clips reduced at once (processes).")] = 1,
     scheduler: Annotated[Optional[str], typer.Option(help="Folders: reduce on this Dask scheduler "
                                                      "(tcp://host:port) instead of local processes.")] = None,
+    keys: Annotated[str, typer.Option("--keys", help="Clips as .glb: 'curves' (exact, few keys: three.js, Babylon, "
+                                      "our Blender add-on) or 'frames' (LINEAR keys at every frame or --rate: "
+                                      "importers that ignore tangents, such as Blender's own).")] = "curves",
 ) -> None:
     """Reduce samples to B-splines: a CSV or JSON sample stream (print the report, write
     JSON and plot), a motion clip (BVH, AMC: write .glb, .bvh, .usd or .json, by -o's
@@ -167,7 +171,7 @@ def reduce_command(
     with a CSV report)."""
     if input.is_dir() or input.suffix.lower() in CLIP_INPUTS:
         clip_options = _clip_options(tol, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
-                                     skeleton=skeleton, world=world, shell_cm=shell)
+                                     skeleton=skeleton, world=world, shell_cm=shell, keys=keys)
         if input.is_dir():
             _reduce_folder(input, output, format, clip_options, workers, scheduler)
         else:
@@ -221,7 +225,7 @@ def reduce_command(
 
 
 def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rate: float | None,
-                  skeleton: Path | None, world: bool, shell_cm: float) -> Options:
+                  skeleton: Path | None, world: bool, shell_cm: float, keys: str = "curves") -> Options:
     try:
         distance = None if tol is None else float(tol)
     except ValueError:
@@ -230,8 +234,16 @@ def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rat
         _fail(f"--units: one of {', '.join(UNITS_M)}, got {units!r}")
     if not (np.isfinite(shell_cm) and shell_cm >= 0):
         _fail(f"--shell: a distance in cm, 0 or more, got {shell_cm!r}")
+    _check_keys(keys, rate)
     return Options(tol=distance, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
-                   skeleton=None if skeleton is None else str(skeleton), world=world, shell_cm=shell_cm)
+                   skeleton=None if skeleton is None else str(skeleton), world=world, shell_cm=shell_cm, keys=keys)
+
+
+def _check_keys(keys: str, rate: float | None) -> None:
+    if keys not in KEYS:
+        _fail(f"--keys: one of {', '.join(KEYS)}, got {keys!r}")
+    if rate is not None and not (np.isfinite(rate) and rate > 0):
+        _fail(f"--rate: a positive number of frames per second, got {rate!r}")
 
 
 def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
@@ -239,7 +251,7 @@ def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
     try:
         clip, reduced, tol = reduce_file(input, options)
         if output is not None:
-            write_reduced(output, reduced, rate=options.rate)
+            write_reduced(output, reduced, rate=options.rate, keys=options.keys)
     except InputError as err:
         _fail(str(err))
     except OSError as err:
@@ -319,6 +331,9 @@ def export_command(
     project: Annotated[Path, typer.Argument(help="A project file (.sketchanim).")],
     output: Annotated[Path, typer.Option("-o", "--output", help="The scene as glTF (.glb), or the whole project as "
                                          "JSON (.json).")],
+    keys: Annotated[str, typer.Option("--keys", help="glTF: 'curves' (exact) or 'frames' (LINEAR keys at the "
+                                      "takes' samples or --rate, for importers that ignore tangents).")] = "curves",
+    rate: Annotated[Optional[float], typer.Option(help="With --keys frames: keys per second.")] = None,
 ) -> None:
     """Export a project: its scene as glTF (objects, cameras, lights, and their
     position, orientation and scale tracks), or everything as JSON."""
@@ -326,6 +341,7 @@ def export_command(
     from sketchanim.io.project import Project
 
     suffix = output.suffix.lower()
+    _check_keys(keys, rate)
     if suffix not in (".glb", ".json"):
         _fail(f"-o: a project exports to .glb or .json, not {suffix or 'a file without an extension'}")
     try:
@@ -335,7 +351,7 @@ def export_command(
                 left_out: list[str] = []
             else:
                 scene, tracks = opened.load()
-                glb, left_out = scene_glb(scene, tracks, name=output.stem)
+                glb, left_out = scene_glb(scene, tracks, name=output.stem, keys=keys, rate=rate)
                 write_atomic(output, glb)
     except InputError as err:
         _fail(str(err))

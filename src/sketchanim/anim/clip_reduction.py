@@ -2,7 +2,10 @@
 every translating joint's position within a distance, and what it all costs.
 
 Positions are reduced with ``tol / sqrt(3)`` on each axis, so that the distance between
-curve and sample (not only each coordinate) stays within ``tol``.
+curve and sample (not only each coordinate) stays within ``tol``. Both leave room for
+float32 (:func:`float32_margin`): what a client plays from a file stores keys and key
+times as float32, and computes in float32, so the budget the reducer runs to is the
+tolerance less what that can move the curve.
 """
 
 from __future__ import annotations
@@ -27,6 +30,59 @@ VERSION = 1
 
 #: Bytes per stored number, for the compression ratio (raw channels kept as float32).
 FLOAT32 = 4
+
+#: float32's unit roundoff: storing a number as float32 moves it by at most this, relative.
+EPS32 = 2.0**-24
+
+#: float32 roundings a played curve may gather: its keys, its key times, a client's own
+#: float32 arithmetic (Blender evaluates F-curves in float32, three.js keeps float32 results).
+ROUNDINGS = 16
+
+
+def float32_margin(times: np.ndarray, size: float, speed: float) -> float:
+    """How far a curve of values up to ``size`` (a norm), moving at up to ``speed`` per
+    second over ``times``, may move once stored and played in float32: ``ROUNDINGS``
+    roundings of its values, and of its times (a time rounded moves the value by the
+    speed times the rounding).
+
+    >>> m = float32_margin(np.array([0.0, 30.0]), 200.0, 300.0)     # a hips in cm, 30 s
+    >>> bool(1e-4 < m < 1e-2)
+    True
+    """
+    span = float(np.abs(np.asarray(times, dtype=float)).max()) if len(times) else 0.0
+    return ROUNDINGS * EPS32 * (size + speed * span)
+
+
+def position_budget(times: np.ndarray, points: np.ndarray, tol: float) -> float:
+    """The distance a reducer may use of ``tol`` for points (n, d) sampled at ``times``
+    so that the float32 file still plays within ``tol`` (:func:`float32_margin`; never
+    less than half of ``tol``).
+
+    >>> t = np.arange(100) / 30
+    >>> 0.49 < position_budget(t, np.c_[100 * np.sin(t), 90 + 0 * t, t], 0.5) < 0.5
+    True
+    """
+    x = np.asarray(points, dtype=float).reshape(len(times), -1)
+    speed = float((np.linalg.norm(np.diff(x, axis=0), axis=1) / np.diff(times)).max()) if len(times) > 1 else 0.0
+    return tol - min(float32_margin(times, float(np.linalg.norm(x, axis=1).max()), speed), tol / 2)
+
+
+def rotation_budget(times: np.ndarray, quats: np.ndarray, tol_deg: float) -> float:
+    """The angle (degrees) a reducer may use of ``tol_deg`` for quaternions sampled at
+    ``times``, so that the float32 file still plays within ``tol_deg``: an error ``e``
+    in a unit quaternion turns it by up to ``2 e`` radians.
+
+    >>> t = np.arange(100) / 30
+    >>> q = Rotation.from_euler("Z", 3 * t[:, None]).as_quat()
+    >>> 0.499 < rotation_budget(t, q, 0.5) < 0.5
+    True
+    """
+    q = np.asarray(quats, dtype=float)
+    turn = np.arccos(np.clip(np.abs(np.sum(q[1:] * q[:-1], axis=1)) / (np.linalg.norm(q[1:], axis=1)
+                                                                     * np.linalg.norm(q[:-1], axis=1)), 0, 1))
+    speed = float((turn / np.diff(times)).max()) if len(times) > 1 else 0.0     # of the unit quaternion, per s
+    margin = float(np.degrees(2 * float32_margin(times, 1.0, speed)))
+    return tol_deg - min(margin, tol_deg / 2)
 
 
 def curve_bytes(spline: BSpline) -> int:
@@ -261,16 +317,20 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "gl
 
 def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "global") -> Reduction:
     """Joint ``joint``'s rotation as a quaternion curve within ``tol_deg`` degrees at
-    every frame, its keys unit quaternions; errors name the joint."""
+    every frame (less float32's share, :func:`rotation_budget`), its keys unit
+    quaternions; errors name the joint."""
+    quats = clip.rotations[:, joint]
     return _named(clip.skeleton.names[joint], "rotation", lambda: reduce_rotations(
-        clip.times, clip.rotations[:, joint], tol_deg, method=method, keys=True))
+        clip.times, quats, rotation_budget(clip.times, quats, tol_deg), method=method, keys=True))
 
 
 def joint_position(clip: Clip, joint: int, tol: float, method: str = "global") -> Reduction:
     """Joint ``joint``'s translation as a curve within the distance ``tol`` at every
-    frame (``report["max_distance"]``); errors name the joint."""
+    frame (less float32's share, :func:`position_budget`; ``report["max_distance"]``);
+    errors name the joint."""
+    points = clip.translations[:, joint]
     r = _named(clip.skeleton.names[joint], "position", lambda: reduce(
-        clip.times, clip.translations[:, joint], tol / np.sqrt(3.0), method=method))
+        clip.times, points, position_budget(clip.times, points, tol) / np.sqrt(3.0), method=method))
     r.report["max_distance"] = float(np.linalg.norm(r.spline(clip.times) - clip.translations[:, joint],
                                                     axis=1).max())
     return r

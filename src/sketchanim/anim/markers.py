@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
-from sketchanim.anim.clip_reduction import FLOAT32, curve_bytes
+from sketchanim.anim.clip_reduction import FLOAT32, curve_bytes, position_budget
 from sketchanim.anim.skeleton import frame_time
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.reducer import reduce
@@ -232,7 +232,7 @@ def reduce_markers(markers: Markers, tol: float, *, method: str = "global") -> R
                 pieces.append(Piece(float(t[0]), float(t[0]), 1, BSpline(np.r_[t[0], t[0] + step], x, 0), 0.0))
                 continue
             try:
-                r = reduce(t, x, tol / np.sqrt(3.0), method=method)
+                r = reduce(t, x, position_budget(t, x, tol) / np.sqrt(3.0), method=method)
             except InputError as err:
                 raise InputError(f"marker {name!r}, frames {a}..{b - 1}: {err}") from None
             distance = float(np.linalg.norm(r.spline(t) - x, axis=1).max())

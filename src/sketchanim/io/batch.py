@@ -51,6 +51,9 @@ class Options:
         instead of every joint's rotation within ``rot_tol_deg``.
     shell_cm : float
         The shell's distance from each joint, centimetres.
+    keys : {"curves", "frames"}
+        glTF output: the curves exactly, or LINEAR keys at frames (``rate``) for
+        importers that ignore tangents (:mod:`sketchanim.io.gltf_frames`).
     """
 
     tol: float | None = None
@@ -61,6 +64,7 @@ class Options:
     skeleton: str | None = None
     world: bool = False
     shell_cm: float = 3.0
+    keys: str = "curves"
 
     def unit_m(self, clip: Clip | Markers) -> float | None:
         """Metres per unit of ``clip``: ``units`` if given, else the file's, else (a
@@ -146,7 +150,7 @@ def convert(source: Path, output: Path, options: Options) -> Outcome:
     start = time.perf_counter()
     try:
         clip, reduced, tol = reduce_file(source, options)
-        write_reduced(output, reduced, rate=options.rate)
+        write_reduced(output, reduced, rate=options.rate, keys=options.keys)
     except (InputError, OSError) as err:
         message = f"{err.filename}: {err.strerror}" if isinstance(err, OSError) and err.filename else str(err)
         return Outcome(str(source), str(output), "failed", message, seconds=round(time.perf_counter() - start, 3))

@@ -61,18 +61,20 @@ def read_clip(path: str | os.PathLike[str], *, skeleton: str | os.PathLike[str] 
     raise FileFormatError(str(source), f"not a clip format this reads ({', '.join(CLIP_INPUTS)})")
 
 
-def write_reduced(path: str | os.PathLike[str], clip: ReducedClip | ReducedMarkers, *, rate: float | None = None
-                  ) -> Path:
-    """Write ``clip`` in the format its extension names: .glb (the curves, exactly),
-    .json (the curves), .bvh or .usd/.usda/.usdc (frames at ``rate`` per second, the
-    source's rate by default; clips only, markers have no skeleton)."""
+def write_reduced(path: str | os.PathLike[str], clip: ReducedClip | ReducedMarkers, *, rate: float | None = None,
+                  keys: str = "curves") -> Path:
+    """Write ``clip`` in the format its extension names: .glb (the curves, exactly; with
+    ``keys="frames"`` as LINEAR keys at the source's frames, or at ``rate``, for
+    importers that ignore tangents), .json (the curves), .bvh or .usd/.usda/.usdc
+    (frames at ``rate`` per second, the source's rate by default; clips only, markers
+    have no skeleton)."""
     target = Path(path)
     suffix = target.suffix.lower()
     if suffix == ".glb":
         from sketchanim.io.gltf_motion import clip_glb, markers_glb
 
-        return write_atomic(target, markers_glb(clip, name=target.stem) if isinstance(clip, ReducedMarkers)
-                            else clip_glb(clip, name=target.stem))
+        return write_atomic(target, markers_glb(clip, name=target.stem, keys=keys) if isinstance(clip, ReducedMarkers)
+                            else clip_glb(clip, name=target.stem, keys=keys, rate=rate))
     if suffix == ".json":
         return write_atomic(target, clip.to_json())
     if isinstance(clip, ReducedMarkers):

@@ -10,7 +10,9 @@ plays a CUBICSPLINE rotation, so they too are exact (to float32), once their key
 unit quaternions (:func:`sketchanim.motion.rotations.unit_keys`).
 
 glTF's unit is the metre. Content in other units is written as it is, under one root
-node that scales it to metres (``unit_m``), so every curve stays exact.
+node that scales it to metres (``unit_m``), so every curve stays exact (a skinned mesh's
+node stays at the root: its joints alone place it). Every sampler's last key time is
+rounded up in float32 (:func:`key_times`), so its last frame plays inside the clip.
 """
 
 from __future__ import annotations
@@ -170,17 +172,21 @@ def glb_bytes(nodes: Sequence[Node], channels: Sequence[Channel] = (), *, animat
         doc.nodes.append(gl.Node(name=node.name, translation=node.translation, rotation=node.rotation,
                                  scale=node.scale, mesh=node.mesh, skin=node.skin, camera=node.camera,
                                  extensions={LIGHTS: {"light": node.light}} if node.light is not None else {}))
+    skinned = []         # a skinned mesh is placed by its joints alone: kept at the root, as the spec advises
     for i, node in enumerate(nodes):
         (roots if node.parent < 0 else doc.nodes[node.parent].children).append(i)
     if unit_m is not None and unit_m != 1.0:
-        doc.nodes.append(gl.Node(name="to metres", scale=[unit_m] * 3, children=roots))
+        skinned = [i for i in roots if nodes[i].skin is not None]
+        doc.nodes.append(gl.Node(name="to metres", scale=[unit_m] * 3, children=[i for i in roots if i not in skinned]))
         roots = [len(doc.nodes) - 1]
-    doc.scenes[0].nodes = roots
+    doc.scenes[0].nodes = roots + skinned
     if channels:
         anim = gl.Animation(name=animation)
         for ch in channels:
             width = ch.values.shape[-1]
-            anim.samplers.append(gl.AnimationSampler(input=buf.add(ch.times, 1, bounds=True),
+            # a STEP key moved would change what plays before it, unless it repeats the key before
+            last_free = ch.interpolation != "STEP" or len(ch.values) < 2 or np.array_equal(ch.values[-1], ch.values[-2])
+            anim.samplers.append(gl.AnimationSampler(input=buf.add(key_times(ch.times, last_free), 1, bounds=True),
                                                      output=buf.add(ch.values, width), interpolation=ch.interpolation))
             anim.channels.append(gl.AnimationChannel(sampler=len(anim.samplers) - 1,
                                                      target=gl.AnimationChannelTarget(node=ch.node, path=ch.path)))
@@ -191,6 +197,26 @@ def glb_bytes(nodes: Sequence[Node], channels: Sequence[Channel] = (), *, animat
     doc.buffers.append(gl.Buffer(byteLength=len(buf.data)))
     doc.set_binary_blob(bytes(buf.data))
     return b"".join(doc.save_to_bytes())
+
+
+def key_times(times: np.ndarray, round_up: bool = True) -> np.ndarray:
+    """Key times as float32 for a sampler's input, the last one rounded *up* past its
+    float64 time (to the next float32 above it) unless ``round_up`` is false.
+
+    A player's clip lasts until its last key, and one that loops (three.js's default)
+    wraps to the start at that time or after: rounded to the nearest float32, the last
+    key may fall at or just below the last frame, which then plays as the first. One ulp
+    more changes no value a player shows by more than float32 does anyway.
+
+    >>> t = key_times(np.array([0.0, 1 / 3, 8.3]))
+    >>> t.dtype, bool(np.float32(1 / 3) == t[1]), float(t[2]) > 8.3, bool(np.nextafter(t[2], 0) <= 8.3)
+    (dtype('float32'), True, True, True)
+    """
+    out = np.asarray(times, dtype=np.float32).copy()
+    if out.size and round_up:
+        end = float(np.asarray(times, dtype=float)[-1])
+        out[-1] = np.nextafter(np.float32(end), np.float32(np.inf)) if float(out[-1]) <= end else out[-1]
+    return out
 
 
 def _json_only_glb(doc: gl.GLTF2) -> bytes:

@@ -20,14 +20,20 @@ from scipy.interpolate import BSpline
 
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
+from sketchanim.errors import ArgumentError
 from sketchanim.io.gltf import Channel, Node, glb_bytes, octahedron
+from sketchanim.io.gltf_frames import FRAME_SHARE, KEYS, allowance, frame_channel, frame_times
 from sketchanim.motion.rotations import unit_keys
+from sketchanim.reducer.metric import max_errors
 
 #: Attributes written as glTF channels, and their glTF paths.
 PATHS = {"position": "translation", "orientation": "rotation", "scale": "scale"}
 
 #: Of an orientation track's tolerance, what making its keys unit quaternions may use.
 KEY_SHARE = 0.1
+
+#: Frames per second of ``keys="frames"`` for a track without takes, when no rate is given.
+FRAME_RATE = 30.0
 
 #: Size of a plain object's octahedron, scene units.
 OBJECT_RADIUS = 0.1
@@ -68,12 +74,53 @@ def _rest(scene: Scene, name: str, attribute: str) -> list[float] | None:
     return np.asarray(scene.get(f"{name}.{attribute}"), dtype=float).tolist() if attribute in obj.attributes else None
 
 
-def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene") -> tuple[bytes, list[str]]:
+def frame_allowance(track: ContinuousTrack) -> float:
+    """What dropping frame keys may add to a track (a distance, or radians): for a track
+    of one take, what its tolerance leaves over the curve's error at the take's samples
+    (at most ``FRAME_SHARE`` of it), so the keys stay within the tolerance of the take;
+    over layered takes, ``FRAME_SHARE`` of the tolerance.
+
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> from sketchanim.anim.tracks import Take
+    >>> t = np.linspace(0, 1, 11)
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 0, 0]]), 1)
+    >>> take = Take(t, np.c_[t + 0.004, 0 * t, 0 * t])
+    >>> round(frame_allowance(ContinuousTrack("a.position", POSITION, s, 0.005, (take,))), 6)
+    0.0005
+    """
+    rotation = track.type.is_rotation
+    tol = float(np.radians(track.tol)) if rotation else float(track.tol)
+    if len(track.takes) != 1:
+        return FRAME_SHARE * tol
+    take = track.takes[0]
+    inside = (take.times >= track.start) & (take.times <= track.end)
+    error = float(max_errors(track.evaluate(take.times[inside]), take.values[inside], 1.0 if rotation else 0.0).max())
+    return allowance(tol, error)
+
+
+def track_times(track: ContinuousTrack, rate: float | None = None) -> np.ndarray:
+    """Where a track was sampled: its takes' times inside its span; or ``rate`` per
+    second over its span (also where it has no takes: ``FRAME_RATE``).
+
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 2, 3]]), 1)
+    >>> track_times(ContinuousTrack("a.position", POSITION, s, 0.005), 4).tolist()
+    [0.0, 0.25, 0.5, 0.75, 1.0]
+    """
+    times = np.unique(np.concatenate([t.times for t in track.takes])) if track.takes and rate is None else []
+    times = times[(times >= track.start) & (times <= track.end)] if len(times) else times
+    return times if len(times) else frame_times(track.start, track.end, rate or FRAME_RATE)
+
+
+def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", keys: str = "curves",
+              rate: float | None = None) -> tuple[bytes, list[str]]:
     """The scene as a .glb: one node per object (its current position, orientation and
     scale at rest), a perspective camera for each camera, a spot light for each light,
     and one animation of every position, orientation and scale track (exactly; an
-    orientation's keys made unit quaternions by :func:`rotation_keys`). Also returns
-    the paths of the tracks glTF cannot animate, which are left out.
+    orientation's keys made unit quaternions by :func:`rotation_keys`; or with
+    ``keys="frames"``, LINEAR keys at :func:`track_times`, dropping those within
+    :func:`frame_allowance`). Also returns the paths of the tracks
+    glTF cannot animate, which are left out.
 
     >>> from sketchanim.anim.attributes import POSITION
     >>> scene = Scene(); _ = scene.add("cam", "camera"); _ = scene.add("lamp", "light")
@@ -83,6 +130,8 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene") ->
     >>> [n.name for n in doc.nodes], bool(doc.cameras[0].perspective.yfov == np.radians(50)), left_out
     (['cam', 'lamp'], True, [])
     """
+    if keys not in KEYS:
+        raise ArgumentError("keys", f"one of {', '.join(KEYS)}, got {keys!r}")
     nodes, cameras, lights, meshes = [], [], [], []
     for obj in scene.objects.values():
         node = Node(obj.name, translation=_rest(scene, obj.name, "position"),
@@ -109,7 +158,11 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene") ->
         if not isinstance(track, ContinuousTrack) or attribute not in PATHS or obj not in index:
             left_out.append(path)
             continue
-        spline = rotation_keys(track) if track.type.is_rotation else track.spline
-        channels.append(Channel.curve(index[obj], PATHS[attribute], spline))
+        if keys == "frames":
+            channels.append(frame_channel(index[obj], PATHS[attribute], track.spline, track_times(track, rate),
+                                          frame_allowance(track)))
+        else:
+            spline = rotation_keys(track) if track.type.is_rotation else track.spline
+            channels.append(Channel.curve(index[obj], PATHS[attribute], spline))
     return glb_bytes(nodes, channels, animation=name, meshes=meshes, cameras=cameras, lights=lights), left_out
 

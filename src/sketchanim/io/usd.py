@@ -1,6 +1,8 @@
 """USD export of transform animation (needs the optional ``usd-core``: ``pip install
 sketchanim[usd]``): one Xform prim per joint, nested as the skeleton, with translate and
-orient time samples at a chosen frame rate (USD transforms have no B-spline form).
+orient time samples at a chosen frame rate (USD transforms have no B-spline form), both
+in double precision: USD turns an orientation into an angle through ``2 acos(w)``, and
+in float32 ``w`` rounds to exactly 1 for rotations under about 0.03 degree.
 """
 
 from __future__ import annotations
@@ -48,17 +50,17 @@ def write_usd(path: str | os.PathLike[str], clip: Clip) -> Path:
             paths.append(f"{paths[parent] if parent >= 0 else ''}/{name}")
             xform = UsdGeom.Xform.Define(stage, paths[i])
             translate = xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble)
-            orient = xform.AddOrientOp(UsdGeom.XformOp.PrecisionFloat)
+            orient = xform.AddOrientOp(UsdGeom.XformOp.PrecisionDouble)
             if not clip.translating[i]:
                 translate.Set(Gf.Vec3d(*sk.offsets[i]))
             if not clip.rotating[i]:
-                orient.Set(Gf.Quatf(1.0, 0.0, 0.0, 0.0))
+                orient.Set(Gf.Quatd(1.0, 0.0, 0.0, 0.0))
             for f in range(len(clip.times)) if clip.translating[i] or clip.rotating[i] else ():
                 if clip.translating[i]:
                     translate.Set(Gf.Vec3d(*clip.translations[f, i]), f)
                 if clip.rotating[i]:
                     x, y, z, w = np.asarray(clip.rotations[f, i], dtype=float)
-                    orient.Set(Gf.Quatf(float(w), float(x), float(y), float(z)), f)
+                    orient.Set(Gf.Quatd(float(w), float(x), float(y), float(z)), f)
         stage.SetDefaultPrim(stage.GetPrimAtPath(paths[0]))
         stage.GetRootLayer().Save()
         return write_atomic(target, scratch.read_bytes())
