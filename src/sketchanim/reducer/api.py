@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -11,6 +12,7 @@ from scipy.interpolate import BSpline
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
 from sketchanim.reducer.conditioning import Samples, check_angle, check_count, check_order, condition
 from sketchanim.reducer.features import Feature, FeatureOptions
+from sketchanim.reducer.gaps import find_gaps, find_jumps, reduce_across
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
@@ -99,7 +101,11 @@ def reduce(
         Find pauses (the curve then holds exactly still there) and velocity breaks
         (kept as corners) and cut the take there (:mod:`sketchanim.reducer.features`);
         True uses the default thresholds, False reduces the take in one piece. The
-        result's ``features`` lists what was found.
+        take is also cut at its gaps (intervals over ``FeatureOptions.gap`` = 5 median
+        intervals) and its jumps (a value step over one interval; both
+        :mod:`sketchanim.reducer.gaps`): each side reduced on its own, bridged by a
+        straight segment. The result's ``features`` lists what was
+        found.
 
     Returns
     -------
@@ -139,7 +145,20 @@ def reduce(
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped}
     if method != "incremental":
         report["start"] = start
-    if method == "incremental":
+    jumps = find_jumps(samples.values, samples.tol) if options.gap is not None else np.zeros(0, dtype=int)
+    cuts = np.union1d(find_gaps(samples.times, options.gap), jumps) if options.gap is not None else ()
+    if len(cuts):
+        def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
+            r = reduce(t, x, samples.tol, order=order, method=method, start=start, split=split,
+                       minimax_iterations=minimax_iterations, exhaustive_below=exhaustive_below,
+                       coarse_samples=coarse_samples, window=window, constraints=constraints, angle=angle or None,
+                       features=replace(options, gap=None))
+            return r.spline, r.features
+
+        spline, found = reduce_across(samples.times, samples.values, cuts, order, part, jumps)
+        report["gaps"] = len(cuts) - len(jumps)
+        report["jumps"] = len(jumps)
+    elif method == "incremental":
         stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
                                angle=angle or None, features=options)
         stream.extend(samples.times, samples.values)
