@@ -220,5 +220,8 @@ def read_table(path: str | os.PathLike[str], *, format: str = "auto", time: str 
         table = read_samples_csv(path, delimiter=delimiter, time=time, columns=columns)
         label = {"csv": "comma-separated table", "tsv": "tab-separated table",
                  "whitespace": "whitespace-separated table"}[fmt]
-    times, note = to_seconds(table.times, unit=time_unit, rate=rate)
+    try:
+        times, note = to_seconds(table.times, unit=time_unit, rate=rate)
+    except InputError as err:
+        raise FileFormatError(str(path), str(err)) from None
     return replace(table, times=times, notes=(label, note))

@@ -14,6 +14,10 @@ TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 #: Smallest magnitude of wall-clock times since 1970 in each unit (the year 2001 on).
 _WALL_CLOCK = (("ns", 1e18), ("us", 1e15), ("ms", 1e12))
 
+#: Whole-number times reaching this are taken for a counter, not seconds (16 minutes
+#: of whole seconds is not how motion is sampled).
+COUNTER = 1000.0
+
 #: Highest frame rate ``--rate`` accepts, Hz.
 MAX_RATE = 1e6
 
@@ -38,8 +42,8 @@ def to_seconds(times: np.ndarray, *, unit: str | None = None, rate: float | None
 
     ``rate`` (Hz) reads them as frame numbers, ``unit`` (one of :data:`TIME_UNITS`) as
     that unit. Without either, times at wall-clock magnitudes in ns, us or ms since 1970
-    are converted (the note says so), and whole numbers (frame numbers, clock ticks,
-    packet counters) are refused with an :class:`ArgumentError` that says what to pass.
+    are converted (the note says so), and whole numbers reaching :data:`COUNTER` (frame
+    numbers, clock ticks, packet counters) are refused with an :class:`ArgumentError` that says what to pass.
 
     >>> t, note = to_seconds(np.array([1.7e18, 1.7e18 + 1e7]))
     >>> round(float(t[1] - t[0]), 6), note
@@ -65,7 +69,7 @@ def to_seconds(times: np.ndarray, *, unit: str | None = None, rate: float | None
             origin = float(times[0])
             return (times - origin) * TIME_UNITS[name] + origin * TIME_UNITS[name], (f"time column read as {long_name} since 1970 (from its magnitude; "
                                              f"--time-unit to change)")
-    if len(times) >= 3 and np.all(times == np.round(times)) and top < 2.0**53:
+    if len(times) >= 3 and top >= COUNTER and np.all(times == np.round(times)) and top < 2.0**53:
         steps = np.diff(times)
         step = float(np.median(steps)) if len(steps) else 0.0
         raise ArgumentError("time", f"the time column holds whole numbers ({float(times[0]):g} to "
