@@ -277,7 +277,7 @@ def reduce_command(
         table = read_table(input, format=format or "auto", time=time_col,
                            columns=cols.split(",") if cols else None, time_unit=time_unit, rate=rate)
         for note in table.notes:
-            console.print(f"{input}: {note}")
+            console.print(f"{input}: {note}", soft_wrap=True)
         table, moved = ordered(table, unordered, str(input))
         table, merged_away = merged(table, duplicates, str(input))
         rot = (_rotation_columns(table, rot_cols) if rot_cols else
@@ -312,7 +312,7 @@ def reduce_command(
     origin = float(table.times[0])
     if origin:
         console.print(f"times below are from the first sample, at {origin:.9g} s (the output keeps the original "
-                      f"times)")
+                      f"times)", soft_wrap=True)
     if moved:
         console.print(f"{'sorted' if unordered == 'sort' else 'dropped'} {moved} samples out of time order "
                       f"(--unordered {unordered})")
@@ -326,13 +326,13 @@ def reduce_command(
         console.print(summary_table(reduction, names))
         if reduction.report.get("duplicates_dropped"):
             console.print(f"dropped {reduction.report['duplicates_dropped']} exact duplicate samples")
-        console.print(features_line(reduction, origin))
+        console.print(features_line(reduction, origin), soft_wrap=True)
     if rotation is not None:
         console.print(f"rotation ({rot_mode}, {', '.join(table.channels[j] for j in rot)}): "
                       f"{summary_line(rotation, rotation.timings['total'])}")
         names = ["rotation"] if rotation.metric == "rotation" else [f"{axis} angle" for axis in seq]
         console.print(summary_table(rotation, [f"{n} (degrees)" for n in names], scale=180 / np.pi))
-        console.print(f"rotation {features_line(rotation, origin)}")
+        console.print(f"rotation {features_line(rotation, origin)}", soft_wrap=True)
     try:
         if output is not None and output.suffix.lower() == ".glb":
             _write_glb(output, table, parts, reductions, rotation, rot_tol_deg)
@@ -503,7 +503,7 @@ def _write_glb(path: Path, table: SampleTable, parts: list[list[int]], reduction
     glb, _ = scene_glb(scene, tracks, name=path.stem)
     write_atomic(path, glb)
     console.print(f"wrote {path} (one node, {', '.join(k.split('.')[1] for k in tracks)}; the file's units "
-                  f"written as metres)")
+                  f"written as metres)", soft_wrap=True)
 
 
 def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rate: float | None,
