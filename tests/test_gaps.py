@@ -31,7 +31,7 @@ def overshoot(reduction: sketchanim.Reduction, times: np.ndarray, values: np.nda
 @pytest.mark.parametrize("method", ["global", "incremental"])
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(sig=signals(max_n=200, min_n=12), gap_at=st.floats(0.1, 0.9), gap_len=st.floats(8, 200))
-def test_no_overshoot_across_a_gap(method, sig, gap_at, gap_len):
+def test_no_overshoot_between_samples(method, sig, gap_at, gap_len):
     times = sig.times.copy()
     step = np.median(np.diff(times)) if len(times) > 2 else 1.0
     cut = int(gap_at * (len(times) - 1))
@@ -40,7 +40,7 @@ def test_no_overshoot_across_a_gap(method, sig, gap_at, gap_len):
     assert np.all(r.max_error <= sig.tol)
     assert any(f.kind in ("gap", "jump") for f in r.features), r.report
     # inside the gap: between the two sides' values, widened by the tolerance
-    assert np.all(overshoot(r, times, sig.values)[cut] <= 1e-9)
+    assert np.all(overshoot(r, times, sig.values) <= 1e-9)
 
 
 @pytest.mark.realdata

@@ -12,7 +12,7 @@ from scipy.interpolate import BSpline
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
 from sketchanim.reducer.conditioning import Samples, check_angle, check_count, check_order, condition
 from sketchanim.reducer.features import Feature, FeatureOptions
-from sketchanim.reducer.gaps import find_gaps, find_jumps, reduce_across
+from sketchanim.reducer.gaps import without_overshoot
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
@@ -102,9 +102,9 @@ def reduce(
         (kept as corners) and cut the take there (:mod:`sketchanim.reducer.features`);
         True uses the default thresholds, False reduces the take in one piece. The
         take is also cut at its gaps (intervals over ``FeatureOptions.gap`` = 5 median
-        intervals) and its jumps (a value step over one interval; both
-        :mod:`sketchanim.reducer.gaps`): each side reduced on its own, bridged by a
-        straight segment. The result's ``features`` lists what was
+        intervals), at its jumps (a value step over one interval) and wherever the
+        curve would overshoot between samples (:mod:`sketchanim.reducer.gaps`): each
+        side reduced on its own, bridged by a straight segment. The result's ``features`` lists what was
         found.
 
     Returns
@@ -141,36 +141,24 @@ def reduce(
     samples = condition(times, values, tol)
     angle = check_angle(angle, samples.dim)
     options = FeatureOptions.of(features)
-    found: list[Feature] = []
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped}
     if method != "incremental":
         report["start"] = start
-    jumps = find_jumps(samples.values, samples.tol) if options.gap is not None else np.zeros(0, dtype=int)
-    cuts = np.union1d(find_gaps(samples.times, options.gap), jumps) if options.gap is not None else ()
-    if len(cuts):
-        def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
-            r = reduce(t, x, samples.tol, order=order, method=method, start=start, split=split,
-                       minimax_iterations=minimax_iterations, exhaustive_below=exhaustive_below,
-                       coarse_samples=coarse_samples, window=window, constraints=constraints, angle=angle or None,
-                       features=replace(options, gap=None))
-            return r.spline, r.features
 
-        spline, found = reduce_across(samples.times, samples.values, cuts, order, part, jumps)
-        report["gaps"] = len(cuts) - len(jumps)
-        report["jumps"] = len(jumps)
-    elif method == "incremental":
-        stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
-                               angle=angle or None, features=options)
-        stream.extend(samples.times, samples.values)
-        streamed = stream.finish()
-        found = list(streamed.features)
-        spline = streamed.columns
-        report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
-    elif samples.n < order:
-        spline = polynomial_through(samples.times, samples.values, order)
-        report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"
-    else:
+    def whole() -> tuple[BSpline, list[Feature]]:
+        """The take in one go, by ``method``."""
+        if method == "incremental":
+            stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
+                                   angle=angle or None, features=options)
+            stream.extend(samples.times, samples.values)
+            streamed = stream.finish()
+            report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
+            return streamed.columns, list(streamed.features)
+        if samples.n < order:
+            report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"
+            return polynomial_through(samples.times, samples.values, order), []
         opts = GlobalOptions(start, split, minimax_iterations, exhaustive_below, coarse_samples)
+        found: list[Feature] = []
         if options.enabled:
             spline, found, log = reduce_segmented(samples.times, samples.values, samples.tol, order, opts, angle,
                                                   options)
@@ -178,6 +166,24 @@ def reduce(
             spline, log = reduce_global(samples.times, samples.values, samples.tol, order, opts, angle)
         report.update(iterations=log.iterations, fits=log.fits, coarse_pass=log.coarse_pass,
                       coarse_outcome=log.coarse_outcome)
+        return spline, found
+
+    def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
+        """A run between cuts, reduced alone."""
+        r = reduce(t, x, samples.tol, order=order, method=method, start=start, split=split,
+                   minimax_iterations=minimax_iterations, exhaustive_below=exhaustive_below,
+                   coarse_samples=coarse_samples, window=window, constraints=constraints, angle=angle or None,
+                   features=replace(options, gap=None))
+        return r.spline, r.features
+
+    if options.gap is None:
+        spline, found = whole()
+    else:
+        spline, found = without_overshoot(samples.times, samples.values, samples.tol, order, options.gap, whole,
+                                          part)
+        for kind in ("gap", "jump"):
+            if any(f.kind == kind for f in found):
+                report[kind + "s"] = sum(f.kind == kind for f in found)
     spline, max_error, fell_back = _guaranteed(spline, samples, order, angle)
     if fell_back:
         report["note"] = "rounding broke the bound: kept the interpolant"

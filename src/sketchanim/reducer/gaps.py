@@ -1,10 +1,19 @@
-"""Gaps: intervals far longer than a take's usual sampling interval (a tracker that lost
-its target, a logger that paused). A curve fitted across one is free to swing anywhere
-inside it, since no sample holds it there, so the take is cut at its gaps, each side
-reduced on its own, and the gap bridged by a straight segment from where one side ends
-to where the next begins: it stays between the two sides' values, with no overshoot (a
-corner at each end, as at a pause's edges). :func:`sketchanim.reduce` does this for
-both methods; the gap is listed among the reduction's features.
+"""Gaps, jumps and overshoot: where a smooth curve through the samples would swing
+outside them between samples.
+
+A **gap** is an interval far longer than the take's usual sampling interval (a tracker
+that lost its target, a logger that paused): a curve fitted across one is free to swing
+anywhere inside it, since no sample holds it there. A **jump** is a step in value over
+one interval (a pen lifted and put down elsewhere, a spike): a smooth curve through it
+rings on both sides. The take is cut there, each side reduced on its own, and the cut
+bridged by a straight segment from where one side ends to where the next begins: it
+stays between the two sides' values (a corner at each end, as at a pause's edges).
+
+:func:`without_overshoot` then checks every sample interval: at its midpoint the curve
+must lie within the range of the four samples around it, widened by the tolerance.
+Intervals that fail are cut and bridged too (and listed as jumps), until none fails: at
+worst every interval is bridged, the piecewise-linear interpolant, which never
+overshoots, so this ends. :func:`sketchanim.reduce` does all this for both methods.
 """
 
 from __future__ import annotations
@@ -51,6 +60,25 @@ def find_jumps(values: np.ndarray, tol: np.ndarray) -> np.ndarray:
     zero = np.zeros((1, d.shape[1]))
     beside = np.maximum(np.r_[zero, d[:-1]], np.r_[d[1:], zero])
     return np.flatnonzero(np.any((d > JUMP_TOLS) & (d > JUMP_RATIO * beside), axis=1))
+
+
+def overshooting(spline: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndarray) -> np.ndarray:
+    """Intervals ``i`` (between samples ``i`` and ``i + 1``) at whose midpoint the curve
+    is outside the range of samples ``i - 1 .. i + 2`` widened by the tolerance.
+
+    >>> t = np.arange(5.0); x = np.c_[[0.0, 0.0, 1.0, 1.0, 1.0]]
+    >>> ring = BSpline(np.r_[[0.0] * 4, [4.0] * 4], np.c_[[0.0, -1.0, 2.0, 1.0]], 3)
+    >>> overshooting(ring, t, x, np.array([0.01])).tolist()
+    [0, 3]
+    """
+    if len(times) < 2:
+        return np.zeros(0, dtype=int)
+    mid = np.asarray(spline(0.5 * (times[1:] + times[:-1]))).reshape(len(times) - 1, -1)
+    idx = np.clip(np.arange(len(times) - 1)[:, None] + np.arange(-1, 3)[None, :], 0, len(times) - 1)
+    around = values[idx]
+    slack = tol * (1 + 1e-9)
+    out = (mid > around.max(axis=1) + slack) | (mid < around.min(axis=1) - slack)
+    return np.flatnonzero(np.any(out, axis=1))
 
 
 def bridge(start: float, end: float, left: np.ndarray, right: np.ndarray, order: int) -> BSpline:
@@ -104,3 +132,37 @@ def reduce_across(times: np.ndarray, values: np.ndarray, cuts: np.ndarray, order
         found.extend(features)
         end_value = last
     return join(pieces), found
+
+
+def without_overshoot(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, gap: float,
+                      whole: Callable[[], tuple[BSpline, list[Feature]]],
+                      reduce_part: Callable[[np.ndarray, np.ndarray], tuple[BSpline, tuple[Feature, ...]]]
+                      ) -> tuple[BSpline, list[Feature]]:
+    """The take reduced with ``whole()`` (no cuts) or, cut at its gaps and jumps, run by
+    run with ``reduce_part``; then cut and bridged further wherever it overshoots
+    (:func:`overshooting`), until it does not. Runs already reduced are not reduced again.
+
+    >>> t = np.linspace(0, 1, 11); x = np.c_[(t > 0.5) * 1.0]      # a step
+    >>> def part(t, x):
+    ...     return BSpline(np.r_[[t[0]] * 2, [t[-1]] * 2], x[[0, -1]], 1), ()
+    >>> s, found = without_overshoot(t, x, np.array([0.01]), 2, 5.0, None, part)
+    >>> [f.kind for f in found], bool(np.all(s(t) == x))
+    (['jump'], True)
+    """
+    jumps = find_jumps(values, tol)
+    cuts = np.union1d(find_gaps(times, gap), jumps)
+    done: dict[tuple[float, float, int], tuple[BSpline, tuple[Feature, ...]]] = {}
+
+    def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
+        key = (float(t[0]), float(t[-1]), len(t))
+        if key not in done:
+            done[key] = reduce_part(t, x)
+        return done[key]
+
+    while True:
+        spline, found = reduce_across(times, values, cuts, order, part, jumps) if len(cuts) else whole()
+        more = np.setdiff1d(overshooting(spline, times, values, tol), cuts)
+        if not more.size:
+            return spline, found
+        cuts = np.union1d(cuts, more)
+        jumps = np.union1d(jumps, more)
