@@ -231,3 +231,13 @@ def test_output_folder_for_one_input(tmp_path):
 def test_version():
     res = runner.invoke(app, ["--version"])
     assert res.exit_code == 0 and res.output.startswith("sketchanim ")
+
+
+def test_json_that_is_not_a_sample_stream_says_what_was_expected(tmp_path):
+    t, x = motion(40)
+    src = tmp_path / "s.csv"
+    np.savetxt(src, np.c_[t, x], delimiter=",")
+    spline = tmp_path / "spline.json"
+    assert runner.invoke(app, ["reduce", str(src), "--tol", "0.01", "-o", str(spline)]).exit_code == 0
+    res = runner.invoke(app, ["reduce", str(spline), "--tol", "0.01"])
+    refused(res, str(spline), "not a sample stream", "'t' or 'time'", "an object with fields")

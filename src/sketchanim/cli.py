@@ -246,7 +246,9 @@ def reduce_command(
     unordered: Annotated[str, typer.Option(help=f"Tables: samples earlier than the one before: "
                                                 f"{', '.join(UNORDERED)}.")] = "error",
     gap: Annotated[float, typer.Option(help="Tables: an interval longer than this many median sampling intervals "
-                                            "is a gap: each side reduced on its own, bridged straight (0: never).")]
+                                            "is a gap: each side reduced on its own, bridged straight; jumps and "
+                                            "intervals the curve would overshoot are bridged too (0: none of "
+                                            "this).")]
     = 5.0,
 ) -> None:
     given = {name for name in ctx.params if ctx.get_parameter_source(name).name not in ("DEFAULT", "DEFAULT_MAP")}

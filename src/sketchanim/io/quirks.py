@@ -16,6 +16,13 @@ UNORDERED = ("error", "drop", "sort")
 DUPLICATES = ("error", "first", "mean")
 
 
+def _at(table: SampleTable, name: str, index: int, message: str) -> FileFormatError:
+    """An error at sample ``index``: its line, or its record."""
+    if table.unit == "line":
+        return FileFormatError(name, message, line=int(table.line_numbers()[index]))
+    return FileFormatError(name, f"{table.where(index)}: {message}")
+
+
 def ordered(table: SampleTable, how: str, name: str) -> tuple[SampleTable, int]:
     """The table in time order, and how many samples were dropped or moved.
 
@@ -33,8 +40,8 @@ def ordered(table: SampleTable, how: str, name: str) -> tuple[SampleTable, int]:
         return table, 0
     if how == "error":
         i = int(back[0])
-        raise FileFormatError(name, f"{table.where(i)}: time goes backwards ({t[i]:g} after {t[i - 1]:g}); "
-                                    f"{back.size} samples are out of order (--unordered drop or sort goes on)")
+        raise _at(table, name, i, f"time goes backwards ({t[i]:g} after {t[i - 1]:g}); {back.size} samples are out "
+                                  f"of order (--unordered drop or sort goes on)")
     if how == "drop":
         keep = np.ones(len(t), dtype=bool)
         keep[back] = False
@@ -63,8 +70,8 @@ def merged(table: SampleTable, how: str, name: str) -> tuple[SampleTable, int]:
         return table, 0
     if how == "error":
         i = int(differ[0])
-        raise FileFormatError(name, f"{table.where(i)}: same time {t[i]:g} as the sample before, different values; "
-                                    f"{differ.size} such samples (--duplicates first or mean goes on)")
+        raise _at(table, name, i, f"same time {t[i]:g} as the sample before, different values; {differ.size} such "
+                                  f"samples (--duplicates first or mean goes on)")
     starts = np.r_[0, np.flatnonzero(t[1:] != t[:-1]) + 1]
     first = table.take(starts)
     if how == "first":
