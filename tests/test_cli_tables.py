@@ -241,3 +241,26 @@ def test_json_that_is_not_a_sample_stream_says_what_was_expected(tmp_path):
     assert runner.invoke(app, ["reduce", str(src), "--tol", "0.01", "-o", str(spline)]).exit_code == 0
     res = runner.invoke(app, ["reduce", str(spline), "--tol", "0.01"])
     refused(res, str(spline), "not a sample stream", "'t' or 'time'", "an object with fields")
+
+
+@pytest.mark.realdata
+def test_unreachable_scheduler_is_a_named_error(data_dir, tmp_path):
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    (lib / "a.bvh").write_bytes((data_dir / "bvh" / "bandai1_dash_normal_001.bvh").read_bytes())
+    res = runner.invoke(app, ["reduce", str(lib), "-o", str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:1"])
+    refused(res, "--scheduler", "cannot reach a Dask scheduler at tcp://127.0.0.1:1")
+
+
+def test_outputs_get_the_umask_mode(tmp_path):
+    import os
+
+    t, x = motion(40)
+    f = tmp_path / "s.csv"
+    np.savetxt(f, np.c_[t, x], delimiter=",")
+    old = os.umask(0o027)
+    try:
+        assert runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "-o", str(tmp_path / "o.json")]).exit_code == 0
+    finally:
+        os.umask(old)
+    assert (tmp_path / "o.json").stat().st_mode & 0o777 == 0o640

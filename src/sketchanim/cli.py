@@ -578,8 +578,12 @@ def _reduce_folder(folder: Path, output: Path | None, fmt: str, options: Options
     with Progress(*Progress.get_default_columns(), TextColumn("{task.fields[last]}"), console=console,
                   transient=True) as progress:
         task = progress.add_task("reducing", total=len(jobs), last="")
-        outcomes = run(jobs, options, workers=workers, scheduler=scheduler, previous=previous_report(output),
-                       on_done=lambda o: progress.update(task, advance=1, last=Path(o.source).name))
+        try:
+            outcomes = run(jobs, options, workers=workers, scheduler=scheduler, previous=previous_report(output),
+                           on_done=lambda o: progress.update(task, advance=1, last=Path(o.source).name))
+        except InputError as err:
+            progress.stop()
+            _fail(str(err))
     report = write_report(output / REPORT, outcomes)
     table = Table(title=f"{len(jobs)} clips from {folder}")
     for column in ("clip", "status", "frames", "points", "ratio", "rot err°", "pos err", "world err", "s"):
