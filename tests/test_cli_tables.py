@@ -264,3 +264,24 @@ def test_outputs_get_the_umask_mode(tmp_path):
     finally:
         os.umask(old)
     assert (tmp_path / "o.json").stat().st_mode & 0o777 == 0o640
+
+
+def test_euroc_ground_truth(tmp_path):
+    t, x = motion(300)
+    q = quats(t)                                            # x, y, z, w
+    names = ["#timestamp", "p_RS_R_x [m]", "p_RS_R_y [m]", "p_RS_R_z [m]", "q_RS_w []", "q_RS_x []", "q_RS_y []",
+             "q_RS_z []", "v_RS_R_x [m s^-1]"]
+    f = tmp_path / "data.csv"
+    rows = np.c_[np.round(1.403636579763555e18 + t * 1e9), x, q[:, [3, 0, 1, 2]], 0 * t]
+    f.write_text(",".join(names) + "\n" + "".join(
+        f"{int(r[0])}," + ",".join(f"{v:.9f}" for v in r[1:]) + "\n" for r in rows))
+    out = tmp_path / "body.json"
+    res = runner.invoke(app, ["reduce", str(f), "--tol", "0.001", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "EuRoC" in res.output and "left out v_RS_R_x" in res.output and "nanoseconds since 1970" in res.output
+    r = Reduction.from_json(out.read_text())
+    assert np.all(np.abs(r.spline(r.spline.t[0] + t) - x) <= 0.001 + 1e-9)
+    rot = Reduction.from_json((tmp_path / "body.rotation.json").read_text())
+    got = rot.spline(rot.spline.t[0] + t)
+    angle = Rotation.from_quat(got / np.linalg.norm(got, axis=1, keepdims=True)).inv() * Rotation.from_quat(q)
+    assert np.degrees(angle.magnitude()).max() <= 0.5 + 1e-6

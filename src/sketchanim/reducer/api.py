@@ -77,7 +77,8 @@ def reduce(
     method : {"global", "incremental"}
         Lyche-Morken knot removal over the whole take, or the incremental method
         (windows of ``window`` knots, as :class:`StreamReducer` does while samples
-        arrive; the same spline as streaming these samples with its defaults).
+        arrive; with ``FeatureOptions(gap=None)``, the same spline as streaming these
+        samples with its defaults: the stream does not cut gaps).
     start : {"paper", "lm"}
         Starting curve: the samples as control polygon, or LM's reduced
         piecewise-linear interpolant raised to ``order``.
