@@ -538,8 +538,23 @@ def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
     console.print(f"compression {row.compression:.1f}:1 ({row.reduced_bytes:,} bytes of curves vs {row.raw_bytes:,} "
                   f"bytes of float32 channels); largest {'marker' if isinstance(reduced, ReducedMarkers) else 'joint'} "
                   f"position error in the world {row.max_world_error:.4g} units; {row.seconds:.2f} s")
+    console.print(_unit_line(clip.unit_m, options), soft_wrap=True)
     if output is not None:
         console.print(f"wrote {output}")
+
+
+def _unit_line(unit_m: float | None, options: Options) -> str:
+    """Which unit the clip's "units" are, and where that came from.
+
+    >>> _unit_line(0.01, Options())
+    "units: cm (the file's, or guessed from the figure's height; --units to set it)"
+    """
+    if options.units:
+        return f"units: {options.units} (--units)"
+    names = [name for name, m in UNITS_M.items() if m == unit_m]
+    if not names:
+        return "units: the clip's own (not known; --units to set it)"
+    return f"units: {names[0]} (the file's, or guessed from the figure's height; --units to set it)"
 
 
 def _joints_table(reduced: ReducedClip, row: Outcome, options: Options) -> Table:

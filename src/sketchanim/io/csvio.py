@@ -159,9 +159,16 @@ def _skipped(line: str) -> bool:
     return not line.strip() or line.lstrip().startswith("#")
 
 
-def _head(path: str | os.PathLike[str], limit: int = 64) -> list[str]:
-    """Up to ``limit`` non-skipped lines' worth of the file's start (all its lines
-    until then, skipped ones included)."""
+def head_lines(path: str | os.PathLike[str], limit: int = 64) -> list[str]:
+    """The file's first lines, up to its ``limit``-th line that is neither blank nor a
+    ``#`` comment (a byte-order mark dropped); errors name the file.
+
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "s.txt"
+    >>> _ = p.write_bytes(b"\\xef\\xbb\\xbf# c\\n1 2\\n3 4\\n")
+    >>> head_lines(p, 1)
+    ['# c', '1 2']
+    """
     name = str(path)
     out: list[str] = []
     try:
@@ -190,7 +197,7 @@ def sniff(path: str | os.PathLike[str], delimiter: str | None | bool = True) -> 
     (None, ['t', 'x', 'y'], 2)
     """
     name = str(path)
-    head = _head(path)
+    head = head_lines(path)
     rows = [(i, line) for i, line in enumerate(head, 1) if not _skipped(line)]
     if not rows:
         raise FileFormatError(name, "has no samples")

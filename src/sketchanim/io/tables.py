@@ -15,8 +15,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import FileFormatError, InputError
-from sketchanim.io.csvio import DELIMITERS, Layout, SampleTable, parse_number, read_columns, read_samples_csv, \
-    sniff, split_cells
+from sketchanim.io.csvio import DELIMITERS, Layout, SampleTable, head_lines, parse_number, read_columns, \
+    read_samples_csv, resolve_column, sniff, split_cells
 from sketchanim.io.jsonio import JSON_SAMPLES, read_samples_json
 from sketchanim.io.time_units import check_rate, to_seconds
 
@@ -35,10 +35,8 @@ _QUATERNION = ("qx", "qy", "qz", "qw")
 
 def _numeric_rows(layout: Layout, path: str | os.PathLike[str], limit: int = 8) -> np.ndarray | None:
     """The first rows of numbers (as far as :func:`sniff` read), or None if ragged."""
-    from sketchanim.io.csvio import _head
-
     rows = []
-    for line in _head(path, limit)[layout.first - 1 :]:
+    for line in head_lines(path, limit)[layout.first - 1 :]:
         cells = split_cells(line, layout.delimiter)
         if not cells or line.lstrip().startswith("#"):
             continue
@@ -54,9 +52,8 @@ def _unit_norm(q: np.ndarray) -> bool:
 
 
 def _is_svc(path: str | os.PathLike[str]) -> bool:
-    from sketchanim.io.csvio import _head
 
-    head = [line for line in _head(path, 3) if line.strip()]
+    head = [line for line in head_lines(path, 3) if line.strip()]
     return len(head) >= 2 and head[0].strip().isdigit() and len(head[1].split()) >= 3
 
 
@@ -133,9 +130,8 @@ def _kitti(path: str | os.PathLike[str], rate: float | None) -> tuple[SampleTabl
 
 
 def _svc(path: str | os.PathLike[str], columns: Sequence[str] | None) -> tuple[SampleTable, str | None]:
-    from sketchanim.io.csvio import _head
 
-    head = _head(path, 2)
+    head = head_lines(path, 2)
     first = next(i for i, line in enumerate(head, 1) if line.strip())
     count = int(head[first - 1].strip())
     width = len(head[first].split())
@@ -159,7 +155,6 @@ def _svc(path: str | os.PathLike[str], columns: Sequence[str] | None) -> tuple[S
 
 
 def _column(path: str | os.PathLike[str], spec: str, names: Sequence[str]) -> int:
-    from sketchanim.io.csvio import resolve_column
 
     try:
         return resolve_column(spec, names)
