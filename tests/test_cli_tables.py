@@ -13,8 +13,12 @@ import pytest
 from scipy.spatial.transform import Rotation
 from typer.testing import CliRunner
 
+from clips import validate
 from sketchanim.cli import app
+from sketchanim.io.gltf_scene import KEY_SHARE
 from sketchanim.reducer import Reduction
+from sketchanim.reducer.metric import rotation_angle
+from test_gltf_scene import played
 
 runner = CliRunner()
 
@@ -74,6 +78,13 @@ def test_tum_finds_its_quaternion_and_writes_glb(tmp_path):
     doc = gl.GLTF2.load_from_bytes(out.read_bytes())
     assert {c.target.path for c in doc.animations[0].channels} == {"translation", "rotation"}
     assert "from the first sample, at 1.3e+09 s" in res.output
+    # what a viewer plays: valid, and within tolerance of every sample (float32 keys)
+    (report,) = validate(out)
+    assert report["numErrors"] == 0, report["messages"][:3]
+    assert "glTF keeps float32 times" in res.output                   # the clock starts at 0 there
+    assert np.abs(played(out, "path", "translation", t) - x).max() <= 0.005 + 1e-4
+    angle = np.degrees(rotation_angle(played(out, "path", "rotation", t), q))
+    assert angle.max() <= 0.5 * (1 + KEY_SHARE) + 1e-3
 
 
 def test_svc_and_kitti(tmp_path):
@@ -285,3 +296,28 @@ def test_euroc_ground_truth(tmp_path):
     got = rot.spline(rot.spline.t[0] + t)
     angle = Rotation.from_quat(got / np.linalg.norm(got, axis=1, keepdims=True)).inv() * Rotation.from_quat(q)
     assert np.degrees(angle.magnitude()).max() <= 0.5 + 1e-6
+
+
+@pytest.mark.parametrize("order", [2, 3, 4])
+def test_path_with_a_gap_to_glb_plays_within_tolerance(tmp_path, order):
+    t, x = motion(300)
+    t = np.where(t > 2, t + 5, t)
+    f = tmp_path / "xy.csv"
+    np.savetxt(f, np.c_[t, x[:, :2]], delimiter=",", header="t,x,y", comments="")
+    out = tmp_path / "xy.glb"
+    res = runner.invoke(app, ["reduce", str(f), "--tol", "0.002", "--order", str(order), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    (report,) = validate(out)
+    assert report["numErrors"] == 0, report["messages"][:3]
+    if order > 2:
+        got = played(out, "path", "translation", t)
+        assert np.abs(got[:, :2] - x[:, :2]).max() <= 0.002 + 1e-5 and np.all(got[:, 2] == 0)
+
+
+def test_plot_of_an_orientation_only_take_is_refused(tmp_path):
+    t, _ = motion(100)
+    f = tmp_path / "imu.csv"
+    np.savetxt(f, np.c_[t, quats(t)], delimiter=",", header="t,qx,qy,qz,qw", comments="")
+    res = runner.invoke(app, ["reduce", str(f), "--rot-cols", "qx,qy,qz,qw", "--plot", str(tmp_path / "p.png")])
+    refused(res, "--plot", "only an orientation")
+    assert not (tmp_path / "p.png").exists()
