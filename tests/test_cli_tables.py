@@ -321,3 +321,14 @@ def test_plot_of_an_orientation_only_take_is_refused(tmp_path):
     res = runner.invoke(app, ["reduce", str(f), "--rot-cols", "qx,qy,qz,qw", "--plot", str(tmp_path / "p.png")])
     refused(res, "--plot", "only an orientation")
     assert not (tmp_path / "p.png").exists()
+
+
+def test_help_has_examples_choices_and_limits():
+    res = runner.invoke(app, ["reduce", "--help"], env={"COLUMNS": "200"})
+    assert res.exit_code == 0
+    for text in ("Examples:", "global or incremental", "paper or lm", "2 to 8", "4 to 1000", "error, first, mean",
+                 "error, drop, sort", "s, ms, us, ns", "tum, svc, euroc, kitti"):
+        assert text in res.output, text
+    assert "<bool>" not in res.output.split("--help")[0]              # flags show no type (typer's own --help does)
+    for command in ("export", "paper"):
+        assert "Example" in runner.invoke(app, [command, "--help"], env={"COLUMNS": "200"}).output

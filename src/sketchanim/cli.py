@@ -49,7 +49,7 @@ def _version(value: bool) -> None:
 
 
 @app.callback()
-def main(version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
+def main(version: Annotated[bool, typer.Option("--version", metavar="", callback=_version, is_eager=True,
                                                help="Print the version and exit.")] = False) -> None:
     """sketchanim command line."""
 
@@ -203,18 +203,18 @@ def reduce_command(
     = "quaternion",
     seq: Annotated[str, typer.Option(help="Tables: Euler sequence (scipy's: upper case intrinsic, as BVH's ZXY).")]
     = "ZXY",
-    scalar_first: Annotated[bool, typer.Option("--scalar-first", help="Tables: quaternion columns are w,x,y,z.")]
+    scalar_first: Annotated[bool, typer.Option("--scalar-first", metavar="", help="Tables: quaternion columns are w,x,y,z.")]
     = False,
-    pauses: Annotated[bool, typer.Option("--pauses/--no-pauses", help="Tables: hold exactly still where the take "
+    pauses: Annotated[bool, typer.Option("--pauses/--no-pauses", metavar="", help="Tables: hold exactly still where the take "
                                          "pauses.")] = True,
-    breaks: Annotated[bool, typer.Option("--breaks/--no-breaks", help="Tables: keep velocity breaks as corners.")]
+    breaks: Annotated[bool, typer.Option("--breaks/--no-breaks", metavar="", help="Tables: keep velocity breaks as corners.")]
     = True,
     min_pause: Annotated[float, typer.Option("--min-pause", help="Tables: shortest pause, seconds.")] = 0.5,
     units: Annotated[Optional[str], typer.Option(help=f"Clips: the clip's unit ({', '.join(UNITS_M)}); default: "
                                                  "the file's, else guessed from the figure's height.")] = None,
     skeleton: Annotated[Optional[Path], typer.Option(help="Clips: the ASF skeleton of an AMC (default: found beside "
                                                      "it).")] = None,
-    world: Annotated[bool, typer.Option("--world", help="Clips: keep every joint, and every point --shell cm from "
+    world: Annotated[bool, typer.Option("--world", metavar="", help="Clips: keep every joint, and every point --shell cm from "
                                         "a joint, within --tol in the world (each joint's angle follows from how "
                                         "far it reaches) instead of every rotation within --rot-tol-deg.")] = False,
     shell: Annotated[float, typer.Option(help="Clips, with --world: the shell's distance from each joint, cm.")]
@@ -638,7 +638,9 @@ def export_command(
                                          "JSON (.json).")],
 ) -> None:
     """Export a project: its scene as glTF (objects, cameras, lights, and their
-    position, orientation and scale tracks), or everything as JSON."""
+    position, orientation and scale tracks), or everything as JSON.
+
+    Examples: sketchanim export show.sketchanim -o show.glb; sketchanim export show.sketchanim -o show.json"""
     from sketchanim.io.gltf_scene import scene_glb
     from sketchanim.io.project import Project
 
@@ -670,7 +672,9 @@ def paper_command(
     data: Annotated[Path, typer.Option(help="Recordings folder; its camera path runs beside the synthetic takes.")]
     = Path("../shared/data"),
 ) -> None:
-    """Re-run the paper's section 2.2 experiments; print tables 8 and 10 and write the figures."""
+    """Re-run the paper's section 2.2 experiments; print tables 8 and 10 and write the figures.
+
+    Example: sketchanim paper -o out/paper --data ../shared/data"""
     from sketchanim.paper import run
 
     try:

@@ -24,7 +24,7 @@ from sketchanim.errors import FileFormatError
 DELIMITERS: dict[str, str | None] = {"comma": ",", "tab": "\t", "whitespace": None}
 
 #: Rows parsed per chunk by the fast reader.
-CHUNK_ROWS = 1 << 20
+CHUNK_ROWS = 1 << 18
 
 
 @dataclass(frozen=True)

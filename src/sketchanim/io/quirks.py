@@ -4,6 +4,8 @@ that names the line and says which choice goes on."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from sketchanim.errors import FileFormatError
@@ -78,5 +80,4 @@ def merged(table: SampleTable, how: str, name: str) -> tuple[SampleTable, int]:
         return first, len(t) - len(starts)
     counts = np.diff(np.r_[starts, len(t)])
     means = np.add.reduceat(x, starts, axis=0) / counts[:, None]
-    return SampleTable(first.times, means, first.channels, first.lines, first.unit, first.orientation,
-                       first.notes), len(t) - len(starts)
+    return replace(first, values=means), len(t) - len(starts)
