@@ -217,8 +217,10 @@ def test_output_or_plot_that_is_the_input_is_refused(tmp_path):
     refused(runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "-o", str(f)]), "is the input")
     c = tmp_path / "s.csv"
     np.savetxt(c, np.c_[t, x], delimiter=",")
-    refused(runner.invoke(app, ["reduce", str(c), "--tol", "0.01", "--plot", str(c)]), "--plot")
-    assert f.read_text() == before
+    kept = c.read_text()
+    refused(runner.invoke(app, ["reduce", str(c), "--tol", "0.01", "-o", str(c)]), "-o", "is the input")
+    refused(runner.invoke(app, ["reduce", str(c), "--tol", "0.01", "--plot", str(c)]), "--plot", "is the input")
+    assert f.read_text() == before and c.read_text() == kept
 
 
 def test_clip_refuses_table_options(tmp_path):

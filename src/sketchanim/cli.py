@@ -421,24 +421,24 @@ def _same_file(a: Path, b: Path) -> bool:
 def _check_outputs(input: Path, output: Path | None, plot: Path | None, order: int) -> None:
     """Outputs a table can be written as, never the input itself; checked before any work."""
     if output is not None:
+        for path in (output, output.with_name(output.stem + ".rotation.json")):
+            if _same_file(input, path):
+                _fail(f"-o: {path} is the input; choose another output")
         suffix = output.suffix.lower()
         if suffix not in (".json", ".glb"):
             _fail(f"-o: a sample table is written as .json (the spline) or .glb (an animated node), not "
                   f"{suffix or 'a file without an extension'}")
         if suffix == ".glb" and order > 4:
             _fail(f"--order: glTF plays orders 2 to 4, got {order} (write .json for higher orders)")
-        for path in (output, output.with_name(output.stem + ".rotation.json")):
-            if _same_file(input, path):
-                _fail(f"-o: {path} is the input; choose another output")
     if plot is not None:
         from matplotlib.backend_bases import FigureCanvasBase
 
+        if _same_file(input, plot) or (output is not None and _same_file(output, plot)):
+            _fail(f"--plot: {plot} is the input or the output; choose another file")
         kinds = FigureCanvasBase.get_supported_filetypes()
         if plot.suffix.lower().lstrip(".") not in kinds:
             _fail(f"--plot: the extension names the format, one of {', '.join('.' + k for k in sorted(kinds))}; "
                   f"got {plot.suffix or 'none'}")
-        if _same_file(input, plot) or (output is not None and _same_file(output, plot)):
-            _fail(f"--plot: {plot} is the input or the output; choose another file")
 
 
 def _groups(table: SampleTable, rest: list[int], groups: str | None) -> list[list[int]]:
