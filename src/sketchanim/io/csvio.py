@@ -315,6 +315,9 @@ def read_columns(path: str | os.PathLike[str], layout: Layout, usecols: Sequence
     times, values = np.empty(capacity), np.empty((capacity, len(usecols) - 1))
     n = 0
     for block in iter_columns(path, layout, usecols):
+        if n + len(block) > len(times):                  # rows spanning lines (quoted newlines)
+            times = np.r_[times[:n], np.empty(n + len(block))]
+            values = np.r_[values[:n], np.empty((n + len(block), values.shape[1]))]
         times[n : n + len(block)] = block[:, 0]
         values[n : n + len(block)] = block[:, 1:]
         n += len(block)
