@@ -334,3 +334,23 @@ def test_help_has_examples_choices_and_limits():
     assert "<bool>" not in res.output.split("--help")[0]              # flags show no type (typer's own --help does)
     for command in ("export", "paper"):
         assert "Example" in runner.invoke(app, [command, "--help"], env={"COLUMNS": "200"}).output
+
+
+@pytest.mark.parametrize(("name", "data", "words"), [
+    ("empty.csv", b"", ["has no samples"]),
+    ("blank.csv", b"\n\n\n", ["has no samples"]),
+    ("bom.csv", b"\xef\xbb\xbf", ["has no samples"]),
+    ("random.csv", bytes(range(128, 256)) * 8, ["is not UTF-8 text"]),
+    ("ragged.txt", b"t x y\n0 1 2\n1 2\n", ["line 3", "2 columns, expected 3"]),
+    ("mixed.txt", b"0 1\n1\t2\n2,3\n", ["line 1", "header names 1 columns"]),
+    ("short.svc", b"5\n1 2 3\n", ["line 1", "says 5 samples", "holds 1"]),
+    ("huge.csv", b"t,x\n0,1e400\n1,2\n", ["line 2", "column 2 is '1e400'"]),
+    ("one.csv", b"0\n1\n2\n", ["line 1", "needs a time column and at least one channel"]),
+])
+def test_malformed_tables_are_named_errors(tmp_path, name, data, words):
+    f = tmp_path / name
+    f.write_bytes(data)
+    out = tmp_path / "o.json"
+    res = runner.invoke(app, ["reduce", str(f), "--tol", "0.1", "-o", str(out)])
+    refused(res, str(f), *words)
+    assert not out.exists()

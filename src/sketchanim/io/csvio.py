@@ -217,6 +217,9 @@ def sniff(path: str | os.PathLike[str], delimiter: str | None | bool = True) -> 
         named = split_cells(head[first - 2].lstrip()[1:], delimiter)
         if len(named) == len(cells) and any(parse_number(c) is None for c in named):
             header = named
+    if header is not None and len(header) != len(cells):
+        raise FileFormatError(name, f"the header names {len(header)} columns, line {first} has {len(cells)} "
+                                    f"(--format names the layout)", line=rows[0][0])
     if len(cells) < 2:
         what = "a comma, a tab or spaces" if delimiter is None else repr(delimiter)
         raise FileFormatError(name, f"needs a time column and at least one channel, separated by {what}; "
