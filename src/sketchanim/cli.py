@@ -42,9 +42,9 @@ errors = Console(stderr=True)
 
 def _version(value: bool) -> None:
     if value:
-        from sketchanim import __version__
+        from importlib.metadata import version
 
-        console.print(f"sketchanim {__version__}")
+        console.print(f"sketchanim {version('sketchanim')}")
         raise typer.Exit()
 
 
