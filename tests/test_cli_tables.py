@@ -354,3 +354,11 @@ def test_malformed_tables_are_named_errors(tmp_path, name, data, words):
     res = runner.invoke(app, ["reduce", str(f), "--tol", "0.1", "-o", str(out)])
     refused(res, str(f), *words)
     assert not out.exists()
+
+
+def test_column_options_a_format_fixes_are_refused(tmp_path):
+    t, x = motion(50)
+    f = tmp_path / "gt.txt"
+    np.savetxt(f, np.c_[t, x, quats(t)])
+    refused(runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "--cols", "tx"]), "--cols", "tum")
+    refused(runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "--time-col", "1"]), "--time-col", "tum")

@@ -52,7 +52,7 @@ def _unit_norm(q: np.ndarray) -> bool:
 
 
 def _is_svc(path: str | os.PathLike[str]) -> bool:
-
+    """Whether the file starts with a lone sample count, then rows of 3 or more values."""
     head = [line for line in head_lines(path, 3) if line.strip()]
     return len(head) >= 2 and head[0].strip().isdigit() and len(head[1].split()) >= 3
 
@@ -191,8 +191,12 @@ def read_table(path: str | os.PathLike[str], *, format: str = "auto", time: str 
     if format not in FORMATS:
         raise InputError(f"--format: one of {', '.join(FORMATS)} for samples, got {format!r}")
     fmt = recognise(path) if format == "auto" else format
-    if fmt != "kitti" and columns is not None and fmt in ("tum", "json"):
-        raise InputError(f"--cols: {fmt} files have fixed channels ({'their fields' if fmt == 'json' else 'tx, ty, tz, qx, qy, qz, qw'}); --cols applies to csv, tsv, whitespace, svc and euroc tables")
+    if columns is not None and fmt in ("tum", "kitti", "json"):
+        raise InputError(f"--cols: {path} is {fmt}, whose channels are fixed; --cols applies to csv, tsv, whitespace, "
+                         f"svc and euroc tables")
+    if time is not None and fmt not in ("csv", "tsv", "whitespace"):
+        raise InputError(f"--time-col: {path} is {fmt}, whose time column is fixed; --time-col applies to csv, tsv "
+                         f"and whitespace tables")
     if fmt == "kitti":
         table, note = _kitti(path, rate)
         return replace(table, notes=table.notes + (note,))
