@@ -62,23 +62,29 @@ def find_jumps(values: np.ndarray, tol: np.ndarray) -> np.ndarray:
     return np.flatnonzero(np.any((d > JUMP_TOLS) & (d > JUMP_RATIO * beside), axis=1))
 
 
-def overshooting(spline: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndarray) -> np.ndarray:
+def overshooting(spline: BSpline, times: np.ndarray, values: np.ndarray, tol: np.ndarray,
+                 chunk: int = 1 << 18) -> np.ndarray:
     """Intervals ``i`` (between samples ``i`` and ``i + 1``) at whose midpoint the curve
-    is outside the range of samples ``i - 1 .. i + 2`` widened by the tolerance.
+    is outside the range of samples ``i - 1 .. i + 2`` widened by the tolerance
+    (checked ``chunk`` intervals at a time, so memory stays bounded on long takes).
 
     >>> t = np.arange(5.0); x = np.c_[[0.0, 0.0, 1.0, 1.0, 1.0]]
     >>> ring = BSpline(np.r_[[0.0] * 4, [4.0] * 4], np.c_[[0.0, -1.0, 2.0, 1.0]], 3)
-    >>> overshooting(ring, t, x, np.array([0.01])).tolist()
-    [0, 3]
+    >>> overshooting(ring, t, x, np.array([0.01])).tolist(), overshooting(ring, t, x, np.array([0.01]), 2).tolist()
+    ([0, 3], [0, 3])
     """
-    if len(times) < 2:
-        return np.zeros(0, dtype=int)
-    mid = np.asarray(spline(0.5 * (times[1:] + times[:-1]))).reshape(len(times) - 1, -1)
-    idx = np.clip(np.arange(len(times) - 1)[:, None] + np.arange(-1, 3)[None, :], 0, len(times) - 1)
-    around = values[idx]
+    n = len(times)
     slack = tol * (1 + 1e-9)
-    out = (mid > around.max(axis=1) + slack) | (mid < around.min(axis=1) - slack)
-    return np.flatnonzero(np.any(out, axis=1))
+    found = []
+    for a in range(0, n - 1, chunk):
+        b = min(a + chunk, n - 1)                              # intervals a .. b - 1
+        near = [values[np.clip(np.arange(a, b) + k, 0, n - 1)] if a + k < 0 or b + k > n - 1 else values[a + k : b + k]
+                for k in (-1, 0, 1, 2)]
+        lo = np.minimum(np.minimum(near[0], near[1]), np.minimum(near[2], near[3]))
+        hi = np.maximum(np.maximum(near[0], near[1]), np.maximum(near[2], near[3]))
+        mid = np.asarray(spline(0.5 * (times[a + 1 : b + 1] + times[a:b]))).reshape(b - a, -1)
+        found.append(a + np.flatnonzero(np.any((mid > hi + slack) | (mid < lo - slack), axis=1)))
+    return np.concatenate(found) if found else np.zeros(0, dtype=int)
 
 
 def bridge(start: float, end: float, left: np.ndarray, right: np.ndarray, order: int) -> BSpline:
