@@ -22,6 +22,9 @@ from sketchanim.reducer.stream import StreamReducer
 
 METHODS = ("global", "incremental")
 
+#: Samples handed to the streaming reducer at a time by the incremental method.
+STREAM_CHUNK = 1 << 16
+
 
 def _guaranteed(spline: BSpline, samples: Samples, order: int, angle: float) -> tuple[BSpline, np.ndarray, bool]:
     """The spline if every sample is within tolerance, else the interpolant; or raise."""
@@ -151,7 +154,8 @@ def reduce(
         if method == "incremental":
             stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
                                    angle=angle or None, features=options)
-            stream.extend(samples.times, samples.values)
+            for a in range(0, samples.n, STREAM_CHUNK):     # in chunks: the same spline, bounded memory
+                stream.extend(samples.times[a : a + STREAM_CHUNK], samples.values[a : a + STREAM_CHUNK])
             streamed = stream.finish()
             report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
             return streamed.columns, list(streamed.features)
