@@ -71,3 +71,10 @@ def test_gap_cutting_can_be_turned_off():
     assert not any(f.kind == "gap" for f in r.features)
     with pytest.raises(ValueError, match="gap"):
         FeatureOptions(gap=0.5)
+
+
+def test_a_step_across_a_gap_is_listed_as_the_gap():
+    t = np.r_[np.linspace(0, 1, 50), np.linspace(9, 10, 50)]
+    x = np.where(t < 5, 0.0, 3.0) + 0.1 * np.sin(t)
+    r = sketchanim.reduce(t, x, 1e-3)
+    assert [f.kind for f in r.features if f.start == 1.0] == ["gap"]

@@ -155,8 +155,9 @@ def without_overshoot(times: np.ndarray, values: np.ndarray, tol: np.ndarray, or
     >>> [f.kind for f in found], bool(np.all(s(t) == x))
     (['jump'], True)
     """
-    jumps = find_jumps(values, tol)
-    cuts = np.union1d(find_gaps(times, gap), jumps)
+    gaps = find_gaps(times, gap)
+    jumps = np.setdiff1d(find_jumps(values, tol), gaps)          # a step across a gap is the gap
+    cuts = np.union1d(gaps, jumps)
     done: dict[tuple[float, float, int], tuple[BSpline, tuple[Feature, ...]]] = {}
 
     def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
