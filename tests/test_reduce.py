@@ -17,10 +17,10 @@ from signals import signals
 
 def _most_coefficients(r: Reduction, n: int) -> int:
     """No more control points than samples (or the order), but for the straight
-    bridges at gaps, jumps and would-be overshoot (each bridge and each run between
-    them may add order - 2)."""
+    bridges at gaps, jumps and would-be overshoot (each bridge, and each of the runs
+    between them, may add order - 2)."""
     cuts = sum(f.kind in ("gap", "jump") for f in r.features)
-    return max(n, r.order) + (r.order - 2) * 2 * cuts
+    return max(n, r.order) + (r.order - 2) * (2 * cuts + 1) if cuts else max(n, r.order)
 
 
 def _check_guarantee(r: Reduction, times: np.ndarray, values: np.ndarray, tol: np.ndarray) -> None:
