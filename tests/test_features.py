@@ -36,9 +36,17 @@ def check_features(r: Reduction, p: Performance) -> None:
     k = r.order
     knots = np.asarray(r.spline.t)
     for f in r.features:
-        assert f.kind in ("pause", "break")
+        assert f.kind in ("pause", "break", "gap", "jump")
         assert p.times[0] <= f.start <= f.end <= p.times[-1]
-        if f.kind == "pause":
+        if f.kind in ("gap", "jump"):
+            # bridged straight between the two sides: no sample in between, no overshoot
+            assert not np.any((p.times > f.start) & (p.times < f.end))
+            ends = r.spline(np.array([f.start, f.end])).reshape(2, -1)
+            inside = r.spline(np.linspace(f.start, f.end, 9)[1:-1]).reshape(7, -1)
+            u = np.linspace(0, 1, 9)[1:-1, None]
+            np.testing.assert_allclose(inside, (1 - u) * ends[0] + u * ends[1], rtol=0,
+                                       atol=1e-9 * (1 + np.abs(ends).max()))
+        elif f.kind == "pause":
             assert f.end > f.start
             inside = np.linspace(f.start, f.end, 50)[1:-1]
             # zero velocity, not a wobble: every coefficient acting there is the same
@@ -70,7 +78,8 @@ def test_streaming_with_features_equals_batch_and_pieces_match(p: Performance, c
         sr.extend(p.times[i : i + step], p.values[i : i + step])
         i, c = i + step, c + 1
     streamed = sr.finish()
-    batch = sketchanim.reduce(p.times, p.values, p.tol, method="incremental")
+    # the stream is the batch without its cuts at gaps, jumps and overshoot (reducer/gaps.py)
+    batch = sketchanim.reduce(p.times, p.values, p.tol, method="incremental", features=FeatureOptions(gap=None))
     np.testing.assert_array_equal(streamed.spline.t, batch.spline.t)
     np.testing.assert_array_equal(streamed.spline.c.reshape(batch.spline.c.shape), batch.spline.c)
     assert streamed.features == batch.features

@@ -97,7 +97,7 @@ def test_command_line_reduces_a_stream_within_tolerance(tmp_path_factory: pytest
     ("b.json", '{"t": [0, 1], "x": [1]}', r"fields have different lengths: t 2, x 1"),
     ("b.json", '{"t": [0, 1], "x": 1}', r"field 'x' is not an array"),
     ("b.json", '{"t": [0, 1],\n "x": [1, null]}', r"record \[1\]: field 'x' is not a number"),
-    ("b.json", '7', r"is neither an array of records nor an object of columns"),
+    ("b.json", "7", r"is not a sample stream: expected an array of records or an object of columns"),
     ("b.json", '{"t": [0, 1],\n "x": [1, 2]', r"b\.json, line 2: not JSON"),
 ])
 def test_malformed_streams_name_where(tmp_path: Path, name: str, text: str, message: str) -> None:

@@ -103,7 +103,12 @@ def test_shared_recordings_features_flat_and_sharp(data_dir, method):
             if f.kind == "break":
                 left, right = one_sided(r.spline, f.start)
                 assert not np.allclose(left, right, rtol=1e-9, atol=0), name
-            else:
+            elif f.kind == "pause":
                 inside = np.linspace(f.start, f.end, 20)[1:-1]
                 assert np.all(r.spline.derivative()(inside) == 0.0), name
-    assert kinds == {"pause", "break"}
+            else:                                           # a gap or jump: bridged straight
+                ends = r.spline(np.array([f.start, f.end]))
+                u = np.linspace(0, 1, 20)[1:-1, None]
+                np.testing.assert_allclose(r.spline(f.start + u[:, 0] * (f.end - f.start)),
+                                           (1 - u) * ends[0] + u * ends[1], rtol=0, atol=1e-9, err_msg=name)
+    assert {"pause", "break"} <= kinds

@@ -27,10 +27,12 @@ def plot_reduction(
     channels: Sequence[str] | None = None,
     title: str | None = None,
 ) -> Path:
-    """Draw one row per channel (component | error with tolerance band) to a PNG.
+    """Draw one row per channel (component | error with tolerance band) to a file in
+    the format its extension names (.png, .svg, .pdf, .jpg, ...; PNG without one).
 
     Control points are drawn at their Greville abscissae; the reduction's pauses are
-    shaded and its breaks marked with a vertical line. The file is written atomically.
+    shaded, its gaps and jumps hatched, and its breaks marked with a vertical line.
+    The file is written atomically.
 
     >>> import tempfile, pathlib, sketchanim
     >>> t = np.linspace(0, 1, 40); x = np.c_[np.sin(6 * t)]
@@ -63,6 +65,8 @@ def plot_reduction(
             label = f"{f.kind}s" if j == 0 and f is next(g for g in reduction.features if g.kind == f.kind) else None
             if f.kind == "pause":
                 ax.axvspan(f.start, f.end, color="C1", alpha=0.15, label=label)
+            elif f.kind in ("gap", "jump"):
+                ax.axvspan(f.start, f.end, facecolor="none", edgecolor="C3", hatch="//", lw=0, label=label)
             else:
                 ax.axvline(f.start, color="C4", lw=0.9, ls=":", label=label)
     axes[0, 0].legend(loc="best", fontsize="small")
@@ -73,6 +77,6 @@ def plot_reduction(
                            f"(order {reduction.order})"))
     fig.tight_layout()
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
+    fig.savefig(buffer, format=Path(path).suffix.lower().lstrip(".") or "png", dpi=110)
     plt.close(fig)
     return write_atomic(path, buffer.getvalue())

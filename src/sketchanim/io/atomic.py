@@ -24,6 +24,7 @@ def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> Path:
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
         with os.fdopen(fd, "wb") as handle:
+            os.fchmod(handle.fileno(), 0o666 & ~current_umask())    # as open() would, not mkstemp's 0600
             handle.write(payload)
             handle.flush()
             os.fsync(handle.fileno())
@@ -37,3 +38,14 @@ def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> Path:
     finally:
         os.close(dir_fd)
     return target
+
+
+def current_umask() -> int:
+    """The process's umask (read by setting and restoring it).
+
+    >>> 0 <= current_umask() <= 0o777
+    True
+    """
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask

@@ -203,6 +203,10 @@ def run(jobs: list[tuple[Path, Path]], options: Options, *, workers: int = 1, sc
     return [results[i] for i in range(len(jobs))]
 
 
+#: Seconds to wait for a Dask scheduler before saying it cannot be reached.
+SCHEDULER_TIMEOUT = 5
+
+
 def _execute(jobs: list[tuple[Path, Path]], options: Options, workers: int, scheduler: str | None
              ) -> Iterator[tuple[int, Outcome]]:
     if not jobs:
@@ -210,7 +214,12 @@ def _execute(jobs: list[tuple[Path, Path]], options: Options, workers: int, sche
     if scheduler:
         from distributed import Client, as_completed as dask_completed
 
-        with Client(scheduler) as client:
+        try:
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, TimeoutError, ValueError) as err:
+            raise InputError(f"--scheduler: cannot reach a Dask scheduler at {scheduler} within "
+                             f"{SCHEDULER_TIMEOUT} s ({type(err).__name__}: {str(err).splitlines()[0][:120]})") from None
+        with client:
             futures = {client.submit(convert, s, o, options, pure=False): i for i, (s, o) in enumerate(jobs)}
             for future in dask_completed(futures):
                 yield futures[future], future.result()

@@ -141,8 +141,13 @@ def read_samples_json(path: str | os.PathLike[str]) -> SampleTable:
         doc = json.loads("\n".join(lines))
     except json.JSONDecodeError as err:
         raise FileFormatError(name, f"not JSON ({err.msg}, column {err.colno})", line=err.lineno) from None
-    if isinstance(doc, list):
+    if isinstance(doc, list) and (not doc or isinstance(doc[0], dict)):
         return _records(list(zip(doc, range(len(doc)))), "record", name)
-    if isinstance(doc, dict):
+    if isinstance(doc, dict) and any(k in doc for k in TIME_KEYS):
         return _columns(doc, name)
-    raise FileFormatError(name, "is neither an array of records nor an object of columns")
+    what = (f"an object with fields {', '.join(map(repr, list(doc)[:6]))}" + (", ..." if len(doc) > 6 else "")
+            if isinstance(doc, dict) else f"an array of {type(doc[0]).__name__}" if isinstance(doc, list)
+            else f"a {type(doc).__name__}")
+    raise FileFormatError(name, f"is not a sample stream: expected an array of records or an object of columns, "
+                                f"with the time in seconds under {' or '.join(map(repr, TIME_KEYS))} (or JSON Lines, "
+                                f"one record a line, as .jsonl); this is {what}")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -11,6 +12,7 @@ from scipy.interpolate import BSpline
 from sketchanim.errors import ArgumentError, ToleranceUnreachableError
 from sketchanim.reducer.conditioning import Samples, check_angle, check_count, check_order, condition
 from sketchanim.reducer.features import Feature, FeatureOptions
+from sketchanim.reducer.gaps import without_overshoot
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
@@ -19,6 +21,9 @@ from sketchanim.reducer.starts import interpolant, polynomial_through
 from sketchanim.reducer.stream import StreamReducer
 
 METHODS = ("global", "incremental")
+
+#: Samples handed to the streaming reducer at a time by the incremental method.
+STREAM_CHUNK = 1 << 16
 
 
 def _guaranteed(spline: BSpline, samples: Samples, order: int, angle: float) -> tuple[BSpline, np.ndarray, bool]:
@@ -33,8 +38,8 @@ def _guaranteed(spline: BSpline, samples: Samples, order: int, angle: float) -> 
         j = int(np.argmax(err / bound))
         what = "angle" if angle else f"tol: channel {j} tolerance"
         raise ToleranceUnreachableError(
-            f"{what} {bound[j]!r} is below what floating point can "
-            f"resolve for these values (the interpolant misses by {err[j]!r})"
+            f"{what} {float(bound[j]):g} is below what floating point can "
+            f"resolve for these values (the interpolant misses by {float(err[j]):g})"
         )
     return exact, err, True
 
@@ -75,7 +80,8 @@ def reduce(
     method : {"global", "incremental"}
         Lyche-Morken knot removal over the whole take, or the incremental method
         (windows of ``window`` knots, as :class:`StreamReducer` does while samples
-        arrive; the same spline as streaming these samples with its defaults).
+        arrive; with ``FeatureOptions(gap=None)``, the same spline as streaming these
+        samples with its defaults: the stream does not cut gaps).
     start : {"paper", "lm"}
         Starting curve: the samples as control polygon, or LM's reduced
         piecewise-linear interpolant raised to ``order``.
@@ -99,7 +105,11 @@ def reduce(
         Find pauses (the curve then holds exactly still there) and velocity breaks
         (kept as corners) and cut the take there (:mod:`sketchanim.reducer.features`);
         True uses the default thresholds, False reduces the take in one piece. The
-        result's ``features`` lists what was found.
+        take is also cut at its gaps (intervals over ``FeatureOptions.gap`` = 5 median
+        intervals), at its jumps (a value step over one interval) and wherever the
+        curve would overshoot between samples (:mod:`sketchanim.reducer.gaps`): each
+        side reduced on its own, bridged by a straight segment. The result's ``features`` lists what was
+        found.
 
     Returns
     -------
@@ -135,23 +145,25 @@ def reduce(
     samples = condition(times, values, tol)
     angle = check_angle(angle, samples.dim)
     options = FeatureOptions.of(features)
-    found: list[Feature] = []
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped}
     if method != "incremental":
         report["start"] = start
-    if method == "incremental":
-        stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
-                               angle=angle or None, features=options)
-        stream.extend(samples.times, samples.values)
-        streamed = stream.finish()
-        found = list(streamed.features)
-        spline = streamed.columns
-        report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
-    elif samples.n < order:
-        spline = polynomial_through(samples.times, samples.values, order)
-        report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"
-    else:
+
+    def whole() -> tuple[BSpline, list[Feature]]:
+        """The take in one go, by ``method``."""
+        if method == "incremental":
+            stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
+                                   angle=angle or None, features=options)
+            for a in range(0, samples.n, STREAM_CHUNK):     # in chunks: the same spline, bounded memory
+                stream.extend(samples.times[a : a + STREAM_CHUNK], samples.values[a : a + STREAM_CHUNK])
+            streamed = stream.finish()
+            report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
+            return streamed.columns, list(streamed.features)
+        if samples.n < order:
+            report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"
+            return polynomial_through(samples.times, samples.values, order), []
         opts = GlobalOptions(start, split, minimax_iterations, exhaustive_below, coarse_samples)
+        found: list[Feature] = []
         if options.enabled:
             spline, found, log = reduce_segmented(samples.times, samples.values, samples.tol, order, opts, angle,
                                                   options)
@@ -159,6 +171,24 @@ def reduce(
             spline, log = reduce_global(samples.times, samples.values, samples.tol, order, opts, angle)
         report.update(iterations=log.iterations, fits=log.fits, coarse_pass=log.coarse_pass,
                       coarse_outcome=log.coarse_outcome)
+        return spline, found
+
+    def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
+        """A run between cuts, reduced alone."""
+        r = reduce(t, x, samples.tol, order=order, method=method, start=start, split=split,
+                   minimax_iterations=minimax_iterations, exhaustive_below=exhaustive_below,
+                   coarse_samples=coarse_samples, window=window, constraints=constraints, angle=angle or None,
+                   features=replace(options, gap=None))
+        return r.spline, r.features
+
+    if options.gap is None:
+        spline, found = whole()
+    else:
+        spline, found = without_overshoot(samples.times, samples.values, samples.tol, order, options.gap, whole,
+                                          part)
+        for kind in ("gap", "jump"):
+            if any(f.kind == kind for f in found):
+                report[kind + "s"] = sum(f.kind == kind for f in found)
     spline, max_error, fell_back = _guaranteed(spline, samples, order, angle)
     if fell_back:
         report["note"] = "rounding broke the bound: kept the interpolant"

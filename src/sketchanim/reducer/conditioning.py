@@ -100,7 +100,7 @@ def check_tolerance(tol: ArrayLike, dim: int) -> np.ndarray:
         raise ArgumentError("tol", f"needs 1 or {dim} values (one per channel), got {arr.size}")
     bad = np.flatnonzero(~np.isfinite(arr) | (arr <= 0))
     if bad.size:
-        raise ArgumentError("tol", f"channel {bad[0]} tolerance must be finite and > 0, got {arr[bad[0]]!r}")
+        raise ArgumentError("tol", f"channel {bad[0]} tolerance must be finite and > 0, got {float(arr[bad[0]]):g}")
     return arr
 
 

@@ -41,7 +41,7 @@ from sketchanim.errors import ArgumentError
 from sketchanim.reducer.approximate import PASS
 from sketchanim.reducer.metric import max_errors
 
-KINDS = ("pause", "break")
+KINDS = ("pause", "break", "gap", "jump")
 
 #: Codes the scanner returns.
 NOTHING, BREAK, PAUSE_START, PAUSE_END = 0, 1, 2, 3
@@ -65,6 +65,9 @@ class FeatureOptions:
         Shortest pause, in seconds (also at least ``3 * order`` samples).
     break_window : int
         Samples on each side of a break that must follow one smooth arc (``w``).
+    gap : float or None
+        :func:`sketchanim.reduce` cuts the take where an interval is longer than this
+        many median sampling intervals, and bridges it (:mod:`.gaps`); None: never.
 
     >>> FeatureOptions(breaks=False).enabled
     True
@@ -74,8 +77,13 @@ class FeatureOptions:
     breaks: bool = True
     min_pause: float = 0.5
     break_window: int = 4
+    gap: float | None = 5.0
 
     def __post_init__(self) -> None:
+        if self.gap is not None and not (isinstance(self.gap, (int, float)) and not isinstance(self.gap, bool)
+                                         and np.isfinite(self.gap) and self.gap > 1):
+            raise ArgumentError("gap", f"must be a number of median sampling intervals above 1, or None, "
+                                       f"got {self.gap}")
         if not (np.isfinite(self.min_pause) and self.min_pause > 0):
             raise ArgumentError("min_pause", f"must be a positive number of seconds, got {self.min_pause!r}")
         if isinstance(self.break_window, bool) or not isinstance(self.break_window, (int, np.integer)) \
@@ -98,7 +106,7 @@ class FeatureOptions:
         if isinstance(features, FeatureOptions):
             return features
         if features is None or features is False:
-            return cls(pauses=False, breaks=False)
+            return cls(pauses=False, breaks=False, gap=None)
         if features is True:
             return cls()
         raise ArgumentError("features", f"must be True, False or FeatureOptions, got {features!r}")
@@ -110,9 +118,10 @@ class Feature:
 
     Attributes
     ----------
-    kind : {"pause", "break"}
+    kind : {"pause", "break", "gap", "jump"}
     start, end : float
-        Its time span in seconds (equal for a break).
+        Its time span in seconds (equal for a break; a gap's is the interval without
+        samples).
     """
 
     kind: str
