@@ -33,8 +33,8 @@ def _guaranteed(spline: BSpline, samples: Samples, order: int, angle: float) -> 
         j = int(np.argmax(err / bound))
         what = "angle" if angle else f"tol: channel {j} tolerance"
         raise ToleranceUnreachableError(
-            f"{what} {bound[j]!r} is below what floating point can "
-            f"resolve for these values (the interpolant misses by {err[j]!r})"
+            f"{what} {float(bound[j])!r} is below what floating point can "
+            f"resolve for these values (the interpolant misses by {float(err[j])!r})"
         )
     return exact, err, True
 

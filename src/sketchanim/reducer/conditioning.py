@@ -2,10 +2,17 @@
 
 Times must be finite and strictly increasing once exact duplicate samples (same time,
 same values) are dropped; everything else is an error that names the first bad sample.
+
+Numbers must also be in range, not merely finite: times within :data:`TIME_RANGE`
+seconds of 0, and each channel's values within :data:`VALUE_RANGE` tolerances of its
+median (a stream: of its first sample). float64 resolves about 16 significant digits and
+a fit loses a few, so beyond that no curve can promise the tolerance; ``1e308`` would
+overflow the fits outright.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -13,6 +20,11 @@ from numba import njit
 from numpy.typing import ArrayLike
 
 from sketchanim.errors import ArgumentError, SampleError
+
+#: Largest time magnitude, in seconds (about 32 million years).
+TIME_RANGE = 1e15
+#: Farthest a value may be from its channel's reference, in tolerances.
+VALUE_RANGE = 1e12
 
 
 @dataclass(frozen=True)
@@ -158,7 +170,10 @@ def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_sample
         raise ArgumentError("values", "has no channels")
     tol_arr = check_tolerance(tol, x.shape[1])
 
-    keep, error = scan(t, x)
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)       # all-NaN channels: scan names them
+        reference = np.nanmedian(np.where(np.isinf(x), np.nan, x), axis=0) if len(x) else np.zeros(x.shape[1])
+    keep, error = scan(t, x, tol=tol_arr, reference=reference)
     if error is not None:
         raise error
     t, x = t[keep], x[keep]
@@ -170,7 +185,7 @@ def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_sample
 
 
 #: What :func:`_first_bad` found.
-_GOOD, _BAD_TIME, _BAD_VALUE, _BACKWARDS, _CONFLICT = range(5)
+_GOOD, _BAD_TIME, _BAD_VALUE, _BACKWARDS, _CONFLICT, _FAR = range(6)
 
 
 @njit(cache=True)
@@ -180,7 +195,7 @@ def _first_bad(t: np.ndarray, x: np.ndarray, has_previous: bool, prev_t: float, 
     False at exact duplicates of the sample before."""
     d = x.shape[1]
     for i in range(len(t)):
-        if not np.isfinite(t[i]):
+        if not np.isfinite(t[i]) or abs(t[i]) > TIME_RANGE:
             return i, _BAD_TIME, 0
         for j in range(d):
             if not np.isfinite(x[i, j]):
@@ -199,8 +214,20 @@ def _first_bad(t: np.ndarray, x: np.ndarray, has_previous: bool, prev_t: float, 
     return len(t), _GOOD, 0
 
 
+def _far(values: np.ndarray, tol: np.ndarray, reference: np.ndarray) -> tuple[int, int]:
+    """(index, channel) of the first value more than :data:`VALUE_RANGE` tolerances from
+    ``reference``, or (n, 0)."""
+    with np.errstate(all="ignore"):
+        far = np.abs(values - reference) > VALUE_RANGE * tol
+    rows = np.flatnonzero(far.any(axis=1))
+    if not rows.size:
+        return len(values), 0
+    return int(rows[0]), int(np.argmax(far[rows[0]]))
+
+
 def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
-         previous: tuple[float, np.ndarray] | None = None) -> tuple[np.ndarray, SampleError | None]:
+         previous: tuple[float, np.ndarray] | None = None, tol: np.ndarray | None = None,
+         reference: np.ndarray | None = None) -> tuple[np.ndarray, SampleError | None]:
     """Find the first bad sample of a batch, and the exact duplicates before it.
 
     Parameters
@@ -211,6 +238,9 @@ def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
         Index of ``times[0]`` in the whole stream, for error messages.
     previous : (time, values) or None
         The last sample accepted before this batch, if any.
+    tol, reference : ndarray, shape (d,), or None
+        With both, a value more than :data:`VALUE_RANGE` tolerances from ``reference``
+        is an error too.
 
     Returns
     -------
@@ -234,11 +264,20 @@ def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
     has_previous = previous is not None
     prev_t, prev_x = (previous[0], previous[1]) if has_previous else (0.0, np.zeros(x.shape[1]))
     end, code, j = _first_bad(t, x, has_previous, float(prev_t), np.asarray(prev_x, dtype=float), keep)
+    if tol is not None and reference is not None:
+        far, channel = _far(x[:end], tol, reference)
+        if far < end:
+            end, code, j = far, _FAR, channel
     if code == _GOOD:
         return keep, None
     index = end + offset
     if code == _BAD_TIME:
-        error = SampleError(f"time is {float(t[end])!r}", index=index, field="time")
+        beyond = f": beyond the range of +/-{TIME_RANGE:g} s" if np.isfinite(t[end]) else ""
+        error = SampleError(f"time is {float(t[end])!r}{beyond}", index=index, field="time")
+    elif code == _FAR:
+        error = SampleError(f"value {float(x[end, j])!r} is more than {VALUE_RANGE:g} tolerances "
+                            f"({float(tol[j])!r}) from the channel's other values (around {float(reference[j])!r}): beyond what "
+                            "float64 resolves (a spike, or a tolerance too small)", index=index, field=f"channel {j}")
     elif code == _BAD_VALUE:
         error = SampleError(f"value is {float(x[end, j])!r}", index=index, field=f"channel {j}")
     else:

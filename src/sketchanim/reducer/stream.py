@@ -262,6 +262,7 @@ class StreamReducer:
         self._bt = self._store_t[: self.buffer_bound]
         self._bx = self._store_x[: self.buffer_bound]
         self._previous: tuple[float, np.ndarray] | None = None
+        self._reference: np.ndarray | None = None    # the first sample: values stay in range of it
         self._pushed = 0
         self._taken = 0
         self._max_error = np.zeros(1 if self.angle else self.dim)
@@ -327,7 +328,10 @@ class StreamReducer:
             x = x[:, None]
         if x.ndim != 2 or x.shape != (len(t), self.dim):
             raise ArgumentError("values", f"needs shape ({len(t)}, {self.dim}), got {x.shape}")
-        keep, error = scan(t, x, offset=self._pushed, previous=self._previous)
+        if self._reference is None and len(x) and np.all(np.isfinite(x[0])):
+            self._reference = x[0].copy()
+        keep, error = scan(t, x, offset=self._pushed, previous=self._previous, tol=self.tol,
+                           reference=self._reference)
         good = len(keep)
         if good:
             self._pushed += good
