@@ -7,6 +7,11 @@ conventions still catch them.
 
 from __future__ import annotations
 
+import json
+import re
+
+import numpy as np
+
 
 class InputError(ValueError):
     """Bad input: the message says what is wrong and where.
@@ -55,3 +60,64 @@ class FileFormatError(InputError):
 
 class ToleranceUnreachableError(InputError):
     """Not even the interpolating spline meets the tolerance (it is below rounding)."""
+
+
+#: Deepest nesting of arrays and objects a JSON reader accepts.
+MAX_JSON_DEPTH = 64
+#: Most digits an integer in JSON may have (beyond 308 it is no float64).
+MAX_JSON_DIGITS = 300
+
+
+def _json_depth(text: str) -> int:
+    """The deepest nesting of ``[`` and ``{`` in JSON ``text`` (strings skipped), found
+    without recursion."""
+    if text.count("[") + text.count("{") <= MAX_JSON_DEPTH:
+        return 0
+    bare = re.sub(r'"[^"\\]*(?:\\.[^"\\]*)*"', "", text).encode("utf-8", "replace")
+    chars = np.frombuffer(bare, dtype=np.uint8)
+    at = np.flatnonzero((chars == 91) | (chars == 123) | (chars == 93) | (chars == 125))
+    steps = np.where((chars[at] == 91) | (chars[at] == 123), 1, -1).astype(np.int32)
+    return int(np.cumsum(steps).max(initial=0))
+
+
+def _json_int(text: str) -> int:
+    if len(text.lstrip("-")) > MAX_JSON_DIGITS:
+        raise InputError(f"an integer of {len(text.lstrip('-'))} digits (at most {MAX_JSON_DIGITS})")
+    return int(text)
+
+
+def _json_float(text: str) -> float:
+    value = float(text)
+    if value in (float("inf"), float("-inf")):
+        raise InputError(f"number {text[:40]!r} is beyond float64's range")
+    return value
+
+
+def _json_constant(text: str) -> float:
+    raise InputError(f"{text} is not a JSON number")
+
+
+def load_json(text: str | bytes, source: str, *, line: int | None = None) -> object:
+    """``json.loads`` for untrusted text, bounded: nesting deeper than
+    :data:`MAX_JSON_DEPTH`, integers longer than :data:`MAX_JSON_DIGITS` digits, numbers
+    beyond float64's range and ``NaN``/``Infinity`` raise :class:`FileFormatError` naming
+    ``source`` (and ``line``); text that is not JSON raises ``json.JSONDecodeError``, as
+    ``json.loads`` does.
+
+    >>> load_json('{"t": [1, 2.5]}', "f.json")
+    {'t': [1, 2.5]}
+    >>> load_json("[" * 100 + "]" * 100, "f.json")
+    Traceback (most recent call last):
+    sketchanim.errors.FileFormatError: f.json: nested 100 deep (at most 64)
+    """
+    if isinstance(text, bytes):
+        text = text.decode("utf-8")
+    depth = _json_depth(text)
+    if depth > MAX_JSON_DEPTH:
+        raise FileFormatError(source, f"nested {depth} deep (at most {MAX_JSON_DEPTH})", line=line)
+    try:
+        return json.loads(text, parse_int=_json_int, parse_float=_json_float, parse_constant=_json_constant)
+    except FileFormatError:
+        raise
+    except InputError as err:
+        raise FileFormatError(source, str(err), line=line) from None
