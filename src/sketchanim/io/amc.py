@@ -20,6 +20,7 @@ from scipy.spatial.transform import Rotation
 from sketchanim.anim.skeleton import Clip, Skeleton
 from sketchanim.errors import FileFormatError
 from sketchanim.io.csvio import text_lines
+from sketchanim.io.numbers import CLIP_RANGE, out_of_clip_range, plain_floats
 
 #: Frames per second of CMU's captures (AMC files do not say).
 CMU_RATE = 120.0
@@ -52,12 +53,14 @@ class AsfSkeleton:
 
 
 def _floats(where: str, line: int, words: list[str], count: int, what: str) -> np.ndarray:
-    try:
-        values = np.array([float(w) for w in words[:count]])
-    except ValueError:
-        raise FileFormatError(where, f"{what}: expected {count} numbers, got {' '.join(words)!r}", line=line) from None
+    values = plain_floats(words[:count])
+    if values is None:
+        raise FileFormatError(where, f"{what}: expected {count} numbers, got {' '.join(words)!r}", line=line)
     if len(values) != count or not np.all(np.isfinite(values)):
         raise FileFormatError(where, f"{what}: expected {count} finite numbers, got {' '.join(words)!r}", line=line)
+    far = out_of_clip_range(values)
+    if far is not None:
+        raise FileFormatError(where, f"{what}: {far!r} is beyond the range of +/-{CLIP_RANGE:g}", line=line)
     return values
 
 
