@@ -230,8 +230,12 @@ def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rat
         _fail(f"--units: one of {', '.join(UNITS_M)}, got {units!r}")
     if not (np.isfinite(shell_cm) and shell_cm >= 0):
         _fail(f"--shell: a distance in cm, 0 or more, got {shell_cm!r}")
-    return Options(tol=distance, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
-                   skeleton=None if skeleton is None else str(skeleton), world=world, shell_cm=shell_cm)
+    try:
+        return Options(tol=distance, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
+                       skeleton=None if skeleton is None else str(skeleton), world=world, shell_cm=shell_cm)
+    except InputError as err:
+        _fail(f"--{err}")
+        raise                       # _fail has exited
 
 
 def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:

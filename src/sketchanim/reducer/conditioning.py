@@ -25,6 +25,12 @@ from sketchanim.errors import ArgumentError, SampleError
 TIME_RANGE = 1e15
 #: Farthest a value may be from its channel's reference, in tolerances.
 VALUE_RANGE = 1e12
+#: Highest spline order (degree 31; what a project file holds).
+MAX_ORDER = 32
+#: Most knots in an incremental window (each window's fit is dense in its size).
+MAX_WINDOW = 1024
+#: Most knots an incremental window may span (its samples are held in memory).
+MAX_SPAN = 65536
 
 
 @dataclass(frozen=True)
@@ -63,24 +69,28 @@ class Samples:
 
 
 def check_order(order: object) -> int:
-    """Return ``order`` as an int >= 2 (2 linear, 4 cubic), or raise :class:`ArgumentError`.
+    """Return ``order`` as an int from 2 to :data:`MAX_ORDER` (2 linear, 4 cubic), or
+    raise :class:`ArgumentError`.
 
     >>> check_order(4)
     4
     """
-    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 2:
-        raise ArgumentError("order", f"must be an integer >= 2 (4 is cubic), got {order!r}")
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or not 2 <= order <= MAX_ORDER:
+        raise ArgumentError("order", f"must be an integer from 2 to {MAX_ORDER} (4 is cubic), got {order!r}")
     return int(order)
 
 
-def check_count(name: str, value: object, least: int) -> int:
-    """Return ``value`` as an int >= ``least``, or raise :class:`ArgumentError` naming ``name``.
+def check_count(name: str, value: object, least: int, most: int | None = None) -> int:
+    """Return ``value`` as an int >= ``least`` (and <= ``most``), or raise
+    :class:`ArgumentError` naming ``name``.
 
-    >>> check_count("window", 20, 1)
+    >>> check_count("window", 20, 1, MAX_WINDOW)
     20
     """
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
-        raise ArgumentError(name, f"must be an integer >= {least}, got {value!r}")
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least \
+            or (most is not None and value > most):
+        bounds = f">= {least}" if most is None else f"from {least} to {most}"
+        raise ArgumentError(name, f"must be an integer {bounds}, got {value!r}")
     return int(value)
 
 
@@ -105,7 +115,7 @@ def check_tolerance(tol: ArrayLike, dim: int) -> np.ndarray:
     >>> check_tolerance(0.5, 3)
     array([0.5, 0.5, 0.5])
     """
-    arr = np.asarray(tol, dtype=float)
+    arr = _as_float("tol", tol)
     if arr.size == 1 and arr.ndim <= 1:
         arr = np.full(dim, float(arr.reshape(())))
     if arr.shape != (dim,):

@@ -25,9 +25,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline, insert
 
-from sketchanim.errors import ArgumentError
+from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer import window_kernel
-from sketchanim.reducer.conditioning import check_angle, check_count, check_order, check_tolerance, scan
+from sketchanim.reducer.conditioning import (MAX_SPAN, MAX_WINDOW, check_angle, check_count, check_order,
+                                             check_tolerance, scan)
 from sketchanim.reducer.features import Feature, FeatureDetector, FeatureOptions
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
@@ -234,7 +235,7 @@ class StreamReducer:
         self.tol = check_tolerance(tol, self.dim)
         self.angle = check_angle(angle, self.dim)
         self.order = k = check_order(order)
-        self.window = check_count("window", window, max(1, k // 2))
+        self.window = check_count("window", window, max(1, k // 2), MAX_WINDOW)
         if constraints not in CONSTRAINTS:
             raise ArgumentError("constraints", f"must be one of {', '.join(CONSTRAINTS)}, got {constraints!r}")
         if reference not in REFERENCES:
@@ -245,7 +246,7 @@ class StreamReducer:
         self.end_tol = float(end_tol) if constraints.endswith("end") else 1.0
         self.reference = reference
         self._curve_reference = reference == "curve"
-        self.max_span = check_count("max_span", max(64, 8 * self.window) if max_span is None else max_span, 2)
+        self.max_span = check_count("max_span", max(64, 8 * self.window) if max_span is None else max_span, 2, MAX_SPAN)
         self.exhaustive_below = check_count("exhaustive_below", exhaustive_below, 0)
         self.minimax_iterations = check_count("minimax_iterations", minimax_iterations, 0)
         self.keep = keep
@@ -599,14 +600,16 @@ class StreamReducer:
         """End the stream (see :meth:`close`) and return the whole curve.
 
         Raises :class:`~sketchanim.errors.ArgumentError` if ``keep`` is False (the
-        curve was only handed out piece by piece) or no sample came.
+        curve was only handed out piece by piece), and
+        :class:`~sketchanim.errors.SampleError` if fewer than 2 distinct samples came
+        (as :func:`sketchanim.reduce` does).
         """
         if not self.keep:
             raise ArgumentError("keep", "is False: the curve went out piece by piece; call close()")
         clock = time.perf_counter()
         self.close()
-        if not self._segments:
-            raise ArgumentError("push", "no samples were pushed")
+        if self._taken < 2:
+            raise SampleError(f"{self._taken} distinct samples, at least 2 needed", field="times")
         spline = join(self._segments)
         if self.dim == 1:
             spline = BSpline(spline.t, spline.c[:, 0], spline.k)
