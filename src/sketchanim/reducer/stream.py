@@ -146,6 +146,33 @@ class StreamStats:
         return float(np.percentile(times, q) * 1e3) if len(times) else 0.0
 
 
+class _Rows:
+    """Rows appended to one array that grows by doubling: the finished curve's knots or
+    coefficients, copied in, so that no window's arrays stay alive behind views (a kept
+    curve costs its own numbers, not a Python object per window).
+
+    >>> r = _Rows(2); r.append(np.ones((3, 2))); r.append(np.zeros((1, 2))); r.array().shape
+    (4, 2)
+    """
+
+    def __init__(self, width: int | None) -> None:
+        self._store = np.empty((64,) if width is None else (64, width))
+        self.n = 0
+
+    def append(self, rows: np.ndarray) -> None:
+        m = len(rows)
+        if self.n + m > len(self._store):
+            grown = np.empty((max(2 * len(self._store), self.n + m),) + self._store.shape[1:])
+            grown[: self.n] = self._store[: self.n]
+            self._store = grown
+        self._store[self.n : self.n + m] = rows
+        self.n += m
+
+    def array(self) -> np.ndarray:
+        """The rows so far (a copy)."""
+        return self._store[: self.n].copy()
+
+
 class StreamReducer:
     """Reduce samples while they arrive, a window of knots at a time.
 
@@ -301,8 +328,8 @@ class StreamReducer:
         self._next_knot = k // 2
         self._free_tail = k - k // 2                # the last held samples not yet knots
         self._held: tuple[np.ndarray, np.ndarray] | None = None
-        self._final_knots: list[np.ndarray] = []
-        self._final_coef: list[np.ndarray] = []
+        self._final_knots = _Rows(None)
+        self._final_coef = _Rows(self.dim)
 
     # -- input -------------------------------------------------------------------------
 
@@ -388,8 +415,7 @@ class StreamReducer:
         else:
             self._run_window(final=True)
         if self.keep:
-            self._segments.append(BSpline(np.concatenate(self._final_knots), np.concatenate(self._final_coef),
-                                          self.order - 1))
+            self._segments.append(BSpline(self._final_knots.array(), self._final_coef.array(), self.order - 1))
 
     def _feed(self, t: np.ndarray, x: np.ndarray) -> None:
         """Add checked samples to the current piece's windows."""
