@@ -130,7 +130,7 @@ COLUMNS = {"meta": ("key", "value"), "documents": ("name", "body"),
 CHECKSUMS = "blake2b-128"
 
 
-def _connect(path: Path, read_only: bool = False) -> sqlite3.Connection:
+def _connect(path: Path, read_only: bool = False, *, wal: bool = True) -> sqlite3.Connection:
     if read_only:
         # immutable: no lock, no -shm, nothing written (read-only media); a left-over
         # write-ahead log needs a normal read-only open to be read
@@ -139,9 +139,15 @@ def _connect(path: Path, read_only: bool = False) -> sqlite3.Connection:
         uri = f"file:{quote(str(path.resolve()))}?{flag}"
         return sqlite3.connect(uri, uri=True, timeout=10, check_same_thread=False, isolation_level=None)
     db = sqlite3.connect(path, timeout=10, check_same_thread=False, isolation_level=None)
+    if wal:
+        _wal(db)
+    return db
+
+
+def _wal(db: sqlite3.Connection) -> None:
+    """Write-ahead logging (a project's mode: readers never wait for the journal)."""
     db.execute("PRAGMA journal_mode=WAL")
     db.execute("PRAGMA synchronous=NORMAL")
-    return db
 
 
 def _writable(path: Path) -> bool:
@@ -251,12 +257,15 @@ class Project:
         if self.read_only and not exists:
             raise FileFormatError(source, "no such project file (and it cannot be created read-only)")
         with _reading(source, "not a readable project database"):
-            self.db = _connect(self.path, self.read_only)
+            # WAL only once the file is known to be ours: switching rewrites its header
+            self.db = _connect(self.path, self.read_only, wal=False)
             try:
                 meta = self._check_tables(source, create and not self.read_only)
             except FileFormatError:
                 self.db.close()
                 raise
+            if not self.read_only:
+                _wal(self.db)
         if not meta:
             with self.db:
                 self.db.execute("BEGIN")
@@ -282,6 +291,10 @@ class Project:
                 raise FileFormatError(source, f"table {name} has columns {', '.join(columns)}, "
                                               f"a project's has {', '.join(COLUMNS[name])}")
         if not self.read_only:
+            if tables:
+                missing = set(COLUMNS) - tables - {"checksums"}
+                if missing:
+                    raise FileFormatError(source, f"not a project file (no {', '.join(sorted(missing))} table)")
             self.db.executescript(SCHEMA)
         elif not {"meta", "documents", "takes"} <= tables:
             raise FileFormatError(source, "not a project file (tables missing)")
