@@ -6,11 +6,11 @@ other Unicode digits (``１２``), underscores (``1_000``), surrounding whitespa
 text readers take plain ASCII decimals only (and ``nan``/``inf``, so that their
 finiteness checks can name them).
 
-Clip files (BVH, ASF/AMC) hold lengths in their own units and angles in degrees or
-radians: each number must be within :data:`CLIP_RANGE` of zero, and a BVH frame time
-within :data:`FRAME_TIME_RANGE` seconds. Beyond them no motion is meant, float32
-keyframes would no longer resolve a tolerance, and float64 arithmetic on them would
-overflow (``1e308``). Sample streams (CSV, JSON, TUM, SVC) are checked by the reducer
+Clip files (BVH, ASF/AMC, C3D) hold lengths in their own units and angles in degrees or
+radians: each number must be within :data:`CLIP_RANGE` of zero, and a frame time (BVH;
+C3D: one over its point rate) within :data:`FRAME_TIME_RANGE` seconds. Beyond them no
+motion is meant, float32 keyframes would no longer resolve a tolerance, and float64
+arithmetic on them would overflow (``1e308``). Sample streams (CSV, JSON, TUM, SVC) are checked by the reducer
 (:mod:`sketchanim.reducer.conditioning`), which knows each channel's tolerance.
 """
 
