@@ -274,13 +274,21 @@ class Project:
         elif meta.get("format") != FORMAT or meta.get("version") != str(VERSION):
             self.db.close()
             raise FileFormatError(source, f"not a {FORMAT} version {VERSION} file (meta says {meta})")
-        #: Whether the file carries checksums (an older project does not until saved).
-        self.checksummed = meta.get("checksums") == CHECKSUMS if meta else True
+        elif set(meta) - {"format", "version", "checksums"} or meta.get("checksums", CHECKSUMS) != CHECKSUMS:
+            self.db.close()
+            raise FileFormatError(source, f"damaged: meta says {meta}")
+        #: Whether the file carries checksums (an older project does not until saved;
+        #: checksum rows are checked whatever meta says).
+        with _reading(source, "unreadable"):
+            rows = self.db.execute("SELECT count(*) FROM checksums").fetchone()[0] if not self.read_only or \
+                "checksums" in self._tables else 0
+        self.checksummed = not meta or "checksums" in meta or rows > 0
 
     def _check_tables(self, source: str, create: bool) -> dict[str, str]:
         """The ``meta`` table of a project whose tables are ours (made if ``create``
         and the database is new); :class:`FileFormatError` otherwise."""
         tables = {r[0] for r in self.db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+        self._tables = tables
         if not tables and not create:
             raise FileFormatError(source, "not a project file (an empty database)")
         if tables and "meta" not in tables:
