@@ -260,7 +260,7 @@ class Project:
             # WAL only once the file is known to be ours: switching rewrites its header
             self.db = _connect(self.path, self.read_only, wal=False)
             try:
-                meta = self._check_tables(source, create and not self.read_only)
+                meta, sums = self._check(source, create and not self.read_only)
             except FileFormatError:
                 self.db.close()
                 raise
@@ -271,24 +271,15 @@ class Project:
                 self.db.execute("BEGIN")
                 self.db.executemany("INSERT INTO meta VALUES (?, ?)", [("format", FORMAT), ("version", str(VERSION)),
                                                                        ("checksums", CHECKSUMS)])
-        elif meta.get("format") != FORMAT or meta.get("version") != str(VERSION):
-            self.db.close()
-            raise FileFormatError(source, f"not a {FORMAT} version {VERSION} file (meta says {meta})")
-        elif set(meta) - {"format", "version", "checksums"} or meta.get("checksums", CHECKSUMS) != CHECKSUMS:
-            self.db.close()
-            raise FileFormatError(source, f"damaged: meta says {meta}")
         #: Whether the file carries checksums (an older project does not until saved;
         #: checksum rows are checked whatever meta says).
-        with _reading(source, "unreadable"):
-            rows = self.db.execute("SELECT count(*) FROM checksums").fetchone()[0] if not self.read_only or \
-                "checksums" in self._tables else 0
-        self.checksummed = not meta or "checksums" in meta or rows > 0
+        self.checksummed = not meta or "checksums" in meta or sums > 0
 
-    def _check_tables(self, source: str, create: bool) -> dict[str, str]:
+    def _check(self, source: str, create: bool) -> tuple[dict[str, str], int]:
         """The ``meta`` table of a project whose tables are ours (made if ``create``
-        and the database is new); :class:`FileFormatError` otherwise."""
+        and the database is new), and how many checksums it holds;
+        :class:`FileFormatError` otherwise."""
         tables = {r[0] for r in self.db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
-        self._tables = tables
         if not tables and not create:
             raise FileFormatError(source, "not a project file (an empty database)")
         if tables and "meta" not in tables:
@@ -298,15 +289,19 @@ class Project:
             if columns != COLUMNS[name]:
                 raise FileFormatError(source, f"table {name} has columns {', '.join(columns)}, "
                                               f"a project's has {', '.join(COLUMNS[name])}")
+        missing = set(COLUMNS) - tables - {"checksums"}
+        if tables and missing:
+            raise FileFormatError(source, f"not a project file (no {', '.join(sorted(missing))} table)")
+        meta = dict(self.db.execute("SELECT key, value FROM meta").fetchall()) if tables else {}
+        if meta and (meta.get("format") != FORMAT or meta.get("version") != str(VERSION)):
+            raise FileFormatError(source, f"not a {FORMAT} version {VERSION} file (meta says {meta})")
+        if set(meta) - {"format", "version", "checksums"} or meta.get("checksums", CHECKSUMS) != CHECKSUMS:
+            raise FileFormatError(source, f"damaged: meta says {meta}")
         if not self.read_only:
-            if tables:
-                missing = set(COLUMNS) - tables - {"checksums"}
-                if missing:
-                    raise FileFormatError(source, f"not a project file (no {', '.join(sorted(missing))} table)")
             self.db.executescript(SCHEMA)
-        elif not {"meta", "documents", "takes"} <= tables:
-            raise FileFormatError(source, "not a project file (tables missing)")
-        return dict(self.db.execute("SELECT key, value FROM meta").fetchall())
+            tables |= set(COLUMNS)
+        sums = self.db.execute("SELECT count(*) FROM checksums").fetchone()[0] if "checksums" in tables else 0
+        return meta, sums
 
     def __enter__(self) -> Project:
         return self
