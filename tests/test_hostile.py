@@ -18,6 +18,7 @@ from sketchanim.anim.recorder import Recorder
 from sketchanim.anim.scene import Scene
 from sketchanim.cli import app
 from sketchanim.errors import ArgumentError, FileFormatError, InputError, SampleError
+from sketchanim.io.amc import read_amc
 from sketchanim.io.atomic import SUFFIX, write_atomic
 from sketchanim.io.bvh import bvh_text, read_bvh
 from sketchanim.io.project import Project
@@ -244,6 +245,8 @@ def test_api_arguments_are_named_errors(tmp_path) -> None:
         read_svc(svc, columns=("y", "x", "time", "down"), time_scale=1e-3)
     with pytest.raises(ArgumentError, match="time_scale"):
         read_svc(svc, columns=("y", "x", "t", "down"), time_scale=float("nan"))
+    with pytest.raises(ArgumentError, match="rate"):
+        read_amc(svc, None, rate=float("nan"))
     svc.write_text("２\n5 7 1000 1\n6 8 1010 1\n")
     with pytest.raises(FileFormatError, match="sample count"):
         read_svc(svc, columns=("y", "x", "t", "down"), time_scale=1e-3)

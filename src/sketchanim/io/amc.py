@@ -18,9 +18,9 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.skeleton import Clip, Skeleton
-from sketchanim.errors import FileFormatError
+from sketchanim.errors import ArgumentError, FileFormatError
 from sketchanim.io.csvio import text_lines
-from sketchanim.io.numbers import CLIP_RANGE, out_of_clip_range, plain_floats
+from sketchanim.io.numbers import CLIP_RANGE, FRAME_TIME_RANGE, out_of_clip_range, plain_floats
 
 #: Frames per second of CMU's captures (AMC files do not say).
 CMU_RATE = 120.0
@@ -172,6 +172,9 @@ def read_amc(path: str | os.PathLike[str], asf: AsfSkeleton, *, rate: float = CM
     A bone line with the wrong number of values, an unknown bone, a frame missing a
     bone, or a file that ends inside a frame raise :class:`FileFormatError` with the line.
     """
+    low, high = FRAME_TIME_RANGE
+    if not (isinstance(rate, (int, float)) and 1 / high <= rate <= 1 / low):
+        raise ArgumentError("rate", f"must be {1 / high:.3g} to {1 / low:g} frames per second, got {rate!r}")
     where = str(path)
     lines = text_lines(path)
     sk = asf.skeleton
