@@ -134,6 +134,17 @@ def test_asf_direction_of_minus_1e308_is_named(tmp_path) -> None:
     assert not out.exists()
 
 
+def test_asf_dof_naming_an_axis_twice_is_named(tmp_path) -> None:
+    # found by the fuzz: scipy refused the Euler sequence "yyz" with a bare ValueError
+    (tmp_path / "s.asf").write_text(ASF.format(direction="-1").replace("dof rx", "dof ry ry rz"))
+    (tmp_path / "m.amc").write_text(amc())
+    res = runner.invoke(app, ["reduce", str(tmp_path / "m.amc"), "--skeleton", str(tmp_path / "s.asf"),
+                              "-o", str(tmp_path / "out.glb")])
+    message = " ".join(res.output.split())
+    assert res.exit_code == 2 and "s.asf, line 14" in message and "names an axis twice" in message, message
+    assert not (tmp_path / "out.glb").exists()
+
+
 def test_export_refuses_what_is_not_a_project_and_leaves_it_alone(tmp_path) -> None:
     for name, data in (("zero.sketchanim", b""), ("text.sketchanim", b"hello"), ("db.sketchanim", None)):
         path = tmp_path / name

@@ -130,6 +130,9 @@ def read_asf(path: str | os.PathLike[str]) -> AsfSkeleton:
                     raise FileFormatError(where, f"bone {bone.name!r}: dof {bad[0]!r} is not supported (only rx, "
                                                  "ry, rz)", line=i)
                 bone.dof = tuple(w.lower() for w in words[1:])
+                if len(set(bone.dof)) != len(bone.dof):
+                    raise FileFormatError(where, f"bone {bone.name!r}: dof {' '.join(words[1:])!r} names an axis "
+                                                 "twice", line=i)
         elif section == "hierarchy" and key not in ("begin", "end"):
             children.setdefault(words[0], []).extend(words[1:])
             for child in words[1:]:
