@@ -210,7 +210,16 @@ def test_bad_arguments_are_named() -> None:
         sr.push(0.0, [1.0, 2.0, 3.0])
 
 
-@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 9])
+def test_one_sample_is_refused_as_reduce_refuses_it() -> None:
+    sr = sketchanim.StreamReducer(2, 1e-6)
+    sr.push(0.0, [1.0, 2.0])
+    with pytest.raises(SampleError, match="1 distinct samples, at least 2"):
+        sr.finish()
+    with pytest.raises(SampleError, match="1 distinct samples, at least 2"):
+        sketchanim.reduce([0.0], [[1.0, 2.0]], 1e-6)
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5, 9])
 def test_short_takes(n: int) -> None:
     t = np.arange(n) * 0.1
     x = np.c_[np.sin(t), t**2]

@@ -534,8 +534,12 @@ def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rat
     if not (np.isfinite(shell_cm) and shell_cm >= 0):
         _fail(f"--shell: a distance in cm, 0 or more, got {shell_cm!r}")
     _check_keys(keys, rate)
-    return Options(tol=distance, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
-                   skeleton=None if skeleton is None else str(skeleton), world=world, shell_cm=shell_cm, keys=keys)
+    try:
+        return Options(tol=distance, rot_tol_deg=rot_tol_deg, units=units, rate=rate,
+                       skeleton=None if skeleton is None else str(skeleton), world=world, shell_cm=shell_cm, keys=keys)
+    except InputError as err:
+        _fail(f"--{err}")
+        raise                       # _fail has exited
 
 
 def _check_keys(keys: str, rate: float | None) -> None:

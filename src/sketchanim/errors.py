@@ -2,10 +2,16 @@
 
 Each names what is wrong and where: the argument, the sample index, the channel, or the
 file and line. All are :class:`ValueError` subclasses, so callers that only know numpy's
-conventions still catch them.
+conventions still catch them. :func:`load_json` is how every layer reads untrusted
+JSON: bounded, so that hostile nesting or numbers end as one of these errors.
 """
 
 from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
 
 
 class InputError(ValueError):
@@ -55,3 +61,51 @@ class FileFormatError(InputError):
 
 class ToleranceUnreachableError(InputError):
     """Not even the interpolating spline meets the tolerance (it is below rounding)."""
+
+
+#: Deepest nesting of arrays and objects a JSON reader accepts.
+MAX_JSON_DEPTH = 64
+#: Most digits an integer in JSON may have (beyond 308 it is no float64).
+MAX_JSON_DIGITS = 300
+
+
+def _json_depth(text: str) -> int:
+    """The deepest nesting of ``[`` and ``{`` in JSON ``text`` (strings skipped), found
+    without recursion."""
+    if text.count("[") + text.count("{") <= MAX_JSON_DEPTH:
+        return 0
+    bare = re.sub(r'"[^"\\]*(?:\\.[^"\\]*)*"', "", text).encode("utf-8", "replace")
+    chars = np.frombuffer(bare, dtype=np.uint8)
+    at = np.flatnonzero((chars == 91) | (chars == 123) | (chars == 93) | (chars == 125))
+    steps = np.where((chars[at] == 91) | (chars[at] == 123), 1, -1).astype(np.int32)
+    return int(np.cumsum(steps).max(initial=0))
+
+
+def _json_int(text: str) -> int:
+    if len(text.lstrip("-")) > MAX_JSON_DIGITS:
+        raise InputError(f"an integer of {len(text.lstrip('-'))} digits (at most {MAX_JSON_DIGITS})")
+    return int(text)
+
+
+def load_json(text: str | bytes, source: str, *, line: int | None = None) -> object:
+    """``json.loads`` for untrusted text, bounded: nesting deeper than
+    :data:`MAX_JSON_DEPTH` and integers longer than :data:`MAX_JSON_DIGITS` digits raise
+    :class:`FileFormatError` naming ``source`` (and ``line``); text that is not JSON
+    raises ``json.JSONDecodeError``, as ``json.loads`` does. Non-finite numbers (``NaN``,
+    ``1e400``) come through for the reader to refuse by field.
+
+    >>> load_json('{"t": [1, 2.5]}', "f.json")
+    {'t': [1, 2.5]}
+    >>> load_json("[" * 100 + "]" * 100, "f.json")
+    Traceback (most recent call last):
+    sketchanim.errors.FileFormatError: f.json: nested 100 deep (at most 64)
+    """
+    if isinstance(text, bytes):
+        text = text.decode("utf-8")
+    depth = _json_depth(text)
+    if depth > MAX_JSON_DEPTH:
+        raise FileFormatError(source, f"nested {depth} deep (at most {MAX_JSON_DEPTH})", line=line)
+    try:
+        return json.loads(text, parse_int=_json_int)
+    except InputError as err:
+        raise FileFormatError(source, str(err), line=line) from None

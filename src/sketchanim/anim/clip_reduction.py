@@ -27,6 +27,8 @@ from sketchanim.reducer.result import load_document
 
 SCHEMA = "sketchanim.clip"
 VERSION = 1
+#: Most frames a clip is resampled to (BVH, USD).
+MAX_FRAMES = 1_000_000
 
 #: Bytes per stored number, for the compression ratio (raw channels kept as float32).
 FLOAT32 = 4
@@ -178,7 +180,7 @@ class ReducedClip:
 
     def resample(self, rate: float) -> Clip:
         """The curves sampled at ``rate`` frames per second over their span (for
-        formats that store frames: BVH, USD).
+        formats that store frames: BVH, USD); at most :data:`MAX_FRAMES` of them.
 
         >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
         >>> r = reduce_clip(Clip.still(s, np.arange(31) / 30), 0.01, 0.1)
@@ -187,7 +189,11 @@ class ReducedClip:
         """
         if not np.isfinite(rate) or rate <= 0:
             raise ArgumentError("rate", f"must be a positive number of frames per second, got {rate!r}")
-        n = int(np.floor((self.end - self.start) * rate + 1e-9)) + 1
+        span = (self.end - self.start) * rate
+        if not span < MAX_FRAMES:
+            raise ArgumentError("rate", f"{rate!r} frames per second gives {span:.3g} frames over "
+                                        f"{self.end - self.start:g} s, at most {MAX_FRAMES:,} are written")
+        n = int(np.floor(span + 1e-9)) + 1
         return self.sample(self.start + np.arange(n) / rate)
 
     def reduced_bytes(self) -> int:

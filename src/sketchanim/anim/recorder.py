@@ -29,12 +29,23 @@ from sketchanim.anim.tracks import BLEND, MODES, ContinuousTrack, DiscreteTrack,
 from sketchanim.anim.workers import Pool, Spec, shared_pool
 from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.motion.rotations import MIN_NORM
+from sketchanim.reducer.conditioning import TIME_RANGE, VALUE_RANGE
 
 #: Called from the recorder's journal thread about every :data:`JOURNAL_PERIOD` seconds
 #: with the samples queued since the last call: (path, times (n,), values (n, dim) or a
 #: list of discrete values) for each attribute that got some.
 Journal = Callable[[list[tuple[str, np.ndarray, object]]], None]
 JOURNAL_PERIOD = 0.05
+
+
+def _in_range(x: np.ndarray, first: np.ndarray, tol: np.ndarray, index: int, field: str) -> None:
+    """Refuse a sample with a value beyond :data:`VALUE_RANGE` tolerances of the take's
+    first (no reducer could keep it; the check it would fail in a reducer process)."""
+    far = np.flatnonzero(np.abs(np.asarray(x, dtype=float) - first) > VALUE_RANGE * tol)
+    if far.size:
+        j = int(far[0])
+        raise SampleError(f"value {float(x[j])!r} (column {j}) is more than {VALUE_RANGE:g} tolerances from the "
+                          f"take's first {float(first[j])!r}", index=index, field=field)
 
 
 @dataclass
@@ -185,6 +196,9 @@ class Recorder:
         self._is_rotation = np.array([self.armed[p].type.is_rotation for p, _, _ in self._frame], dtype=bool)
         self._rotations = np.array([np.arange(a, b) for (_, a, b), r in zip(self._frame, self._is_rotation) if r],
                                    dtype=np.int64).reshape(-1, 4)
+        # per column: the tolerance that bounds its range (a quaternion's: none)
+        self._range_tol = np.concatenate([np.full(b - a, np.inf if r else self.armed[p].tol)
+                                          for (p, a, b), r in zip(self._frame, self._is_rotation)] or [np.zeros(0)])
         self._single_last = -np.inf
         for a in self.armed.values():
             a.times, a.values, a.columns, a.worker = [], [], None, None
@@ -249,6 +263,8 @@ class Recorder:
             value = a.type.check(value, path)
         except ArgumentError as err:
             raise SampleError(str(err), index=index, field=path) from None
+        if a.type.continuous and not a.type.is_rotation and a.values:
+            _in_range(value, a.values[0], np.full(len(value), a.tol), index, path)
         if framed:
             self._single_last = max(self._single_last, t)
         a.times.append(t)
@@ -271,6 +287,8 @@ class Recorder:
         if x.shape != (frames.x.shape[1],) or not np.all(np.isfinite(x)):
             raise SampleError(f"needs {frames.x.shape[1]} finite numbers, got {x.size}: {x.tolist()}",
                               index=frames.n, field="frame")
+        if frames.n:
+            _in_range(x, frames.x[0], self._range_tol, frames.n, "frame")
         if len(self._rotations):
             norms = np.linalg.norm(x[self._rotations], axis=1)
             if norms.min() < MIN_NORM:
@@ -284,8 +302,11 @@ class Recorder:
 
     @staticmethod
     def _time(t: float, last: float, index: int, where: str) -> float:
-        t = float(t)
-        if not np.isfinite(t) or t <= last:
+        try:
+            t = float(t)
+        except (TypeError, ValueError):
+            raise SampleError(f"time {t!r} is not a number", index=index, field=f"{where} time") from None
+        if not np.isfinite(t) or t <= last or abs(t) > TIME_RANGE:
             raise SampleError(f"time {t!r} must be finite and after {last!r}", index=index, field=f"{where} time")
         return t
 

@@ -18,8 +18,9 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.skeleton import Clip, Skeleton
-from sketchanim.errors import FileFormatError
+from sketchanim.errors import ArgumentError, FileFormatError
 from sketchanim.io.csvio import text_lines
+from sketchanim.io.numbers import CLIP_RANGE, FRAME_TIME_RANGE, out_of_clip_range, plain_floats
 
 #: Frames per second of CMU's captures (AMC files do not say).
 CMU_RATE = 120.0
@@ -52,12 +53,14 @@ class AsfSkeleton:
 
 
 def _floats(where: str, line: int, words: list[str], count: int, what: str) -> np.ndarray:
-    try:
-        values = np.array([float(w) for w in words[:count]])
-    except ValueError:
-        raise FileFormatError(where, f"{what}: expected {count} numbers, got {' '.join(words)!r}", line=line) from None
+    values = plain_floats(words[:count])
+    if values is None:
+        raise FileFormatError(where, f"{what}: expected {count} numbers, got {' '.join(words)!r}", line=line)
     if len(values) != count or not np.all(np.isfinite(values)):
         raise FileFormatError(where, f"{what}: expected {count} finite numbers, got {' '.join(words)!r}", line=line)
+    far = out_of_clip_range(values)
+    if far is not None:
+        raise FileFormatError(where, f"{what}: {far!r} is beyond the range of +/-{CLIP_RANGE:g}", line=line)
     return values
 
 
@@ -127,6 +130,9 @@ def read_asf(path: str | os.PathLike[str]) -> AsfSkeleton:
                     raise FileFormatError(where, f"bone {bone.name!r}: dof {bad[0]!r} is not supported (only rx, "
                                                  "ry, rz)", line=i)
                 bone.dof = tuple(w.lower() for w in words[1:])
+                if len(set(bone.dof)) != len(bone.dof):
+                    raise FileFormatError(where, f"bone {bone.name!r}: dof {' '.join(words[1:])!r} names an axis "
+                                                 "twice", line=i)
         elif section == "hierarchy" and key not in ("begin", "end"):
             children.setdefault(words[0], []).extend(words[1:])
             for child in words[1:]:
@@ -169,6 +175,9 @@ def read_amc(path: str | os.PathLike[str], asf: AsfSkeleton, *, rate: float = CM
     A bone line with the wrong number of values, an unknown bone, a frame missing a
     bone, or a file that ends inside a frame raise :class:`FileFormatError` with the line.
     """
+    low, high = FRAME_TIME_RANGE
+    if not (isinstance(rate, (int, float)) and 1 / high <= rate <= 1 / low):
+        raise ArgumentError("rate", f"must be {1 / high:.3g} to {1 / low:g} frames per second, got {rate!r}")
     where = str(path)
     lines = text_lines(path)
     sk = asf.skeleton

@@ -1,4 +1,10 @@
-"""Atomic file writing: a reader sees the old file or the new one, never half of one."""
+"""Atomic file writing: a reader sees the old file or the new one, never half of one.
+
+The data goes to a hidden temporary file beside the output, named for the output and
+the writing process (``.NAME.PID.RANDOM.sketchanim-tmp``), which is renamed over the
+output once complete. A writer killed midway (SIGKILL, power loss) leaves its temporary
+file behind: the next write to the same output removes those whose process is gone.
+"""
 
 from __future__ import annotations
 
@@ -6,12 +12,51 @@ import os
 import tempfile
 from pathlib import Path
 
+#: Ends the name of every temporary file :func:`write_atomic` makes.
+SUFFIX = ".sketchanim-tmp"
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` runs (on this machine)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def stale_temporaries(target: Path) -> list[Path]:
+    """The temporary files of earlier writes to ``target`` whose writer is gone.
+
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / f".a.txt.999999999.x{SUFFIX}").write_text("half")
+    >>> [p.name for p in stale_temporaries(folder / "a.txt")]
+    ['.a.txt.999999999.x.sketchanim-tmp']
+    """
+    found = []
+    prefix = f".{target.name}."
+    try:
+        names = os.listdir(target.parent)
+    except OSError:
+        return []
+    for name in names:
+        if name.startswith(prefix) and name.endswith(SUFFIX):
+            pid = name[len(prefix) :].split(".", 1)[0]
+            if pid.isascii() and pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid)):
+                found.append(target.parent / name)
+    return found
+
 
 def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> Path:
     """Write ``data`` to ``path`` through a temporary file, fsync and rename.
 
-    Parent folders are created. On any error the previous file, if any, is untouched
-    and the temporary file is removed.
+    Parent folders are created, and temporary files that killed writers left beside
+    ``path`` are removed. On any error the previous file, if any, is untouched, the
+    temporary file is removed, and the ``OSError`` raised names ``path`` (not the
+    temporary file).
 
     >>> import tempfile, pathlib
     >>> target = pathlib.Path(tempfile.mkdtemp()) / "sub" / "a.txt"
@@ -19,24 +64,30 @@ def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> Path:
     'hello'
     """
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
     payload = data.encode("utf-8") if isinstance(data, str) else data
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    tmp: str | None = None
     try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        for old in stale_temporaries(target):
+            old.unlink(missing_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.{os.getpid()}.", suffix=SUFFIX, dir=target.parent)
         with os.fdopen(fd, "wb") as handle:
             os.fchmod(handle.fileno(), 0o666 & ~current_umask())    # as open() would, not mkstemp's 0600
             handle.write(payload)
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    dir_fd = os.open(target.parent, os.O_RDONLY)
-    try:
-        os.fsync(dir_fd)
+        tmp = None
+        dir_fd = os.open(target.parent, os.O_RDONLY)
+        try:
+            os.fsync(dir_fd)
+        finally:
+            os.close(dir_fd)
+    except OSError as err:
+        raise OSError(err.errno, err.strerror, str(target)) from None
     finally:
-        os.close(dir_fd)
+        if tmp is not None:
+            Path(tmp).unlink(missing_ok=True)
     return target
 
 

@@ -18,12 +18,15 @@ from sketchanim.anim.clip_reduction import ReducedClip, reduce_clip
 from sketchanim.anim.markers import Markers, ReducedMarkers, reduce_markers
 from sketchanim.anim.skeleton import UNITS_M, Clip
 from sketchanim.anim.world_reduction import reduce_clip_world
-from sketchanim.errors import InputError
+from sketchanim.errors import ArgumentError, InputError
 from sketchanim.io.atomic import write_atomic
 from sketchanim.io.clip_files import CLIP_INPUTS, read_clip, write_reduced
 
 REPORT = "report.csv"
 
+
+#: Highest frame rate clips are written at (BVH, USD), frames per second.
+MAX_RATE = 10_000.0
 
 @dataclass(frozen=True)
 class Options:
@@ -42,7 +45,8 @@ class Options:
         The clip's unit (a key of :data:`~sketchanim.anim.skeleton.UNITS_M`); None: the
         file's, else guessed from the figure's height.
     rate : float or None
-        Frames per second of BVH / USD output; None: the source's.
+        Frames per second of BVH / USD output (up to :data:`MAX_RATE`); None: the
+        source's.
     skeleton : str or None
         ASF file for AMC input; None: found beside it.
     world : bool
@@ -65,6 +69,10 @@ class Options:
     world: bool = False
     shell_cm: float = 3.0
     keys: str = "curves"
+
+    def __post_init__(self) -> None:
+        if self.rate is not None and not (isinstance(self.rate, (int, float)) and 0 < self.rate <= MAX_RATE):
+            raise ArgumentError("rate", f"must be frames per second from 0 to {MAX_RATE:g} (not 0), got {self.rate!r}")
 
     def unit_m(self, clip: Clip | Markers) -> float | None:
         """Metres per unit of ``clip``: ``units`` if given, else the file's, else (a

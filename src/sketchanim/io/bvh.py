@@ -20,6 +20,7 @@ from sketchanim.anim.skeleton import Clip, Skeleton
 from sketchanim.errors import FileFormatError
 from sketchanim.io.csvio import text_lines
 from sketchanim.io.atomic import write_atomic
+from sketchanim.io.numbers import CLIP_RANGE, FRAME_TIME_RANGE, out_of_clip_range, plain_float, plain_floats
 from sketchanim.motion import euler_angles
 
 ROTATIONS = ("Xrotation", "Yrotation", "Zrotation")
@@ -61,14 +62,13 @@ class _Tokens:
 
     def number(self, what: str) -> float:
         text = self.next(what)
-        try:
-            value = float(text)
-        except ValueError:
+        value = plain_float(text)
+        if value is None:
             self.at -= 1
-            raise self.fail(f"{what}: not a number: {text!r}") from None
-        if not np.isfinite(value):
+            raise self.fail(f"{what}: not a number: {text!r}")
+        if not abs(value) <= CLIP_RANGE:
             self.at -= 1
-            raise self.fail(f"{what} is not finite")
+            raise self.fail(f"{what} is {value!r}, beyond the range of +/-{CLIP_RANGE:g}")
         return value
 
 
@@ -85,7 +85,7 @@ class _Joints:
 def _channels(tok: _Tokens, joint: str) -> tuple[str, ...]:
     first = tok.at
     count_text = tok.next("the channel count")
-    if not count_text.isdigit() or int(count_text) > 6:
+    if not (count_text.isascii() and count_text.isdigit() and len(count_text) == 1) or int(count_text) > 6:
         tok.at -= 1
         raise tok.fail(f"joint {joint!r}: channel count must be 0 to 6, got {count_text!r}")
     names = []
@@ -106,7 +106,8 @@ def _channels(tok: _Tokens, joint: str) -> tuple[str, ...]:
     return tuple(names)
 
 
-def _joint(tok: _Tokens, joints: _Joints, name: str, parent: int) -> None:
+def _open_joint(tok: _Tokens, joints: _Joints, name: str, parent: int) -> int:
+    """Read a joint's head (name given, up to its channels); its index."""
     if name in joints.names:
         raise tok.fail(f"joint {name!r} appears twice", at=tok.at - 1)
     index = len(joints.names)
@@ -117,12 +118,21 @@ def _joint(tok: _Tokens, joints: _Joints, name: str, parent: int) -> None:
     joints.offsets.append([tok.number(f"joint {name!r} OFFSET") for _ in range(3)])
     tok.expect("CHANNELS")
     joints.channels.append(_channels(tok, name))
-    while True:
+    return index
+
+
+def _joint(tok: _Tokens, joints: _Joints, name: str, parent: int) -> None:
+    """Read a joint and everything under it, with a stack of open joints (no
+    recursion: a hierarchy of any depth)."""
+    open_joints = [_open_joint(tok, joints, name, parent)]
+    while open_joints:
+        index = open_joints[-1]
+        name = joints.names[index]
         word = tok.next("JOINT, End Site or '}'")
         if word == "}":
-            return
-        if word == "JOINT":
-            _joint(tok, joints, tok.next("a joint name"), index)
+            open_joints.pop()
+        elif word == "JOINT":
+            open_joints.append(_open_joint(tok, joints, tok.next("a joint name"), index))
         elif word == "End":
             tok.expect("Site")
             tok.expect("{")
@@ -186,16 +196,14 @@ def _header(where: str, lines: list[str], i: int, label: str) -> str:
 
 def _motion(where: str, lines: list[str], motion_at: int, width: int) -> tuple[float, np.ndarray]:
     count_text = _header(where, lines, motion_at + 1, "Frames")
-    if not count_text.isdigit():
+    if not (count_text.isascii() and count_text.isdigit() and len(count_text) <= 12):
         raise FileFormatError(where, f"frame count must be a whole number, got {count_text!r}", line=motion_at + 2)
     time_text = _header(where, lines, motion_at + 2, "Frame Time")
-    try:
-        frame_time = float(time_text)
-    except ValueError:
-        frame_time = float("nan")
-    if not (np.isfinite(frame_time) and frame_time > 0):
-        raise FileFormatError(where, f"frame time must be a positive number of seconds, got {time_text!r}",
-                              line=motion_at + 3)
+    frame_time = plain_float(time_text)
+    low, high = FRAME_TIME_RANGE
+    if frame_time is None or not low <= frame_time <= high:
+        raise FileFormatError(where, f"frame time must be a positive number of seconds ({low:g} to {high:g}), got "
+                                     f"{time_text!r}", line=motion_at + 3)
     n = int(count_text)
     rows = [(i, line) for i, line in enumerate(lines[motion_at + 3 :], start=motion_at + 4) if line.strip()]
     if len(rows) < n:
@@ -209,24 +217,18 @@ def _motion(where: str, lines: list[str], motion_at: int, width: int) -> tuple[f
         if len(words) != width:
             raise FileFormatError(where, f"frame {f} has {len(words)} values, the hierarchy has {width} channels"
                                   + (" (truncated?)" if f == n - 1 and len(words) < width else ""), line=i)
-        try:
-            frames[f] = [float(w) for w in words]
-        except ValueError:
-            bad = next(w for w in words if not _is_number(w))
-            raise FileFormatError(where, f"frame {f}: not a number: {bad!r}", line=i) from None
-        if not np.all(np.isfinite(frames[f])):
-            raise FileFormatError(where, f"frame {f}: value is not finite", line=i)
+        row = plain_floats(words)
+        if row is None:
+            bad = next(w for w in words if plain_float(w) is None)
+            raise FileFormatError(where, f"frame {f}: not a number: {bad!r}", line=i)
+        far = out_of_clip_range(row)
+        if far is not None:
+            what = f"value {far!r} is beyond the range of +/-{CLIP_RANGE:g}" if np.isfinite(far) else "value is not finite"
+            raise FileFormatError(where, f"frame {f}: {what}", line=i)
+        frames[f] = row
     if n < 2:
         raise FileFormatError(where, f"needs at least 2 frames, has {n}", line=motion_at + 2)
     return frame_time, frames
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def _clip(skeleton: Skeleton, channels: tuple[tuple[str, ...], ...], frame_time: float, frames: np.ndarray) -> Clip:
@@ -284,21 +286,23 @@ def bvh_text(clip: Clip) -> str:
     for i, p in enumerate(sk.parents):
         children[p].append(i)
     out = ["HIERARCHY"]
-
-    def emit(i: int, depth: int) -> None:
+    # depth first with a stack (no recursion); ("close", depth) ends a joint's block
+    stack: list[tuple[int | str, int]] = [(root, 0) for root in reversed(children[-1])]
+    while stack:
+        i, depth = stack.pop()
         pad = "  " * depth
+        if i == "close":
+            out.append(f"{pad}}}")
+            continue
+        assert isinstance(i, int)
         off = " ".join(f"{v:.10g}" for v in sk.offsets[i])
         if not layouts[i] and not children[i] and sk.parents[i] >= 0:
             out.extend([f"{pad}End Site", f"{pad}{{", f"{pad}  OFFSET {off}", f"{pad}}}"])
-            return
+            continue
         out.extend([f"{pad}{'ROOT' if sk.parents[i] < 0 else 'JOINT'} {sk.names[i]}", f"{pad}{{",
                     f"{pad}  OFFSET {off}", f"{pad}  CHANNELS {len(layouts[i])} {' '.join(layouts[i])}".rstrip()])
-        for c in children[i]:
-            emit(c, depth + 1)
-        out.append(f"{pad}}}")
-
-    for root in children[-1]:
-        emit(root, 0)
+        stack.append(("close", depth))
+        stack += [(c, depth + 1) for c in reversed(children[i])]
     frames = _frames(clip, layouts)
     out += ["MOTION", f"Frames: {len(frames)}", f"Frame Time: {clip.frame_time:.10g}"]
     out += [" ".join(f"{v:.10g}" for v in row) for row in frames]

@@ -21,6 +21,7 @@ import numpy as np
 from sketchanim.anim.markers import Markers
 from sketchanim.anim.skeleton import UNITS_M
 from sketchanim.errors import FileFormatError
+from sketchanim.io.numbers import CLIP_RANGE, FRAME_TIME_RANGE
 
 
 def marker_names(labels: list[str]) -> tuple[str, ...]:
@@ -68,8 +69,9 @@ def read_c3d(path: str | os.PathLike[str]) -> Markers:
             frames = [points[:, :4].astype(float) for _, points, _ in reader.read_frames()]
         except Exception as err:  # noqa: BLE001 - the reader raises anything on a damaged file
             raise FileFormatError(name, f"not a readable C3D file ({type(err).__name__}: {err})") from None
-    if not np.isfinite(rate) or rate <= 0:
-        raise FileFormatError(name, f"point rate is {rate!r} frames per second")
+    low, high = FRAME_TIME_RANGE
+    if not 1 / high <= rate <= 1 / low:
+        raise FileFormatError(name, f"point rate is {rate!r} frames per second ({1 / high:.3g} to {1 / low:g} read)")
     if not labels or not frames or frames[0].shape[0] == 0:
         raise FileFormatError(name, "has no marker trajectories")
     if len(frames) < count:
@@ -80,5 +82,10 @@ def read_c3d(path: str | os.PathLike[str]) -> Markers:
     names = marker_names(labels)
     if len(names) != positions.shape[1]:
         raise FileFormatError(name, f"{len(names)} labels for {positions.shape[1]} markers")
+    far = np.argwhere(np.abs(positions) > CLIP_RANGE)
+    if len(far):
+        f, m, axis = far[0]
+        raise FileFormatError(name, f"marker {names[m]!r}, frame {f}: coordinate {'xyz'[axis]} is "
+                                    f"{float(positions[f, m, axis]):.6g}, beyond the range of +/-{CLIP_RANGE:g}")
     times = (first - 1 + np.arange(len(frames))) / rate
     return Markers(names, times, positions, UNITS_M.get(unit))

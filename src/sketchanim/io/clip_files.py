@@ -80,7 +80,7 @@ def write_reduced(path: str | os.PathLike[str], clip: ReducedClip | ReducedMarke
     if isinstance(clip, ReducedMarkers):
         raise InputError(f"{target}: markers are written as {' or '.join(MARKER_OUTPUTS)}, not "
                          f"{suffix or 'files without an extension'}")
-    frames = clip.resample(rate or 1.0 / clip.frame_time)
+    frames = clip.resample(1.0 / clip.frame_time if rate is None else rate)
     if suffix == ".bvh":
         return write_bvh(target, frames)
     if suffix in (".usd", ".usda", ".usdc"):

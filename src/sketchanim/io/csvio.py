@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from sketchanim.errors import FileFormatError
+from sketchanim.io.numbers import plain_float
 
 #: Delimiters by name: ``None`` is any run of spaces and tabs.
 DELIMITERS: dict[str, str | None] = {"comma": ",", "tab": "\t", "whitespace": None}
@@ -108,15 +109,13 @@ def text_lines(path: str | os.PathLike[str]) -> list[str]:
 
 
 def parse_number(text: str) -> float | None:
-    """``text`` as a float, or ``None`` if it is not a number.
+    """``text`` as a float, or ``None`` if it is not a plain ASCII number
+    (:func:`~sketchanim.io.numbers.plain_float`: not ``１２``, not ``1_000``).
 
-    >>> parse_number(" 1e-3"), parse_number("x")
-    (0.001, None)
+    >>> parse_number(" 1e-3"), parse_number("x"), parse_number("1_000")
+    (0.001, None, None)
     """
-    try:
-        return float(text)
-    except ValueError:
-        return None
+    return plain_float(text)
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sketchanim.errors import FileFormatError
+from sketchanim.errors import FileFormatError, load_json
 from sketchanim.io.csvio import SampleTable, text_lines
 
 #: Names the time may go by.
@@ -133,12 +133,12 @@ def read_samples_json(path: str | os.PathLike[str]) -> SampleTable:
         for number, line in enumerate(lines, 1):
             if line.strip():
                 try:
-                    records.append((json.loads(line), number))
+                    records.append((load_json(line, name, line=number), number))
                 except json.JSONDecodeError as err:
                     raise FileFormatError(name, f"not JSON ({err.msg}, column {err.colno})", line=number) from None
         return _records(records, "line", name)
     try:
-        doc = json.loads("\n".join(lines))
+        doc = load_json("\n".join(lines), name)
     except json.JSONDecodeError as err:
         raise FileFormatError(name, f"not JSON ({err.msg}, column {err.colno})", line=err.lineno) from None
     if isinstance(doc, list) and (not doc or isinstance(doc[0], dict)):

@@ -11,14 +11,22 @@ Tables:
   batch; a take still in the journal when a project is opened is offered back by
   :meth:`Project.recovered`.
 
+* ``checksums``: a digest (BLAKE2b) of the document and of every take, written in the
+  save's transaction and checked on load, so that a damaged page is refused by name
+  (:meth:`Project.salvage` keeps what is undamaged). A project saved before checksums
+  (no ``checksums`` key in ``meta``) loads unchecked and gets them on its next save.
+
 Every save is one transaction. Loading rejects what is not a project of ours, sizes
-beyond the bounds below, and values that do not fit their types, with a
+beyond the bounds below, values that do not fit their types, and damage, with a
 :class:`~sketchanim.errors.FileFormatError` naming the file and what is wrong. Nothing
-is unpickled; JSON and float blobs only.
+is unpickled; JSON and float blobs only. A project that cannot be written (read-only
+media, or a read-only file) is opened read-only: it loads and exports, and a save says
+why it cannot.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import sqlite3
@@ -26,7 +34,9 @@ import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
+from urllib.parse import quote
 from typing import Annotated, Literal
 
 import numpy as np
@@ -36,7 +46,7 @@ from scipy.interpolate import BSpline
 from sketchanim.anim.attributes import DISCRETE, AttributeType
 from sketchanim.anim.scene import KINDS, Scene
 from sketchanim.anim.tracks import MODES, ContinuousTrack, DiscreteTrack, Take, Track
-from sketchanim.errors import FileFormatError, InputError
+from sketchanim.errors import FileFormatError, InputError, load_json
 from sketchanim.io.atomic import write_atomic
 
 FORMAT = "sketchanim-project"
@@ -110,14 +120,86 @@ CREATE TABLE IF NOT EXISTS takes (id INTEGER PRIMARY KEY, mode TEXT NOT NULL, bl
     dim INTEGER NOT NULL, n INTEGER NOT NULL, times BLOB NOT NULL, vals BLOB NOT NULL);
 CREATE TABLE IF NOT EXISTS journal (seq INTEGER PRIMARY KEY, started REAL NOT NULL, path TEXT NOT NULL,
     n INTEGER NOT NULL, times BLOB NOT NULL, vals NOT NULL);
+CREATE TABLE IF NOT EXISTS checksums (name TEXT PRIMARY KEY, digest TEXT NOT NULL);
 """
+#: The columns of each table, as SCHEMA makes them (a file with others is not ours).
+COLUMNS = {"meta": ("key", "value"), "documents": ("name", "body"),
+           "takes": ("id", "mode", "blend", "dim", "n", "times", "vals"),
+           "journal": ("seq", "started", "path", "n", "times", "vals"), "checksums": ("name", "digest")}
+#: The ``meta`` value saying the project carries checksums, and how they are made.
+CHECKSUMS = "blake2b-128"
 
 
-def _connect(path: Path) -> sqlite3.Connection:
+def _connect(path: Path, read_only: bool = False, *, wal: bool = True) -> sqlite3.Connection:
+    if read_only:
+        # immutable: no lock, no -shm, nothing written (read-only media); a left-over
+        # write-ahead log needs a normal read-only open to be read
+        wal = Path(f"{path}-wal")
+        flag = "mode=ro" if wal.exists() and wal.stat().st_size else "immutable=1"
+        uri = f"file:{quote(str(path.resolve()))}?{flag}"
+        return sqlite3.connect(uri, uri=True, timeout=10, check_same_thread=False, isolation_level=None)
     db = sqlite3.connect(path, timeout=10, check_same_thread=False, isolation_level=None)
+    if wal:
+        _wal(db)
+    return db
+
+
+def _wal(db: sqlite3.Connection) -> None:
+    """Write-ahead logging (a project's mode: readers never wait for the journal)."""
     db.execute("PRAGMA journal_mode=WAL")
     db.execute("PRAGMA synchronous=NORMAL")
-    return db
+
+
+def _writable(path: Path) -> bool:
+    """Whether a project at ``path`` can be written: the file and its folder."""
+    folder = path.parent if str(path.parent) else Path(".")
+    return os.access(folder, os.W_OK) and (not path.exists() or os.access(path, os.W_OK))
+
+
+def document_digest(body: str) -> str:
+    """The checksum of a project document's text.
+
+    >>> len(document_digest("{}"))
+    32
+    """
+    return hashlib.blake2b(body.encode("utf-8"), digest_size=16).hexdigest()
+
+
+def take_digest(i: object, mode: object, blend: object, dim: object, n: object, times: object, vals: object) -> str:
+    """The checksum of one row of the ``takes`` table (every column).
+
+    >>> take_digest(0, "replace", 0.1, 1, 2, b"a", b"b") == take_digest(0, "replace", 0.1, 1, 2, b"a", b"c")
+    False
+    """
+    h = hashlib.blake2b(digest_size=16)
+    h.update(repr((i, mode, blend, dim, n)).encode("utf-8"))
+    for blob in (times, vals):
+        data = blob if isinstance(blob, bytes) else repr(blob).encode("utf-8")
+        h.update(len(data).to_bytes(8, "little"))
+        h.update(data)
+    return h.hexdigest()
+
+
+@dataclass
+class Salvaged:
+    """What :meth:`Project.salvage` kept of a damaged project.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene (empty if its document is damaged).
+    tracks : dict
+        Its tracks, each with its undamaged takes (none if the document is damaged).
+    takes : dict
+        Every undamaged take by its id, those of no track included.
+    damaged : list of str
+        What was left out, and why.
+    """
+
+    scene: Scene
+    tracks: dict[str, Track]
+    takes: dict[int, Take]
+    damaged: list[str] = field(default_factory=list)
 
 
 @contextmanager
@@ -158,29 +240,68 @@ class Project:
     ([[0.5, 1.0, 1.5]], True)
     """
 
-    def __init__(self, path: str | os.PathLike[str], *, create: bool = True) -> None:
+    def __init__(self, path: str | os.PathLike[str], *, create: bool = True, read_only: bool | None = None) -> None:
         self.path = Path(path)
-        if not self.path.exists() and not create:
-            raise FileFormatError(str(self.path), "no such project file")
-        if self.path.exists():
-            with open(self.path, "rb") as handle:
+        source = str(self.path)
+        exists = self.path.exists()
+        if not exists and not create:
+            raise FileFormatError(source, "no such project file")
+        if exists:
+            with _reading(source, "cannot read"), open(self.path, "rb") as handle:
                 head = handle.read(16)
-            if head and head != b"SQLite format 3\x00":
-                raise FileFormatError(str(self.path), "not a project file (not an SQLite database)")
-        with _reading(str(self.path), "not a readable project database"):
-            self.db = _connect(self.path)
-            tables = {r[0] for r in self.db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
-            if tables and "meta" not in tables:
+            if head != b"SQLite format 3\x00" and (head or not create):
+                raise FileFormatError(source, "not a project file (" + (
+                    "an empty file" if not head else "not an SQLite database") + ")")
+        #: Opened read-only (asked for, or the file or its folder cannot be written).
+        self.read_only = (not _writable(self.path)) if read_only is None else bool(read_only)
+        if self.read_only and not exists:
+            raise FileFormatError(source, "no such project file (and it cannot be created read-only)")
+        with _reading(source, "not a readable project database"):
+            # WAL only once the file is known to be ours: switching rewrites its header
+            self.db = _connect(self.path, self.read_only, wal=False)
+            try:
+                meta, sums = self._check(source, create and not self.read_only)
+            except FileFormatError:
                 self.db.close()
-                raise FileFormatError(str(self.path), "an SQLite database, but not a project file (no meta table)")
-            self.db.executescript(SCHEMA)
-            meta = dict(self.db.execute("SELECT key, value FROM meta").fetchall())
+                raise
+            if not self.read_only:
+                _wal(self.db)
         if not meta:
             with self.db:
                 self.db.execute("BEGIN")
-                self.db.executemany("INSERT INTO meta VALUES (?, ?)", [("format", FORMAT), ("version", str(VERSION))])
-        elif meta.get("format") != FORMAT or meta.get("version") != str(VERSION):
-            raise FileFormatError(str(self.path), f"not a {FORMAT} version {VERSION} file (meta says {meta})")
+                self.db.executemany("INSERT INTO meta VALUES (?, ?)", [("format", FORMAT), ("version", str(VERSION)),
+                                                                       ("checksums", CHECKSUMS)])
+        #: Whether the file carries checksums (an older project does not until saved;
+        #: checksum rows are checked whatever meta says).
+        self.checksummed = not meta or "checksums" in meta or sums > 0
+
+    def _check(self, source: str, create: bool) -> tuple[dict[str, str], int]:
+        """The ``meta`` table of a project whose tables are ours (made if ``create``
+        and the database is new), and how many checksums it holds;
+        :class:`FileFormatError` otherwise."""
+        tables = {r[0] for r in self.db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+        if not tables and not create:
+            raise FileFormatError(source, "not a project file (an empty database)")
+        if tables and "meta" not in tables:
+            raise FileFormatError(source, "an SQLite database, but not a project file (no meta table)")
+        for name in tables & set(COLUMNS):
+            columns = tuple(r[1] for r in self.db.execute(f"PRAGMA table_info({name})"))
+            if columns != COLUMNS[name]:
+                raise FileFormatError(source, f"table {name} has columns {', '.join(columns)}, "
+                                              f"a project's has {', '.join(COLUMNS[name])}")
+        missing = set(COLUMNS) - tables - {"checksums"}
+        if tables and missing:
+            raise FileFormatError(source, f"not a project file (no {', '.join(sorted(missing))} table)")
+        meta = dict(self.db.execute("SELECT key, value FROM meta").fetchall()) if tables else {}
+        if meta and (meta.get("format") != FORMAT or meta.get("version") != str(VERSION)):
+            raise FileFormatError(source, f"not a {FORMAT} version {VERSION} file (meta says {meta})")
+        if set(meta) - {"format", "version", "checksums"} or meta.get("checksums", CHECKSUMS) != CHECKSUMS:
+            raise FileFormatError(source, f"damaged: meta says {meta}")
+        if not self.read_only:
+            self.db.executescript(SCHEMA)
+            tables |= set(COLUMNS)
+        sums = self.db.execute("SELECT count(*) FROM checksums").fetchone()[0] if "checksums" in tables else 0
+        return meta, sums
 
     def __enter__(self) -> Project:
         return self
@@ -195,41 +316,96 @@ class Project:
 
     def save(self, scene: Scene, tracks: dict[str, Track]) -> None:
         """Store the scene and the tracks (with their takes) in one transaction; the
-        journal of a take now stored is cleared with it."""
+        journal of a take now stored is cleared with it; the checksums with them (an
+        older project gets them here). A project opened read-only, or whose tables
+        cannot be written, raises :class:`FileFormatError` and is left as it was."""
+        source = str(self.path)
+        if self.read_only:
+            raise FileFormatError(source, "opened read-only: cannot save (export it, or save to a writable copy)")
         doc, takes = to_document(scene, tracks)
         body = doc.model_dump_json()
-        with self.db:
+        rows = [(i, t.mode, float(t.blend), t.values.shape[1], len(t.times), np.asarray(t.times, "<f8").tobytes(),
+                 np.asarray(t.values, "<f8").tobytes()) for i, t in enumerate(takes)]
+        sums = [("document", document_digest(body))] + [(f"take {r[0]}", take_digest(*r)) for r in rows]
+        with _reading(source, "cannot save"), self.db:
             self.db.execute("BEGIN IMMEDIATE")
             self.db.execute("DELETE FROM takes")
-            self.db.executemany("INSERT INTO takes VALUES (?, ?, ?, ?, ?, ?, ?)", [
-                (i, t.mode, t.blend, t.values.shape[1], len(t.times), np.asarray(t.times, "<f8").tobytes(),
-                 np.asarray(t.values, "<f8").tobytes()) for i, t in enumerate(takes)])
+            self.db.executemany("INSERT INTO takes VALUES (?, ?, ?, ?, ?, ?, ?)", rows)
             self.db.execute("INSERT OR REPLACE INTO documents VALUES ('project', ?)", (body,))
             self.db.execute("DELETE FROM journal")
+            self.db.execute("DELETE FROM checksums")
+            self.db.executemany("INSERT INTO checksums VALUES (?, ?)", sums)
+            self.db.execute("INSERT OR REPLACE INTO meta VALUES ('checksums', ?)", (CHECKSUMS,))
+        self.checksummed = True
 
     def load(self) -> tuple[Scene, dict[str, Track]]:
-        """The scene and tracks last saved (an empty scene in a new project)."""
+        """The scene and tracks last saved (an empty scene in a new project).
+
+        Raises :class:`FileFormatError` naming what is damaged or malformed (the
+        document, a take); :meth:`salvage` keeps the rest."""
+        source = str(self.path)
+        body, takes, damaged = self._read()
+        if damaged:
+            raise FileFormatError(source, f"damaged: {'; '.join(damaged)} (Project.salvage() keeps the rest)")
+        if body is None:
+            return Scene(), {}
+        return from_document(load_document(body, source), takes, source)
+
+    def salvage(self) -> Salvaged:
+        """Everything undamaged in the project: the scene and its tracks if the document
+        is sound (each track with its undamaged takes), every undamaged take, and what
+        was left out. Damage in the database's own structure still raises
+        :class:`FileFormatError` (nothing can be read past it)."""
+        source = str(self.path)
+        body, takes, damaged = self._read()
+        scene, tracks = Scene(), {}
+        if body is not None and not any(d.startswith("the document") for d in damaged):
+            try:
+                doc = load_document(body, source)
+                for curve in doc.curves:
+                    lost = [i for i in curve.takes if i not in takes]
+                    if lost:
+                        damaged.append(f"{curve.path}: left without takes {lost}")
+                        curve.takes = [i for i in curve.takes if i in takes]
+                scene, tracks = from_document(doc, takes, source)
+            except FileFormatError as err:
+                damaged.append(f"the document: {err}")
+        return Salvaged(scene, tracks, takes, damaged)
+
+    def _read(self) -> tuple[str | None, dict[int, Take], list[str]]:
+        """The document's text (None in a new project), the takes that are sound, and
+        what is damaged (checksums that do not match, malformed takes)."""
         source = str(self.path)
         with _reading(source, "unreadable"):
             row = self.db.execute("SELECT body FROM documents WHERE name = 'project'").fetchone()
-            if row is None:
-                return Scene(), {}
             rows = self.db.execute("SELECT id, mode, blend, dim, n, times, vals FROM takes ORDER BY id").fetchall()
-        if not isinstance(row[0], str) or len(row[0]) > MAX_DOCUMENT_BYTES:
-            raise FileFormatError(source, "the project document is not text of a bounded size")
+            sums = dict(self.db.execute("SELECT name, digest FROM checksums").fetchall()) if self.checksummed else None
+        damaged: list[str] = []
+        body = None if row is None else row[0]
+        if sums is not None and (body is not None or "document" in sums):
+            if body is None or not isinstance(body, str) or sums.get("document") != document_digest(body):
+                damaged.append("the document (its checksum does not match)")
+        if body is not None and (not isinstance(body, str) or len(body) > MAX_DOCUMENT_BYTES):
+            damaged.append("the document (not text of a bounded size)")
         takes = {}
-        for i, mode, blend, dim, n, times, vals in rows:
+        for r in rows:
+            i, mode, blend, dim, n, times, vals = r
             where = f"take {i}"
-            if not (isinstance(n, int) and isinstance(dim, int) and 2 <= n <= MAX_TAKE_SAMPLES and 1 <= dim <= 64):
-                raise FileFormatError(source, f"{where}: bad size {n} x {dim}")
-            if mode not in MODES or not isinstance(blend, float):
-                raise FileFormatError(source, f"{where}: bad mode {mode!r} or blend {blend!r}")
             try:
+                if sums is not None and sums.get(where) != take_digest(*r):
+                    raise FileFormatError(source, "its checksum does not match")
+                if not (isinstance(n, int) and isinstance(dim, int) and 2 <= n <= MAX_TAKE_SAMPLES and 1 <= dim <= 64):
+                    raise FileFormatError(source, f"bad size {n} x {dim}")
+                if mode not in MODES or not isinstance(blend, float):
+                    raise FileFormatError(source, f"bad mode {mode!r} or blend {blend!r}")
                 takes[i] = Take(_floats(times, n, where, source), _floats(vals, n * dim, where, source).reshape(n, dim),
                                 mode, blend)
             except InputError as err:
-                raise FileFormatError(source, f"{where}: {err}") from None
-        return from_document(load_document(row[0], source), takes, source)
+                damaged.append(f"{where} ({str(err).removeprefix(source + ': ').removeprefix(where + ': ')})")
+        if sums is not None:
+            present = {f"take {r[0]}" for r in rows}
+            damaged += [f"{name} (missing)" for name in sorted(sums) if name.startswith("take ") and name not in present]
+        return body, takes, damaged
 
     # -- exchange ---------------------------------------------------------------------------
 
@@ -245,12 +421,15 @@ class Project:
     def import_json(self, path: str | os.PathLike[str]) -> None:
         """Replace the project's contents by a JSON file written by :meth:`export_json`."""
         source = str(path)
-        text = Path(path).read_text(encoding="utf-8")
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as err:
+            raise FileFormatError(source, f"cannot read ({getattr(err, 'strerror', None) or err})") from None
         if len(text) > MAX_DOCUMENT_BYTES:
             raise FileFormatError(source, "larger than the bound on a project document")
         try:
-            body = json.loads(text)
-            raw = body.pop("takes")
+            body = load_json(text, source)
+            raw = body.pop("takes")  # type: ignore[union-attr]
             takes = {i: Take(np.asarray(t["times"], dtype=float), np.asarray(t["values"], dtype=float),
                              t["mode"], float(t["blend"])) for i, t in enumerate(raw)}
         except (json.JSONDecodeError, AttributeError, KeyError, TypeError, ValueError) as err:
@@ -282,7 +461,7 @@ class Project:
                     dim = len(vals) // (8 * n)
                     xs.append(_floats(vals, n * max(dim, 1), where, source).reshape(n, -1))
                 else:
-                    values = json.loads(vals)
+                    values = load_json(vals, source)
                     if not isinstance(values, list) or len(values) != n:
                         raise FileFormatError(source, f"{where}: expected a list of {n} values")
                     xs.append(values)

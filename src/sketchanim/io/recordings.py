@@ -9,7 +9,7 @@ import os
 
 import numpy as np
 
-from sketchanim.errors import FileFormatError
+from sketchanim.errors import ArgumentError, FileFormatError
 from sketchanim.io.csvio import parse_number, text_lines
 
 
@@ -60,13 +60,17 @@ def read_svc(path: str | os.PathLike[str], *, columns: tuple[str, ...], time_sca
     >>> read_svc(p, columns=("y", "x", "t", "down"), time_scale=1e-3)["t"].tolist()
     [0.0, 0.01]
     """
+    if "t" not in columns:
+        raise ArgumentError("columns", f"must name the time column \"t\", got {columns!r}")
+    if not (isinstance(time_scale, (int, float, np.floating)) and 0 < time_scale < float("inf")):
+        raise ArgumentError("time_scale", f"must be a positive finite number, got {time_scale!r}")
     lines = text_lines(path)
     if not lines:
         raise FileFormatError(str(path), "is empty")
-    try:
-        count = int(lines[0].strip())
-    except ValueError:
-        raise FileFormatError(str(path), f"first line should be the sample count, got {lines[0]!r}", line=1) from None
+    count_text = lines[0].strip()
+    if not (count_text.isascii() and count_text.isdigit() and len(count_text) <= 12):
+        raise FileFormatError(str(path), f"first line should be the sample count, got {lines[0]!r}", line=1)
+    count = int(count_text)
     rows = [_numbers(path, i, line, len(columns)) for i, line in enumerate(lines[1:], start=2) if line.strip()]
     if len(rows) != count:
         raise FileFormatError(str(path), f"header says {count} samples, found {len(rows)}")

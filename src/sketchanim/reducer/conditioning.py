@@ -2,10 +2,17 @@
 
 Times must be finite and strictly increasing once exact duplicate samples (same time,
 same values) are dropped; everything else is an error that names the first bad sample.
+
+Numbers must also be in range, not merely finite: times within :data:`TIME_RANGE`
+seconds of 0, and each channel's values within :data:`VALUE_RANGE` tolerances of its
+median (a stream: of its first sample). float64 resolves about 16 significant digits and
+a fit loses a few, so beyond that no curve can promise the tolerance; ``1e308`` would
+overflow the fits outright.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -13,6 +20,17 @@ from numba import njit
 from numpy.typing import ArrayLike
 
 from sketchanim.errors import ArgumentError, SampleError
+
+#: Largest time magnitude, in seconds (about 32 million years).
+TIME_RANGE = 1e15
+#: Farthest a value may be from its channel's reference, in tolerances.
+VALUE_RANGE = 1e12
+#: Highest spline order (degree 31; what a project file holds).
+MAX_ORDER = 32
+#: Most knots in an incremental window (each window's fit is dense in its size).
+MAX_WINDOW = 1024
+#: Most knots an incremental window may span (its samples are held in memory).
+MAX_SPAN = 65536
 
 
 @dataclass(frozen=True)
@@ -51,24 +69,28 @@ class Samples:
 
 
 def check_order(order: object) -> int:
-    """Return ``order`` as an int >= 2 (2 linear, 4 cubic), or raise :class:`ArgumentError`.
+    """Return ``order`` as an int from 2 to :data:`MAX_ORDER` (2 linear, 4 cubic), or
+    raise :class:`ArgumentError`.
 
     >>> check_order(4)
     4
     """
-    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 2:
-        raise ArgumentError("order", f"must be an integer >= 2 (4 is cubic), got {order!r}")
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or not 2 <= order <= MAX_ORDER:
+        raise ArgumentError("order", f"must be an integer from 2 to {MAX_ORDER} (4 is cubic), got {order!r}")
     return int(order)
 
 
-def check_count(name: str, value: object, least: int) -> int:
-    """Return ``value`` as an int >= ``least``, or raise :class:`ArgumentError` naming ``name``.
+def check_count(name: str, value: object, least: int, most: int | None = None) -> int:
+    """Return ``value`` as an int >= ``least`` (and <= ``most``), or raise
+    :class:`ArgumentError` naming ``name``.
 
-    >>> check_count("window", 20, 1)
+    >>> check_count("window", 20, 1, MAX_WINDOW)
     20
     """
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
-        raise ArgumentError(name, f"must be an integer >= {least}, got {value!r}")
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least \
+            or (most is not None and value > most):
+        bounds = f">= {least}" if most is None else f"from {least} to {most}"
+        raise ArgumentError(name, f"must be an integer {bounds}, got {value!r}")
     return int(value)
 
 
@@ -93,7 +115,7 @@ def check_tolerance(tol: ArrayLike, dim: int) -> np.ndarray:
     >>> check_tolerance(0.5, 3)
     array([0.5, 0.5, 0.5])
     """
-    arr = np.asarray(tol, dtype=float)
+    arr = _as_float("tol", tol)
     if arr.size == 1 and arr.ndim <= 1:
         arr = np.full(dim, float(arr.reshape(())))
     if arr.shape != (dim,):
@@ -158,7 +180,10 @@ def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_sample
         raise ArgumentError("values", "has no channels")
     tol_arr = check_tolerance(tol, x.shape[1])
 
-    keep, error = scan(t, x)
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)       # all-NaN channels: scan names them
+        reference = np.nanmedian(np.where(np.isinf(x), np.nan, x), axis=0) if len(x) else np.zeros(x.shape[1])
+    keep, error = scan(t, x, tol=tol_arr, reference=reference)
     if error is not None:
         raise error
     t, x = t[keep], x[keep]
@@ -170,7 +195,7 @@ def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_sample
 
 
 #: What :func:`_first_bad` found.
-_GOOD, _BAD_TIME, _BAD_VALUE, _BACKWARDS, _CONFLICT = range(5)
+_GOOD, _BAD_TIME, _BAD_VALUE, _BACKWARDS, _CONFLICT, _FAR = range(6)
 
 
 @njit(cache=True)
@@ -180,7 +205,7 @@ def _first_bad(t: np.ndarray, x: np.ndarray, has_previous: bool, prev_t: float, 
     False at exact duplicates of the sample before."""
     d = x.shape[1]
     for i in range(len(t)):
-        if not np.isfinite(t[i]):
+        if not np.isfinite(t[i]) or abs(t[i]) > TIME_RANGE:
             return i, _BAD_TIME, 0
         for j in range(d):
             if not np.isfinite(x[i, j]):
@@ -199,8 +224,20 @@ def _first_bad(t: np.ndarray, x: np.ndarray, has_previous: bool, prev_t: float, 
     return len(t), _GOOD, 0
 
 
+def _far(values: np.ndarray, tol: np.ndarray, reference: np.ndarray) -> tuple[int, int]:
+    """(index, channel) of the first value more than :data:`VALUE_RANGE` tolerances from
+    ``reference``, or (n, 0)."""
+    with np.errstate(all="ignore"):
+        far = np.abs(values - reference) > VALUE_RANGE * tol
+    rows = np.flatnonzero(far.any(axis=1))
+    if not rows.size:
+        return len(values), 0
+    return int(rows[0]), int(np.argmax(far[rows[0]]))
+
+
 def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
-         previous: tuple[float, np.ndarray] | None = None) -> tuple[np.ndarray, SampleError | None]:
+         previous: tuple[float, np.ndarray] | None = None, tol: np.ndarray | None = None,
+         reference: np.ndarray | None = None) -> tuple[np.ndarray, SampleError | None]:
     """Find the first bad sample of a batch, and the exact duplicates before it.
 
     Parameters
@@ -211,6 +248,9 @@ def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
         Index of ``times[0]`` in the whole stream, for error messages.
     previous : (time, values) or None
         The last sample accepted before this batch, if any.
+    tol, reference : ndarray, shape (d,), or None
+        With both, a value more than :data:`VALUE_RANGE` tolerances from ``reference``
+        is an error too.
 
     Returns
     -------
@@ -234,11 +274,20 @@ def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
     has_previous = previous is not None
     prev_t, prev_x = (previous[0], previous[1]) if has_previous else (0.0, np.zeros(x.shape[1]))
     end, code, j = _first_bad(t, x, has_previous, float(prev_t), np.asarray(prev_x, dtype=float), keep)
+    if tol is not None and reference is not None:
+        far, channel = _far(x[:end], tol, reference)
+        if far < end:
+            end, code, j = far, _FAR, channel
     if code == _GOOD:
         return keep, None
     index = end + offset
     if code == _BAD_TIME:
-        error = SampleError(f"time is {float(t[end])!r}", index=index, field="time")
+        beyond = f": beyond the range of +/-{TIME_RANGE:g} s" if np.isfinite(t[end]) else ""
+        error = SampleError(f"time is {float(t[end])!r}{beyond}", index=index, field="time")
+    elif code == _FAR:
+        error = SampleError(f"value {float(x[end, j])!r} is more than {VALUE_RANGE:g} tolerances "
+                            f"({float(tol[j])!r}) from the channel's other values (around {float(reference[j])!r}): beyond what "
+                            "float64 resolves (a spike, or a tolerance too small)", index=index, field=f"channel {j}")
     elif code == _BAD_VALUE:
         error = SampleError(f"value is {float(x[end, j])!r}", index=index, field=f"channel {j}")
     else:

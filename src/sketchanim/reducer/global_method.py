@@ -79,6 +79,10 @@ def _paper(times: np.ndarray, values: np.ndarray, tol: np.ndarray, angle: float,
     if fit is None:
         fit = ap.fit(knots)
     log.fits += ap.fits
+    if fit is None:
+        # the start itself is singular in floating point (a high order): the samples
+        # as control polygon, for the caller's final check to judge
+        return BSpline(knots, values.copy(), order - 1)
     return ap.spline(fit)
 
 

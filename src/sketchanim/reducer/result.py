@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import BSpline
 
-from sketchanim.errors import InputError
+from sketchanim.errors import InputError, load_json
 from sketchanim.reducer.features import KINDS, Feature
 
 SCHEMA = "sketchanim.reduction"
@@ -25,7 +25,7 @@ def load_document(text: str, source: str, schema: str, version: int) -> dict[str
     sketchanim.errors.InputError: f.json: version 2, this reader knows 1
     """
     try:
-        doc = json.loads(text)
+        doc = load_json(text, source)
     except json.JSONDecodeError as err:
         raise InputError(f"{source}, line {err.lineno}: not JSON ({err.msg})") from None
     if not isinstance(doc, dict) or doc.get("schema") != schema:

@@ -33,9 +33,16 @@ def _piece(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, o
         kept = holding(spline, held)
         if kept is not None and np.all(max_errors(kept(times), values, angle) <= bound):
             return kept
-    # The caller's final check catches a miss here (and falls back to the interpolant).
+    # The caller's final check catches a miss here (and falls back to the interpolant);
+    # whatever is returned starts and ends on the held values, so the pieces join.
     exact = held_interpolant(times, values, order, held)
-    return exact if exact is not None else polynomial_through(times[[0, -1]], values[[0, -1]], order)
+    if exact is not None:
+        return exact
+    ends = values[[0, -1]].copy()
+    for end, value in enumerate(held):
+        if value is not None:
+            ends[end] = value
+    return polynomial_through(times[[0, -1]], ends, order)
 
 
 def reduce_segmented(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, opts: GlobalOptions,

@@ -65,16 +65,19 @@ ROUNDING = 1e-9
 
 def holding(spline: BSpline, held: Held) -> BSpline | None:
     """``spline`` with its end coefficients set exactly to the held values (each of
-    ``held`` an array or None), or ``None`` if they are further from them than rounding.
+    ``held`` an array or None), or ``None`` if they are further from them than rounding
+    (at the magnitude of the spline's coefficients).
 
     >>> s = holding(BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.c_[[1.0, 2.0 + 1e-15]], 1), (None, np.array([2.0])))
     >>> s.c[:, 0].tolist()
     [1.0, 2.0]
     """
     c = np.array(spline.c, dtype=float)
+    # rounding at the magnitude the fit works in: a far sample moves its centre
+    magnitude = np.abs(c).max(axis=0)
     for end, value in zip((0, -1), held):
         if value is not None:
-            scale = max(1.0, float(np.abs(value).max()))
+            scale = np.maximum(1.0, np.maximum(np.abs(value), magnitude))
             if not np.all(np.abs(c[end] - value) <= ROUNDING * scale):
                 return None
             c[end] = value

@@ -25,9 +25,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline, insert
 
-from sketchanim.errors import ArgumentError
+from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer import window_kernel
-from sketchanim.reducer.conditioning import check_angle, check_count, check_order, check_tolerance, scan
+from sketchanim.reducer.conditioning import (MAX_SPAN, MAX_WINDOW, check_angle, check_count, check_order,
+                                             check_tolerance, scan)
 from sketchanim.reducer.features import Feature, FeatureDetector, FeatureOptions
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
@@ -145,6 +146,33 @@ class StreamStats:
         return float(np.percentile(times, q) * 1e3) if len(times) else 0.0
 
 
+class _Rows:
+    """Rows appended to one array that grows by doubling: the finished curve's knots or
+    coefficients, copied in, so that no window's arrays stay alive behind views (a kept
+    curve costs its own numbers, not a Python object per window).
+
+    >>> r = _Rows(2); r.append(np.ones((3, 2))); r.append(np.zeros((1, 2))); r.array().shape
+    (4, 2)
+    """
+
+    def __init__(self, width: int | None) -> None:
+        self._store = np.empty((64,) if width is None else (64, width))
+        self.n = 0
+
+    def append(self, rows: np.ndarray) -> None:
+        m = len(rows)
+        if self.n + m > len(self._store):
+            grown = np.empty((max(2 * len(self._store), self.n + m),) + self._store.shape[1:])
+            grown[: self.n] = self._store[: self.n]
+            self._store = grown
+        self._store[self.n : self.n + m] = rows
+        self.n += m
+
+    def array(self) -> np.ndarray:
+        """The rows so far (a copy)."""
+        return self._store[: self.n].copy()
+
+
 class StreamReducer:
     """Reduce samples while they arrive, a window of knots at a time.
 
@@ -234,7 +262,7 @@ class StreamReducer:
         self.tol = check_tolerance(tol, self.dim)
         self.angle = check_angle(angle, self.dim)
         self.order = k = check_order(order)
-        self.window = check_count("window", window, max(1, k // 2))
+        self.window = check_count("window", window, max(1, k // 2), MAX_WINDOW)
         if constraints not in CONSTRAINTS:
             raise ArgumentError("constraints", f"must be one of {', '.join(CONSTRAINTS)}, got {constraints!r}")
         if reference not in REFERENCES:
@@ -245,7 +273,7 @@ class StreamReducer:
         self.end_tol = float(end_tol) if constraints.endswith("end") else 1.0
         self.reference = reference
         self._curve_reference = reference == "curve"
-        self.max_span = check_count("max_span", max(64, 8 * self.window) if max_span is None else max_span, 2)
+        self.max_span = check_count("max_span", max(64, 8 * self.window) if max_span is None else max_span, 2, MAX_SPAN)
         self.exhaustive_below = check_count("exhaustive_below", exhaustive_below, 0)
         self.minimax_iterations = check_count("minimax_iterations", minimax_iterations, 0)
         self.keep = keep
@@ -262,6 +290,7 @@ class StreamReducer:
         self._bt = self._store_t[: self.buffer_bound]
         self._bx = self._store_x[: self.buffer_bound]
         self._previous: tuple[float, np.ndarray] | None = None
+        self._reference: np.ndarray | None = None    # the first sample: values stay in range of it
         self._pushed = 0
         self._taken = 0
         self._max_error = np.zeros(1 if self.angle else self.dim)
@@ -299,8 +328,8 @@ class StreamReducer:
         self._next_knot = k // 2
         self._free_tail = k - k // 2                # the last held samples not yet knots
         self._held: tuple[np.ndarray, np.ndarray] | None = None
-        self._final_knots: list[np.ndarray] = []
-        self._final_coef: list[np.ndarray] = []
+        self._final_knots = _Rows(None)
+        self._final_coef = _Rows(self.dim)
 
     # -- input -------------------------------------------------------------------------
 
@@ -327,7 +356,10 @@ class StreamReducer:
             x = x[:, None]
         if x.ndim != 2 or x.shape != (len(t), self.dim):
             raise ArgumentError("values", f"needs shape ({len(t)}, {self.dim}), got {x.shape}")
-        keep, error = scan(t, x, offset=self._pushed, previous=self._previous)
+        if self._reference is None and len(x) and np.all(np.isfinite(x[0])):
+            self._reference = x[0].copy()
+        keep, error = scan(t, x, offset=self._pushed, previous=self._previous, tol=self.tol,
+                           reference=self._reference)
         good = len(keep)
         if good:
             self._pushed += good
@@ -383,8 +415,7 @@ class StreamReducer:
         else:
             self._run_window(final=True)
         if self.keep:
-            self._segments.append(BSpline(np.concatenate(self._final_knots), np.concatenate(self._final_coef),
-                                          self.order - 1))
+            self._segments.append(BSpline(self._final_knots.array(), self._final_coef.array(), self.order - 1))
 
     def _feed(self, t: np.ndarray, x: np.ndarray) -> None:
         """Add checked samples to the current piece's windows."""
@@ -595,14 +626,16 @@ class StreamReducer:
         """End the stream (see :meth:`close`) and return the whole curve.
 
         Raises :class:`~sketchanim.errors.ArgumentError` if ``keep`` is False (the
-        curve was only handed out piece by piece) or no sample came.
+        curve was only handed out piece by piece), and
+        :class:`~sketchanim.errors.SampleError` if fewer than 2 distinct samples came
+        (as :func:`sketchanim.reduce` does).
         """
         if not self.keep:
             raise ArgumentError("keep", "is False: the curve went out piece by piece; call close()")
         clock = time.perf_counter()
         self.close()
-        if not self._segments:
-            raise ArgumentError("push", "no samples were pushed")
+        if self._taken < 2:
+            raise SampleError(f"{self._taken} distinct samples, at least 2 needed", field="times")
         spline = join(self._segments)
         if self.dim == 1:
             spline = BSpline(spline.t, spline.c[:, 0], spline.k)
