@@ -330,7 +330,8 @@ class Recorder:
                 return
 
     def stop(self, *, at: tuple[float, float] | None = None) -> dict[str, Track]:
-        """End the take: the new tracks of the armed attributes that got samples.
+        """End the take: the new tracks of the armed attributes that got samples (two
+        or more for a continuous one).
 
         ``at`` is the span of the take for discrete attributes (events recorded over it
         replace those there); by default from their first to their last sample.
@@ -344,7 +345,7 @@ class Recorder:
         raw = {}                                    # made while the reducer processes finish
         for a in self.armed.values():
             times, values, _ = self._samples(a)
-            if len(times):
+            if len(times) >= (2 if a.type.continuous else 1):     # one sample is no curve: left as it was
                 raw[a.path] = Take(times, values, a.mode, a.blend) if a.type.continuous else (times, values)
         if self._journaling is not None:
             self._journaling.join()
