@@ -440,7 +440,7 @@ export class Studio extends EventTarget {
    * @param {number} now performance.now() of the frame
    */
   frame(now) {
-    const dt = Math.min(Math.max((now - this.lastFrame) / 1000, 0), 0.1);
+    const dt = Math.min(Math.max((now - this.lastFrame) / 1000, 0), GAP);   // a device moves for the time that passed
     this.lastFrame = now;
     this.frames += 1;
     const wasPlaying = this.clock.playing;

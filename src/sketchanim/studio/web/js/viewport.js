@@ -23,6 +23,7 @@ const PAD_REST = 0.3;
  * @property {THREE.Mesh[]} pick       what the pointer can grab
  * @property {THREE.SpotLight} [light]
  * @property {THREE.PerspectiveCamera} [camera]
+ * @property {THREE.PerspectiveCamera} [frustum] a short copy of the camera, drawn by the helper
  * @property {THREE.CameraHelper} [helper]
  */
 
@@ -37,6 +38,15 @@ function geometry(shape) {
   }
 }
 
+/** Whether WebGL runs on a software rasteriser (SwiftShader, llvmpipe): no GPU to spare. */
+function softwareGL() {
+  const gl = document.createElement('canvas').getContext('webgl2');
+  const info = gl?.getExtension('WEBGL_debug_renderer_info');
+  const name = gl && info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : '';
+  gl?.getExtension('WEBGL_lose_context')?.loseContext();
+  return /swiftshader|llvmpipe|software/i.test(name);
+}
+
 export class Viewport {
   /**
    * @param {import('./Studio.js').Studio} studio
@@ -45,10 +55,16 @@ export class Viewport {
   constructor(studio, container) {
     this.studio = studio;
     this.container = container;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true });
-    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    const software = softwareGL();                        // a CPU rasteriser: cheaper settings keep frames coming
+    this.renderer = new THREE.WebGLRenderer({ antialias: !software });
+    this.renderer.setPixelRatio(software ? 1 : Math.min(window.devicePixelRatio, 2));
     this.renderer.domElement.dataset.testid = 'viewport';
     container.appendChild(this.renderer.domElement);
+    this.insetFrame = document.createElement('div');
+    this.insetFrame.className = 'inset';
+    this.insetFrame.hidden = true;
+    container.appendChild(this.insetFrame);
+    this.insetKey = '';
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0x1b1e24);
     this.scene.add(new THREE.GridHelper(20, 20, 0x6a7180, 0x353a44));
@@ -123,7 +139,10 @@ export class Viewport {
         lens.position.z = -0.24;
         root.add(body, lens);
         node.camera = camera;
-        node.helper = new THREE.CameraHelper(camera);
+        const frustum = new THREE.PerspectiveCamera(50, 16 / 9, 0.1, 1.2);   // the helper's: a short frustum
+        root.add(frustum);
+        node.frustum = frustum;
+        node.helper = new THREE.CameraHelper(frustum);
         this.scene.add(node.helper);
         node.pick = [body, lens];
       } else {
@@ -147,7 +166,7 @@ export class Viewport {
     this.aimed = true;
     const target = node.root.position.clone();
     this.orbit.target.copy(target);
-    this.camera.position.copy(target).add(new THREE.Vector3(3.5, 3, 6.5));
+    this.camera.position.copy(target).add(new THREE.Vector3(4.5, 4, 8.5));
     this.camera.lookAt(target);
     this.orbit.update();
   }
@@ -177,8 +196,11 @@ export class Viewport {
     } else if (node.light && attr === 'intensity') node.light.intensity = value[0];
     else if (node.light && attr === 'on') node.light.visible = value;
     else if (node.camera && attr === 'fov') {
-      node.camera.fov = value[0];
-      node.camera.updateProjectionMatrix();
+      for (const cam of [node.camera, node.frustum]) {
+        if (!cam) continue;
+        cam.fov = value[0];
+        cam.updateProjectionMatrix();
+      }
     }
   }
 
@@ -318,6 +340,21 @@ export class Viewport {
 
   // -- drawing ------------------------------------------------------------------------------
 
+  /**
+   * Frame and name the camera preview (an element over the canvas).
+   * @param {{left: number, top: number, width: number, height: number} | null} box
+   * @param {string} name
+   */
+  showInset(box, name) {
+    const key = box ? `${box.left},${box.top},${box.width},${box.height},${name}` : '';
+    if (key === this.insetKey) return;
+    this.insetKey = key;
+    this.insetFrame.hidden = !box;
+    if (!box) return;
+    Object.assign(this.insetFrame.style, { left: `${box.left}px`, top: `${box.top}px`, width: `${box.width}px`, height: `${box.height}px` });
+    this.insetFrame.textContent = `${name} view (C hides)`;
+  }
+
   resize() {
     const w = Math.max(this.container.clientWidth, 1);
     const h = Math.max(this.container.clientHeight, 1);
@@ -352,8 +389,8 @@ export class Viewport {
       r.render(this.scene, cam.camera);
       hidden.forEach((o, i) => o && (o.visible = /** @type {boolean} */ (was[i])));
       r.setScissorTest(false);
-      this.inset = { x, y: size.y - y - h, w, h, name: cam.name };
-    } else this.inset = null;
+      this.showInset({ left: x, top: size.y - y - h, width: w, height: h }, cam.name);
+    } else this.showInset(null, '');
     this.drawn += 1;
   }
 }
