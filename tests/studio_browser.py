@@ -43,8 +43,10 @@ def studio_server(project: Path) -> Iterator[str]:
     """``sketchanim studio PROJECT`` in a process of its own; yields its URL."""
     port = _free_port()
     cli = Path(sys.executable).with_name("sketchanim")
+    log = project.with_name(project.name + ".log")
+    out = log.open("w")
     proc = subprocess.Popen([str(cli), "studio", str(project), "--port", str(port), "--no-browser"],
-                            cwd=project.parent, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                            cwd=project.parent, stdout=out, stderr=subprocess.STDOUT, text=True)
     url = f"http://127.0.0.1:{port}/"
     try:
         deadline = time.monotonic() + 120
@@ -56,7 +58,7 @@ def studio_server(project: Path) -> Iterator[str]:
             except OSError:
                 pass
             if proc.poll() is not None:
-                raise RuntimeError(f"the studio server exited: {proc.stdout.read() if proc.stdout else ''}")
+                raise RuntimeError(f"the studio server exited: {log.read_text()[-3000:]}")
             if time.monotonic() > deadline:
                 raise RuntimeError("the studio server did not get ready in 120 s")
             time.sleep(0.2)
@@ -67,6 +69,8 @@ def studio_server(project: Path) -> Iterator[str]:
             proc.wait(10)
         except subprocess.TimeoutExpired:
             proc.kill()
+        out.close()
+        print(f"--- the studio server's output ({log}) ---\n{log.read_text()[-5000:]}")   # shown when a test fails
 
 
 def launch(playwright):  # noqa: ANN001, ANN201 (Playwright's own types)

@@ -82,9 +82,8 @@ def test_drag_in_record_mode_records_the_track_at_the_pages_frame_rate(browser, 
     stamps = np.array(take["stamps"])
     assert np.allclose(times - times[0], (stamps - stamps[0]) / 1000, atol=1e-9)
     # at the page's frame rate: one sample on every animation frame of the take
-    frame = np.median(page.evaluate("studioStats.interval"))
-    assert abs(np.median(np.diff(stamps)) - frame) <= 0.25 * frame
-    assert len(times) >= 0.8 * (stamps[-1] - stamps[0]) / frame
+    frames = np.array(page.evaluate("studioStats.stamps"))
+    assert np.array_equal(frames[(frames >= stamps[0]) & (frames <= stamps[-1])], stamps)
     # the box moved with the pointer: the track spans the drag
     rows = np.array(take["rows"])
     assert np.linalg.norm(rows[-1] - rows[0]) > 0.5
@@ -93,24 +92,25 @@ def test_drag_in_record_mode_records_the_track_at_the_pages_frame_rate(browser, 
 
 def test_a_layer_during_playback_changes_only_the_grabbed_span(browser, studio: str) -> None:  # noqa: ANN001
     page = _page(browser, studio)
-    page.click("[data-testid=record]")
-    _record_drag(page, "box", _sweep(90))
-    _record_drag(page, "ball", _sweep(90, dx=-120, dy=40))
-    page.click("[data-testid=record]")                       # record mode off: the transport stops
+    for name, sweep in (("box", _sweep(90)), ("ball", _sweep(150, dx=-120, dy=40))):
+        page.evaluate("studio.seek(0)")
+        page.click("[data-testid=record]")
+        _record_drag(page, name, sweep)
+        page.click("[data-testid=record]")                   # record mode off: the transport stops
     before = project(studio)
     box0, ball0 = curve(before, "box.position"), curve(before, "ball.position")
     # from the start, in record mode: the transport plays both tracks; grab the ball midway
     page.evaluate("studio.seek(0)")
     page.click("[data-testid=record]")
-    page.wait_for_timeout(350)
+    page.wait_for_function(f"studio.time > {ball0[0].t[0] + 0.2}")
     start = page.evaluate("viewport.screenOf('ball')")
-    drag(page, start, [(0, -40 * np.sin(np.pi * s)) for s in np.linspace(0, 1, 25)])
+    drag(page, start, [(0, -40 * np.sin(np.pi * s)) for s in np.linspace(0, 1, 20)])
     layer = last_take(page)
     page.click("[data-testid=record]")
     after = project(studio)
     assert curve(after, "box.position")[1] == box0[1], "a track not grabbed changed"
     t = np.array(layer["times"])
-    assert t[0] > 0.1, "the layer did not start during playback"
+    assert ball0[0].t[0] < t[0] and t[-1] < ball0[0].t[-1], "the layer is not inside the ball's track"
     spline1, _ = curve(after, "ball.position")
     outside = np.r_[np.linspace(ball0[0].t[0] - 1, t[0], 300, endpoint=False),
                     np.linspace(t[-1], ball0[0].t[-1] + 1, 300)[1:]]
@@ -196,3 +196,34 @@ def test_reload_shows_the_same_state(browser, studio: str) -> None:  # noqa: ANN
     assert after["time"] == pytest.approx(0.25) and after["loop"] == [0.1, 0.4]
     assert np.allclose(after["box"], before["box"], atol=1e-12)
     assert drew_something(page) > 5 and viewport_drew(page) > 5 and not page.errors
+
+
+def test_a_stalled_stretch_inside_a_take_is_a_gap(browser, studio: str) -> None:  # noqa: ANN001
+    """Frames stop for 0.6 s mid-take (the page's main thread busy, as a tab in the
+    background): the track holds the value before the stall and is at the next sample
+    after it; no swing of the curve across it, and every sample within tolerance."""
+    page = _page(browser, studio)
+    page.click("[data-testid=record]")
+    page.wait_for_timeout(100)
+    start = page.evaluate("viewport.screenOf('box')")
+    page.mouse.move(start["x"], start["y"])
+    page.mouse.down()
+    for i in range(1, 21):
+        page.wait_for_timeout(16)
+        page.mouse.move(start["x"] + 4 * i, start["y"])
+    page.evaluate("(() => { const t = performance.now(); while (performance.now() - t < 600) {} })()")
+    for i in range(21, 41):
+        page.mouse.move(start["x"] + 4 * i, start["y"] - 3 * (i - 20))
+        page.wait_for_timeout(16)
+    page.mouse.up()
+    take = last_take(page)
+    times = np.array(take["times"])
+    k = int(np.argmax(np.diff(times)))
+    assert times[k + 1] - times[k] > 0.5, "no stall in the take"
+    doc = project(studio)
+    spline, _ = curve(doc, "box.position")
+    rows = np.array(take["rows"])
+    inside = np.linspace(times[k], times[k + 1], 50, endpoint=False)
+    assert np.abs(held(spline, inside) - rows[k]).max() <= 0.005, "the curve swings across the stall"
+    assert np.abs(held(spline, times) - rows).max() <= 0.005
+    assert drew_something(page) > 5 and not page.errors

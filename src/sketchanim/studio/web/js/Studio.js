@@ -34,6 +34,7 @@ import { TakeSampler } from './take.js';
  * @property {number} released   performance.now() of the release
  * @property {number | null} final performance.now() when the final curve arrived
  * @property {string | null} label History's label (null: refused or cancelled)
+ * @property {number | null} serverMs the server's time from the release's message to the final curve
  */
 
 /** Real seconds between frames beyond which the server treats the step as a stall. */
@@ -142,6 +143,7 @@ export class Studio extends EventTarget {
       if (log) {
         log.final = performance.now();
         log.label = m.label;
+        log.serverMs = m.ms;
       }
       if (!this.grab?.take) this.pieces.clear();
       this.emit('take');
@@ -398,7 +400,7 @@ export class Studio extends EventTarget {
     const rest = take.batch(now, true);
     if (rest) this.connection.send(rest);
     this.connection.send({ type: 'take.end', take: take.id, label: `take ${grab.label}` });
-    this.takes.push({ id: take.id, sampler: take, released: now, final: null, label: null });
+    this.takes.push({ id: take.id, sampler: take, released: now, final: null, label: null, serverMs: null });
     grab.take = null;
   }
 

@@ -22,8 +22,11 @@ new Inspector(studio, $('inspector'));
 new Timeline(studio, $('transport'), /** @type {HTMLCanvasElement} */ ($('timeline')));
 new CurveView(studio, $('curves'));
 
-/** Per-frame timings (ms) of the last frames, for benchmarks: playback, render, frame interval. */
-const stats = { play: /** @type {number[]} */ ([]), render: /** @type {number[]} */ ([]), interval: /** @type {number[]} */ ([]) };
+/** Per-frame timings (ms) of the last frames, for benchmarks: playback (evaluate every track,
+ * write the values), the whole frame's script (playback, sampling, panels, render calls),
+ * the render calls alone, the interval between frames, and each frame's time (performance.now()). */
+const stats = { play: /** @type {number[]} */ ([]), script: /** @type {number[]} */ ([]), render: /** @type {number[]} */ ([]),
+  interval: /** @type {number[]} */ ([]), stamps: /** @type {number[]} */ ([]) };
 const KEEP = 600;
 let previous = 0;
 
@@ -35,12 +38,15 @@ function keep(list, value) {
 
 /** @param {number} now */
 function frame(now) {
+  const start = performance.now();
   studio.frame(now);
   const before = performance.now();
   viewport.render();
   keep(stats.play, studio.playMs);
   keep(stats.render, performance.now() - before);
+  keep(stats.script, performance.now() - start);
   if (previous) keep(stats.interval, now - previous);
+  keep(stats.stamps, now);
   previous = now;
   if (studio.loaded && studio.ready && viewport.drawn > 0 && document.body.dataset.ready !== 'true') {
     document.body.dataset.ready = 'true';
