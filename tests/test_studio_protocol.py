@@ -18,8 +18,10 @@ from sketchanim.studio.protocol import MAX_MESSAGE_BYTES
 
 @pytest.fixture
 def client(tmp_path):
-    with TestClient(create_app(tmp_path / "p.sketchanim", warm=False)) as c:
+    app = create_app(tmp_path / "p.sketchanim", warm=False)
+    with TestClient(app) as c:
         yield c
+    app.state.hub.session.close()
 
 
 def receive_until(ws, kind: str, limit: int = 50) -> tuple[dict, list[dict]]:

@@ -176,7 +176,8 @@ def same_origin(origin: str | None, host: str | None) -> bool:
 def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI:
     """The studio app for the project file ``project`` (created if missing). With
     ``warm``, the compiled kernels are warmed at start and ``ready`` is said after;
-    without, the app is ready at once."""
+    without, the app is ready at once. When the app stops, a take still running is
+    kept and the project saved; ``app.state.hub.session.close()`` closes the file."""
     hub = Hub(Session(project))
 
     @asynccontextmanager
@@ -188,8 +189,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI
         finally:
             if task is not None:
                 task.cancel()
-            await hub.call(hub.session.close)
-            hub.thread.shutdown()
+            await hub.call(hub.session.flush)
 
     app = FastAPI(title="sketchanim studio", lifespan=lifespan)
     app.state.hub = hub
@@ -235,6 +235,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI
             if socket.client_state == WebSocketState.CONNECTED:
                 await socket.close()
 
-    app.mount("/vendor/three", StaticFiles(directory=THREE, check_dir=False), name="three")
-    app.mount("/", StaticFiles(directory=WEB, html=True, check_dir=False), name="web")
+    for url, folder, html in (("/vendor/three", THREE, False), ("/", WEB, True)):
+        if folder.is_dir():                         # three.js comes with scripts/setup; the page with the package
+            app.mount(url, StaticFiles(directory=folder, html=html), name=url)
     return app

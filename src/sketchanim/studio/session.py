@@ -475,9 +475,13 @@ class Session:
             return write_atomic(target, glb)
         raise ArgumentError("file", f"{name!r}: exports are .glb or .json")
 
-    def close(self) -> None:
-        """End a take still running (kept), save, close the file."""
+    def flush(self) -> None:
+        """End a take still running (kept) and save."""
         if self.take is not None:
             self.end_take(self.take.owner, self.take.id, None)
         self.save()
+
+    def close(self) -> None:
+        """Flush, then close the file."""
+        self.flush()
         self.project.close()
