@@ -361,7 +361,9 @@ class Session:
                     from None
             tk.last = float(t)
             tk.samples += 1
-        return []
+        return [("all", {"type": "take.piece", "take": take, "path": path, "order": piece.order,
+                         "rotation": self.scene.type(path).is_rotation, "knots": piece.knots.tolist(),
+                         "coef": piece.coef.tolist()}) for path, piece in tk.recorder.pieces()]
 
     def _cut(self, tk: _Take) -> None:
         """End the part recorded so far, keeping what it made."""
