@@ -260,7 +260,9 @@ class Session:
         if obj is None:
             raise ArgumentError("object", f"no object {name!r}")
         tracks = {p: None for p in self.player.tracks if p.split(".")[0] == name}
-        self.history.apply(f"remove {name}", tracks, ((lambda: self.scene.remove(name), lambda: self.scene.insert(obj)),))
+        at = self.scene.index(name)
+        self.history.apply(f"remove {name}", tracks,
+                           ((lambda: self.scene.remove(name), lambda: self.scene.insert(obj, at)),))
         self.dirty = True
         return self._told(ready)
 
