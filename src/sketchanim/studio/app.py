@@ -105,10 +105,11 @@ class Hub:
                     client.put(message)
 
     async def warm(self) -> None:
-        """Warm the compiled kernels (see :func:`warm_model`), then tell the pages."""
+        """Warm the compiled kernels (see :func:`warm_model`, on its own scene, in its
+        own thread: the pages are served meanwhile), then tell the pages."""
         from sketchanim.studio.warm import warm_model
 
-        await self.call(warm_model)
+        await asyncio.to_thread(warm_model)
         self.ready = True
         self.send([("all", {"type": "ready"})], None)
 
@@ -133,13 +134,14 @@ class Hub:
         self.send(out, client)
         if message.id is not None:
             client.put({"type": "ack", "id": message.id, "ref": message.type})
-        self.autosave()
+        self.autosave(0.0 if message.type == "take.end" else 0.5)
 
-    def autosave(self) -> None:
-        """Save soon if anything changed (one save for a burst of changes)."""
+    def autosave(self, delay: float) -> None:
+        """Save ``delay`` seconds from now if anything changed (one save for a burst of
+        changes; after a take at once, its answer sent first)."""
         if self.session.dirty and (self._saving is None or self._saving.done()):
             async def later() -> None:
-                await asyncio.sleep(0.5)
+                await asyncio.sleep(delay)
                 await self.call(self.session.save)
             self._saving = asyncio.get_running_loop().create_task(later())
 
@@ -149,6 +151,7 @@ class Hub:
         take = self.session.take
         if take is not None and take.owner == client.number:
             self.send(await self.call(self.session.end_take, client.number, take.id, None, self.ready), None)
+            self.autosave(0.0)
 
 
 def same_origin(origin: str | None, host: str | None) -> bool:

@@ -308,6 +308,7 @@ class Session:
         """Start a take of ``paths`` (continuous attributes) for client ``owner``."""
         if self.take is not None:
             raise ArgumentError("take", f"take {self.take.id!r} is being recorded")
+        self.save()                     # the last take leaves the journal before this one streams into it
         if len(set(paths)) != len(paths):
             raise ArgumentError("paths", "a path is armed twice")
         for p in paths:
@@ -377,7 +378,7 @@ class Session:
 
     def end_take(self, owner: int, take: str, label: str | None, ready: bool = True) -> list[Out]:
         """End the take: its tracks as one History step (merged with the last pass of a
-        loop recording), saved."""
+        loop recording); the project is saved by the next :meth:`save`."""
         clock = time.perf_counter()
         tk = self._own(owner, take)
         self._cut(tk)
@@ -388,8 +389,7 @@ class Session:
             if tk.loop is not None and last is not None and last.merge == tk.loop:
                 made = {**{p: last.before[p] for p in last.after if p not in made}, **made}
             self.history.apply(label or f"take {', '.join(tk.result)}", made, merge=tk.loop)
-        self.dirty = True
-        self.save()
+        self.dirty = True               # saved soon after (the journal holds the take until then)
         out = self._told(ready, made) if made else [("all", self.history_message())]
         ms = 1000 * (time.perf_counter() - clock)
         out.append(("all", {"type": "take.ended", "take": take, "label": self.history.done[-1].label if made else None,
