@@ -180,7 +180,17 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI
     """The studio app for the project file ``project`` (created if missing). With
     ``warm``, the compiled kernels are warmed at start and ``ready`` is said after;
     without, the app is ready at once. When the app stops, a take still running is
-    kept and the project saved; ``app.state.hub.session.close()`` closes the file."""
+    kept and the project saved; ``app.state.hub.session.close()`` closes the file.
+
+    >>> import tempfile
+    >>> from fastapi.testclient import TestClient
+    >>> app = create_app(Path(tempfile.mkdtemp()) / "a.sketchanim", warm=False)
+    >>> with TestClient(app) as client:
+    ...     ready, objects = client.get("/api/ready").json(), client.get("/api/state").json()["objects"]
+    >>> ready, [o["name"] for o in objects]
+    ({'ready': True}, ['box', 'ball', 'cone', 'lamp', 'cam'])
+    >>> app.state.hub.session.close()
+    """
     hub = Hub(Session(project))
 
     @asynccontextmanager

@@ -88,12 +88,27 @@ def _value(value: object) -> object:
 
 
 def type_message(kind: AttributeType) -> dict:
+    """An attribute type as the page sees it.
+
+    >>> from sketchanim.anim.attributes import FOV
+    >>> type_message(FOV)
+    {'name': 'fov', 'dim': 1, 'tol': 0.1, 'unit': 'degrees', 'default': [50.0], 'choices': [], 'continuous': True}
+    """
     return {"name": kind.name, "dim": kind.dim, "tol": kind.tol, "unit": kind.unit, "default": list(kind.default),
             "choices": list(kind.choices), "continuous": kind.continuous}
 
 
 def track_message(track: Track) -> dict:
-    """A track as the page needs it to evaluate it as the player does."""
+    """A track as the page needs it to evaluate it as the player does (see
+    docs/studio-protocol.md for the rule).
+
+    >>> from scipy.interpolate import BSpline
+    >>> from sketchanim.anim.attributes import INTENSITY
+    >>> line = BSpline(np.r_[[0.0] * 2, [2.0] * 2], np.c_[[1.0, 3.0]], 1)
+    >>> m = track_message(ContinuousTrack("lamp.intensity", INTENSITY, line, 0.01))
+    >>> m["order"], m["knots"], m["coef"], m["rotation"], m["start"], m["end"]
+    (2, [0.0, 0.0, 2.0, 2.0], [[1.0], [3.0]], False, 0.0, 2.0)
+    """
     if isinstance(track, DiscreteTrack):
         return {"path": track.path, "kind": "steps", "times": list(track.times), "values": list(track.values)}
     s = track.spline
