@@ -18,8 +18,10 @@ from sketchanim.studio.protocol import MAX_MESSAGE_BYTES
 
 @pytest.fixture
 def client(tmp_path):
-    with TestClient(create_app(tmp_path / "p.sketchanim", warm=False)) as c:
+    app = create_app(tmp_path / "p.sketchanim", warm=False)
+    with TestClient(app) as c:
         yield c
+    app.state.hub.session.close()
 
 
 def receive_until(ws, kind: str, limit: int = 50) -> tuple[dict, list[dict]]:
@@ -157,6 +159,32 @@ def test_closing_the_socket_mid_take_keeps_the_take(client):
         receive_until(ws, "take.started")
         ws.send_json({"type": "take.samples", "id": 2, "take": "a", "t": t.tolist(), "values": (1 + t)[:, None].tolist()})
         receive_until(ws, "ack")
-    with client.websocket_connect("/ws") as ws:
+    with client.websocket_connect("/ws") as ws:                  # a reload
         state = ws.receive_json()
-    assert [tr["path"] for tr in state["tracks"]] == ["lamp.intensity"] and state["take"] is None
+        tracks = state["tracks"] or receive_until(ws, "tracks")[0]["changed"]    # if it came before the take ended
+    assert [tr["path"] for tr in tracks] == ["lamp.intensity"] and tracks[0]["takes"][0]["n"] == 30
+
+
+def test_autosave_and_relays(client, tmp_path):
+    import time
+
+    with client.websocket_connect("/ws") as a, client.websocket_connect("/ws") as b:
+        a.receive_json(), b.receive_json()
+        for i in range(50):
+            a.send_json({"type": "preview", "key": "drag box", "path": "box.position", "value": [i, 0.5, 0]})
+        a.send_json({"type": "transport", "time": 1.5, "playing": True, "speed": 0.5, "loop": [1, 3]})
+        a.send_json({"type": "set", "id": 1, "path": "cam.fov", "value": [35]})
+        receive_until(a, "ack")
+        transport, before = receive_until(b, "transport", limit=200)
+        previews = [m["value"][0] for m in before if m["type"] == "preview"]
+        assert previews and previews[-1] == 49 and previews == sorted(previews)     # newest kept, never older after newer
+        assert transport == {"type": "transport", "time": 1.5, "playing": True, "speed": 0.5, "loop": [1.0, 3.0]}
+        time.sleep(1.0)                                                  # autosave: half a second after a change
+        with Project(tmp_path / "p.sketchanim", create=False) as project:
+            scene, _ = project.load()
+        assert scene.get("cam.fov").tolist() == [35.0]
+    with client.websocket_connect("/ws") as c:
+        state = c.receive_json()
+    assert state["transport"]["time"] == 1.5
+    assert {a["name"]: a["value"] for o in state["objects"] if o["name"] == "box" for a in o["attributes"]}[
+        "position"] == [49.0, 0.5, 0.0]

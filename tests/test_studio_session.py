@@ -221,3 +221,26 @@ def test_real_camera_take_through_the_session(session, data_dir):
     for path, x in (("cam.position", pos), ("cam.orientation", quat)):
         track = session.player.tracks[path]
         assert within(track, t, x) <= track.tol and track.n_coefficients < n / 2
+
+
+def test_pieces_of_the_curve_come_while_the_take_goes_on(session):
+    """The reduced curve grows while the take goes on: pieces come back with the batches,
+    each within tolerance of the samples it spans."""
+    import time
+
+    t = np.arange(0, 6, 1 / 60)
+    x = np.c_[np.sin(3 * t), 0.5 + 0.2 * np.cos(5 * t), t]
+    session.begin_take(OWNER, "a", ["box.position"], "replace", 0.1, 0.0, 1.0, {}, None, 0.25)
+    pieces = []
+    for i in range(0, len(t), 6):
+        pieces += [m for _, m in session.samples(OWNER, "a", t[i:i + 6], x[i:i + 6].tolist())]
+        time.sleep(0.002)
+    time.sleep(0.2)
+    session.end_take(OWNER, "a", None)
+    assert len(pieces) >= 2 and all(p["type"] == "take.piece" and p["path"] == "box.position" for p in pieces)
+    from scipy.interpolate import BSpline
+    for p in pieces:
+        s = BSpline(np.array(p["knots"]), np.array(p["coef"]), p["order"] - 1)
+        k = p["order"] - 1
+        inside = (t >= p["knots"][k]) & (t <= p["knots"][-k - 1])
+        assert np.abs(s(t[inside]) - x[inside]).max() <= 0.005 + 1e-9

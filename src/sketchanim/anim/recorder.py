@@ -28,6 +28,7 @@ from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import BLEND, MODES, ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.anim.workers import Pool, Spec, shared_pool
 from sketchanim.errors import ArgumentError, SampleError
+from sketchanim.reducer.stream import Piece
 from sketchanim.motion.rotations import MIN_NORM
 
 #: Called from the recorder's journal thread about every :data:`JOURNAL_PERIOD` seconds
@@ -281,6 +282,12 @@ class Recorder:
         stamp, times = time.perf_counter(), np.array([t])
         for w, (lo, hi) in ((w, c) for w, c in self._workers.items() if c is not None):
             self._pool.send(w, ("frames", self._take, stamp, times, x[None, lo:hi]))
+
+    def pieces(self) -> list[tuple[str, Piece]]:
+        """The pieces of curve the reducer processes finished since the last call, as
+        (path, piece), during a take (never waits): a take over a track gives pieces of
+        its targets (the take faded onto the track, :class:`.layers.Overlay`)."""
+        return self._pool.pieces(self._take) if self.recording else []
 
     @staticmethod
     def _time(t: float, last: float, index: int, where: str) -> float:

@@ -120,13 +120,22 @@ class Scene:
         """Add an object of ``kind`` ("object", "light", "camera", ...)."""
         return self.insert(SceneObject(name, kind))
 
-    def insert(self, obj: SceneObject) -> SceneObject:
-        """Add ``obj`` as it is (e.g. one :meth:`remove` gave back, to undo that)."""
+    def insert(self, obj: SceneObject, at: int | None = None) -> SceneObject:
+        """Add ``obj`` as it is (e.g. one :meth:`remove` gave back, to undo that), at
+        place ``at`` among the objects (last by default)."""
         if obj.name in self.objects:
             raise ArgumentError("object", f"{obj.name!r} exists already")
-        self.objects[obj.name] = obj
+        items = list(self.objects.items())
+        items.insert(len(items) if at is None else at, (obj.name, obj))
+        self.objects = dict(items)
         self._tell("add", obj.name)
         return obj
+
+    def index(self, name: str) -> int:
+        """The place of object ``name`` among the objects."""
+        if name not in self.objects:
+            raise ArgumentError("object", f"no object {name!r}")
+        return list(self.objects).index(name)
 
     def remove(self, name: str) -> SceneObject:
         """Take the object ``name`` out of the scene; it is returned, attributes and all."""

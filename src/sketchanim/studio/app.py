@@ -105,10 +105,11 @@ class Hub:
                     client.put(message)
 
     async def warm(self) -> None:
-        """Warm the compiled kernels (see :func:`warm_model`), then tell the pages."""
+        """Warm the compiled kernels (see :func:`warm_model`, on its own scene, in its
+        own thread: the pages are served meanwhile), then tell the pages."""
         from sketchanim.studio.warm import warm_model
 
-        await self.call(warm_model)
+        await asyncio.to_thread(warm_model)
         self.ready = True
         self.send([("all", {"type": "ready"})], None)
 
@@ -133,13 +134,14 @@ class Hub:
         self.send(out, client)
         if message.id is not None:
             client.put({"type": "ack", "id": message.id, "ref": message.type})
-        self.autosave()
+        self.autosave(0.0 if message.type == "take.end" else 0.5)
 
-    def autosave(self) -> None:
-        """Save soon if anything changed (one save for a burst of changes)."""
+    def autosave(self, delay: float) -> None:
+        """Save ``delay`` seconds from now if anything changed (one save for a burst of
+        changes; after a take at once, its answer sent first)."""
         if self.session.dirty and (self._saving is None or self._saving.done()):
             async def later() -> None:
-                await asyncio.sleep(0.5)
+                await asyncio.sleep(delay)
                 await self.call(self.session.save)
             self._saving = asyncio.get_running_loop().create_task(later())
 
@@ -149,6 +151,7 @@ class Hub:
         take = self.session.take
         if take is not None and take.owner == client.number:
             self.send(await self.call(self.session.end_take, client.number, take.id, None, self.ready), None)
+            self.autosave(0.0)
 
 
 def same_origin(origin: str | None, host: str | None) -> bool:
@@ -176,7 +179,18 @@ def same_origin(origin: str | None, host: str | None) -> bool:
 def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI:
     """The studio app for the project file ``project`` (created if missing). With
     ``warm``, the compiled kernels are warmed at start and ``ready`` is said after;
-    without, the app is ready at once."""
+    without, the app is ready at once. When the app stops, a take still running is
+    kept and the project saved; ``app.state.hub.session.close()`` closes the file.
+
+    >>> import tempfile
+    >>> from fastapi.testclient import TestClient
+    >>> app = create_app(Path(tempfile.mkdtemp()) / "a.sketchanim", warm=False)
+    >>> with TestClient(app) as client:
+    ...     ready, objects = client.get("/api/ready").json(), client.get("/api/state").json()["objects"]
+    >>> ready, [o["name"] for o in objects]
+    ({'ready': True}, ['box', 'ball', 'cone', 'lamp', 'cam'])
+    >>> app.state.hub.session.close()
+    """
     hub = Hub(Session(project))
 
     @asynccontextmanager
@@ -188,8 +202,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI
         finally:
             if task is not None:
                 task.cancel()
-            await hub.call(hub.session.close)
-            hub.thread.shutdown()
+            await hub.call(hub.session.flush)
 
     app = FastAPI(title="sketchanim studio", lifespan=lifespan)
     app.state.hub = hub
@@ -235,6 +248,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI
             if socket.client_state == WebSocketState.CONNECTED:
                 await socket.close()
 
-    app.mount("/vendor/three", StaticFiles(directory=THREE, check_dir=False), name="three")
-    app.mount("/", StaticFiles(directory=WEB, html=True, check_dir=False), name="web")
+    for url, folder, html in (("/vendor/three", THREE, False), ("/", WEB, True)):
+        if folder.is_dir():                         # three.js comes with scripts/setup; the page with the package
+            app.mount(url, StaticFiles(directory=folder, html=html), name=url)
     return app

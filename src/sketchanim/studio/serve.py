@@ -42,4 +42,7 @@ def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str
     if browser and has_display():
         threading.Timer(1.0, webbrowser.open, (url,)).start()
     config = uvicorn.Config(app, log_level="warning", ws_max_size=4 * MAX_MESSAGE_BYTES, ws_ping_interval=20)
-    uvicorn.Server(config).run(sockets=[sock])
+    try:
+        uvicorn.Server(config).run(sockets=[sock])
+    finally:
+        app.state.hub.session.close()

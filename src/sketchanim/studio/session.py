@@ -88,12 +88,27 @@ def _value(value: object) -> object:
 
 
 def type_message(kind: AttributeType) -> dict:
+    """An attribute type as the page sees it.
+
+    >>> from sketchanim.anim.attributes import FOV
+    >>> type_message(FOV)
+    {'name': 'fov', 'dim': 1, 'tol': 0.1, 'unit': 'degrees', 'default': [50.0], 'choices': [], 'continuous': True}
+    """
     return {"name": kind.name, "dim": kind.dim, "tol": kind.tol, "unit": kind.unit, "default": list(kind.default),
             "choices": list(kind.choices), "continuous": kind.continuous}
 
 
 def track_message(track: Track) -> dict:
-    """A track as the page needs it to evaluate it as the player does."""
+    """A track as the page needs it to evaluate it as the player does (see
+    docs/studio-protocol.md for the rule).
+
+    >>> from scipy.interpolate import BSpline
+    >>> from sketchanim.anim.attributes import INTENSITY
+    >>> line = BSpline(np.r_[[0.0] * 2, [2.0] * 2], np.c_[[1.0, 3.0]], 1)
+    >>> m = track_message(ContinuousTrack("lamp.intensity", INTENSITY, line, 0.01))
+    >>> m["order"], m["knots"], m["coef"], m["rotation"], m["start"], m["end"]
+    (2, [0.0, 0.0, 2.0, 2.0], [[1.0], [3.0]], False, 0.0, 2.0)
+    """
     if isinstance(track, DiscreteTrack):
         return {"path": track.path, "kind": "steps", "times": list(track.times), "values": list(track.values)}
     s = track.spline
@@ -260,7 +275,9 @@ class Session:
         if obj is None:
             raise ArgumentError("object", f"no object {name!r}")
         tracks = {p: None for p in self.player.tracks if p.split(".")[0] == name}
-        self.history.apply(f"remove {name}", tracks, ((lambda: self.scene.remove(name), lambda: self.scene.insert(obj)),))
+        at = self.scene.index(name)
+        self.history.apply(f"remove {name}", tracks,
+                           ((lambda: self.scene.remove(name), lambda: self.scene.insert(obj, at)),))
         self.dirty = True
         return self._told(ready)
 
@@ -306,6 +323,7 @@ class Session:
         """Start a take of ``paths`` (continuous attributes) for client ``owner``."""
         if self.take is not None:
             raise ArgumentError("take", f"take {self.take.id!r} is being recorded")
+        self.save()                     # the last take leaves the journal before this one streams into it
         if len(set(paths)) != len(paths):
             raise ArgumentError("paths", "a path is armed twice")
         for p in paths:
@@ -361,7 +379,9 @@ class Session:
                     from None
             tk.last = float(t)
             tk.samples += 1
-        return []
+        return [("all", {"type": "take.piece", "take": take, "path": path, "order": piece.order,
+                         "rotation": self.scene.type(path).is_rotation, "knots": piece.knots.tolist(),
+                         "coef": piece.coef.tolist()}) for path, piece in tk.recorder.pieces()]
 
     def _cut(self, tk: _Take) -> None:
         """End the part recorded so far, keeping what it made."""
@@ -373,7 +393,7 @@ class Session:
 
     def end_take(self, owner: int, take: str, label: str | None, ready: bool = True) -> list[Out]:
         """End the take: its tracks as one History step (merged with the last pass of a
-        loop recording), saved."""
+        loop recording); the project is saved by the next :meth:`save`."""
         clock = time.perf_counter()
         tk = self._own(owner, take)
         self._cut(tk)
@@ -384,8 +404,7 @@ class Session:
             if tk.loop is not None and last is not None and last.merge == tk.loop:
                 made = {**{p: last.before[p] for p in last.after if p not in made}, **made}
             self.history.apply(label or f"take {', '.join(tk.result)}", made, merge=tk.loop)
-        self.dirty = True
-        self.save()
+        self.dirty = True               # saved soon after (the journal holds the take until then)
         out = self._told(ready, made) if made else [("all", self.history_message())]
         ms = 1000 * (time.perf_counter() - clock)
         out.append(("all", {"type": "take.ended", "take": take, "label": self.history.done[-1].label if made else None,
@@ -475,9 +494,13 @@ class Session:
             return write_atomic(target, glb)
         raise ArgumentError("file", f"{name!r}: exports are .glb or .json")
 
-    def close(self) -> None:
-        """End a take still running (kept), save, close the file."""
+    def flush(self) -> None:
+        """End a take still running (kept) and save."""
         if self.take is not None:
             self.end_take(self.take.owner, self.take.id, None)
         self.save()
+
+    def close(self) -> None:
+        """Flush, then close the file."""
+        self.flush()
         self.project.close()
