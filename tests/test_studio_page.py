@@ -50,9 +50,16 @@ def _sweep(n: int = 45, dx: float = 160, dy: float = -60) -> list[tuple[float, f
     return list(zip(dx * s, dy * np.sin(np.pi * s)))
 
 
+#: What the page sends with each take: a step of more real seconds than this between
+#: samples is a stall, and the server fades the part after it in over the blend.
+GAP, BLEND = 0.25, 0.1
+
+
 def _check_within(take: dict, doc: dict, path: str) -> np.ndarray:
-    """The track at ``path`` plays every sample the page sent within its tolerance;
-    the sample times (transport seconds from the browser's clock) are the raw take's."""
+    """The track at ``path`` plays every sample the page sent within its tolerance
+    (except within the blend after a stall, where the curve fades in from its hold); the
+    sample times (transport seconds from the browser's clock) are the raw takes'."""
+    assert take["label"] and not take["errors"], f"the take was refused: {take['errors']}"
     found = curve(doc, path)
     assert found is not None, f"no track for {path}"
     spline, entry = found
@@ -60,15 +67,20 @@ def _check_within(take: dict, doc: dict, path: str) -> np.ndarray:
     lo = sum(take["dims"][:j])
     rows = np.array(take["rows"])[:, lo : lo + take["dims"][j]]
     times = np.array(take["times"])
+    resumed = times[1:][np.diff(times) > GAP]
+    fading = np.zeros(len(times), dtype=bool)
+    for t in resumed:
+        fading |= (times >= t) & (times < t + BLEND)
     played = held(spline, times)
     if path.endswith(".orientation"):
         played /= np.linalg.norm(played, axis=1, keepdims=True)
-        angles = (Rotation.from_quat(played).inv() * Rotation.from_quat(rows)).magnitude()
-        assert np.degrees(angles).max() <= entry["tol"] * (1 + 1e-6)
+        error = np.degrees((Rotation.from_quat(played).inv() * Rotation.from_quat(rows)).magnitude())
     else:
-        assert np.abs(played - rows).max() <= entry["tol"] * (1 + 1e-6)
-    raw = doc["takes"][entry["takes"][-1]]
-    assert np.array_equal(np.array(raw["times"]), times), "the raw take is not the page's samples"
+        error = np.abs(played - rows).max(axis=1)
+    assert error[~fading].max() <= entry["tol"] * (1 + 1e-6)
+    raw = [np.array(doc["takes"][i]["times"]) for i in entry["takes"]]
+    ours = [r for r in raw if r[0] >= times[0] and r[-1] <= times[-1]]
+    assert np.array_equal(np.concatenate(ours), times), "the raw takes are not the page's samples"
     return times
 
 
@@ -200,8 +212,8 @@ def test_reload_shows_the_same_state(browser, studio: str) -> None:  # noqa: ANN
 
 def test_a_stalled_stretch_inside_a_take_is_a_gap(browser, studio: str) -> None:  # noqa: ANN001
     """Frames stop for 0.6 s mid-take (the page's main thread busy, as a tab in the
-    background): the track holds the value before the stall and is at the next sample
-    after it; no swing of the curve across it, and every sample within tolerance."""
+    background): the track holds the value before the stall across it (no swing of the
+    curve), and every sample is within tolerance but those the blend fades in after it."""
     page = _page(browser, studio)
     page.click("[data-testid=record]")
     page.wait_for_timeout(100)
@@ -225,5 +237,5 @@ def test_a_stalled_stretch_inside_a_take_is_a_gap(browser, studio: str) -> None:
     rows = np.array(take["rows"])
     inside = np.linspace(times[k], times[k + 1], 50, endpoint=False)
     assert np.abs(held(spline, inside) - rows[k]).max() <= 0.005, "the curve swings across the stall"
-    assert np.abs(held(spline, times) - rows).max() <= 0.005
+    _check_within(take, doc, "box.position")
     assert drew_something(page) > 5 and not page.errors

@@ -89,6 +89,8 @@ export class Studio extends EventTarget {
     /** @type {((path: string, value: any) => void)[]} what draws values (the viewport) */
     this.sinks = [];
     this.takeCount = 0;
+    /** @type {any[]} the server's error messages, oldest first */
+    this.errors = [];
     this.lastFrame = -Infinity;
     /** Milliseconds the last frame's playback took (evaluate and write the values). */
     this.playMs = 0;
@@ -153,7 +155,10 @@ export class Studio extends EventTarget {
       this.ready = true;
       this.emit('ready');
     });
-    c.on('error', (m) => this.emit('error', m));
+    c.on('error', (m) => {
+      this.errors.push(m);
+      this.emit('error', m);
+    });
   }
 
   /** @param {any} m the `state` message */
