@@ -85,6 +85,11 @@ def _check_within(take: dict, doc: dict, path: str, below=None) -> np.ndarray:  
     lo = sum(take["dims"][:j])
     rows = np.array(take["rows"])[:, lo : lo + take["dims"][j]]
     times = np.array(take["times"])
+    cuts = np.r_[0, np.flatnonzero(np.diff(times) > GAP) + 1, len(times)]
+    parts = [slice(i, j) for i, j in zip(cuts[:-1], cuts[1:]) if j - i >= 2]   # a lone sample is no take
+    kept = np.zeros(len(times), dtype=bool)
+    for part in parts:
+        kept[part] = True
     resumed = times[1:][np.diff(times) > GAP]
     fading = np.zeros(len(times), dtype=bool)
     for t in resumed:
@@ -92,8 +97,8 @@ def _check_within(take: dict, doc: dict, path: str, below=None) -> np.ndarray:  
     played = held(spline, times)
     if below is not None:                   # each part (between stalls) is punched in on its own
         w = np.ones(len(times))
-        cuts = np.r_[0, np.flatnonzero(np.diff(times) > GAP) + 1, len(times)]
-        for i, j in zip(cuts[:-1], cuts[1:]):
+        for part in parts:
+            i, j = part.start, part.stop
             t = times[i:j]
             blend = min(BLEND, (t[-1] - t[0]) / 2)
             w[i:j] = _smoothstep((t - t[0]) / blend) * _smoothstep((t[-1] - t) / blend) if blend > 0 else 0
@@ -105,13 +110,14 @@ def _check_within(take: dict, doc: dict, path: str, below=None) -> np.ndarray:  
         error = np.degrees((Rotation.from_quat(played).inv() * Rotation.from_quat(rows)).magnitude())
     else:
         error = np.abs(played - rows).max(axis=1)
+    fading |= ~kept
     worst = int(np.argmax(np.where(fading, 0, error)))
     assert error[~fading].max() <= entry["tol"] * (1 + 1e-6), (
         f"{path}: sample {worst} of {len(times)} at t={times[worst]:.4f} is {error[worst]:.4g} off; "
         f"steps around it {np.diff(times)[max(worst - 3, 0):worst + 3].round(4).tolist()}")
     raw = [np.array(doc["takes"][i]["times"]) for i in entry["takes"]]
     ours = [r for r in raw if r[0] >= times[0] and r[-1] <= times[-1]]
-    assert np.array_equal(np.concatenate(ours), times), "the raw takes are not the page's samples"
+    assert np.array_equal(np.concatenate(ours), times[kept]), "the raw takes are not the page's samples"
     return times
 
 

@@ -186,7 +186,7 @@ export class Inspector {
       const xs = type.name === 'orientation'
         ? e.setFromQuaternion(new THREE.Quaternion(v[0], v[1], v[2], v[3])).toArray().slice(0, 3).map((r) => THREE.MathUtils.radToDeg(/** @type {number} */ (r)))
         : v;
-      fields.forEach((f, i) => { if (document.activeElement !== f) f.value = Number(xs[i]).toFixed(type.name === 'orientation' ? 1 : 3); });
+      fields.forEach((f, i) => { if (document.activeElement !== f) f.value = Number(xs[i]).toFixed(type.name === 'orientation' ? 1 : 2); });
     });
     this.refreshers.get(path)?.();
     wrap.append(...fields);

@@ -12,6 +12,8 @@ import { TransformControls } from 'three/addons/controls/TransformControls.js';
 import { active, applyPad, readPad } from './gamepad.js';
 
 const PALETTE = [0xe07a5f, 0x81b29a, 0xf2cc8f, 0x6d9dc5, 0xb388eb, 0xf28482, 0x84a59d];
+/** three.js intensity (candela) of a light of intensity 1: a clear pool of light on the floor. */
+const LIGHT_SCALE = 6;
 /** Real seconds a device rests before its hold (and take) ends. */
 const PAD_REST = 0.3;
 
@@ -72,8 +74,8 @@ export class Viewport {
     floor.rotation.x = -Math.PI / 2;
     floor.position.y = -0.002;
     this.scene.add(floor);
-    this.scene.add(new THREE.HemisphereLight(0xdde6ff, 0x2a2520, 0.9));
-    const sun = new THREE.DirectionalLight(0xffffff, 0.6);
+    this.scene.add(new THREE.HemisphereLight(0xdde6ff, 0x2a2520, 0.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 0.35);
     sun.position.set(3, 8, 5);
     this.scene.add(sun);
     this.camera = new THREE.PerspectiveCamera(45, 1, 0.05, 500);
@@ -193,7 +195,7 @@ export class Viewport {
     } else if (node.light && attr === 'color') {
       node.light.color.setRGB(value[0], value[1], value[2]);
       for (const mesh of node.pick) /** @type {THREE.MeshBasicMaterial} */ (mesh.material).color.setRGB(value[0], value[1], value[2]);
-    } else if (node.light && attr === 'intensity') node.light.intensity = value[0];
+    } else if (node.light && attr === 'intensity') node.light.intensity = value[0] * LIGHT_SCALE;
     else if (node.light && attr === 'on') node.light.visible = value;
     else if (node.camera && attr === 'fov') {
       for (const cam of [node.camera, node.frustum]) {
