@@ -56,6 +56,14 @@ def _record_drag(page, name: str, offsets: list[tuple[float, float]]) -> dict:  
     return last_take(page)
 
 
+def _record_once(page, name: str, offsets: list[tuple[float, float]]) -> dict:  # noqa: ANN001
+    """Record mode on, one drag of ``name``, record mode off; the take."""
+    page.click("[data-testid=record]")
+    take = _record_drag(page, name, offsets)
+    page.click("[data-testid=record]")
+    return take
+
+
 def _sweep(n: int = 45, dx: float = 160, dy: float = -60) -> list[tuple[float, float]]:
     s = np.linspace(0, 1, n)
     return list(zip(dx * s, dy * np.sin(np.pi * s)))
@@ -143,9 +151,7 @@ def test_a_layer_during_playback_changes_only_the_grabbed_span(_page, studio: st
     page = _page(studio)
     for name, sweep in (("box", _sweep(90)), ("ball", _sweep(150, dx=-120, dy=40))):
         page.evaluate("studio.seek(0)")
-        page.click("[data-testid=record]")
-        _record_drag(page, name, sweep)
-        page.click("[data-testid=record]")                   # record mode off: the transport stops
+        _record_once(page, name, sweep)                      # record mode off after: the transport stops
     before = project(studio)
     box0, ball0 = curve(before, "box.position"), curve(before, "ball.position")
     # from the start, in record mode: the transport plays both tracks; grab the ball midway
@@ -212,9 +218,7 @@ def test_a_gamepad_moves_and_turns_the_selected_object_into_a_take(_page, studio
 
 def test_undo_and_redo_a_take(_page, studio: str) -> None:  # noqa: ANN001
     page = _page(studio)
-    page.click("[data-testid=record]")
-    _record_drag(page, "box", _sweep(30))
-    page.click("[data-testid=record]")
+    _record_once(page, "box", _sweep(30))
     recorded = curve(project(studio), "box.position")[1]
     page.click("[data-testid=undo]")
     page.wait_for_function("() => studio.history.can_redo && !studio.tracks.has('box.position')")
@@ -228,9 +232,7 @@ def test_undo_and_redo_a_take(_page, studio: str) -> None:  # noqa: ANN001
 
 def test_reload_shows_the_same_state(_page, studio: str) -> None:  # noqa: ANN001
     page = _page(studio)
-    page.click("[data-testid=record]")
-    _record_drag(page, "box", _sweep(30))
-    page.click("[data-testid=record]")
+    _record_once(page, "box", _sweep(30))
     page.evaluate("studio.setLoop([0.1, 0.4]); studio.seek(0.25)")
     page.wait_for_timeout(300)
     before = page.evaluate("({coef: studio.tracks.get('box.position').coef, time: studio.time, "

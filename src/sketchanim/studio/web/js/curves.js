@@ -7,6 +7,7 @@
  */
 import { sampleCurve } from './evaluate.js';
 import { el } from './timeline.js';
+import { fitCanvas } from './canvas.js';
 import { viewRange } from './timescale.js';
 
 const CHANNELS = ['#ff6b6b', '#5cd65c', '#5aa0ff', '#c8c8c8', '#e0a0ff'];
@@ -48,16 +49,7 @@ export class CurveView {
 
   draw() {
     const s = this.studio;
-    const c = this.canvas;
-    const w = c.clientWidth;
-    const h = c.clientHeight;
-    const dpr = window.devicePixelRatio || 1;
-    if (c.width !== Math.round(w * dpr) || c.height !== Math.round(h * dpr)) {
-      c.width = Math.round(w * dpr);
-      c.height = Math.round(h * dpr);
-    }
-    const g = /** @type {CanvasRenderingContext2D} */ (c.getContext('2d'));
-    g.setTransform(dpr, 0, 0, dpr, 0, 0);
+    const { g, w, h } = fitCanvas(this.canvas);
     g.fillStyle = '#131519';
     g.fillRect(0, 0, w, h);
     const path = this.path;

@@ -4,6 +4,7 @@
  * count-in, loop recording, capture speed) and the timeline under it (drag: scrub;
  * shift-drag: set the loop range; the selected object's takes drawn as bars).
  */
+import { fitCanvas } from './canvas.js';
 import { formatTime, tickStep, viewRange } from './timescale.js';
 
 /**
@@ -153,16 +154,7 @@ export class Timeline {
       : grab?.take ? `● recording ${grab.paths.join(', ')} · ${grab.take.times.length} samples`
         : s.record ? 'record mode: grab something to record it' : '';
     this.status.classList.toggle('live', !!grab?.take);
-    const c = this.canvas;
-    const w = c.clientWidth;
-    const h = c.clientHeight;
-    const dpr = window.devicePixelRatio || 1;
-    if (c.width !== Math.round(w * dpr) || c.height !== Math.round(h * dpr)) {
-      c.width = Math.round(w * dpr);
-      c.height = Math.round(h * dpr);
-    }
-    const g = /** @type {CanvasRenderingContext2D} */ (c.getContext('2d'));
-    g.setTransform(dpr, 0, 0, dpr, 0, 0);
+    const { g, w, h } = fitCanvas(this.canvas);
     g.fillStyle = '#17191e';
     g.fillRect(0, 0, w, h);
     const [t0, t1] = this.range();
