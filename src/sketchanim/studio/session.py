@@ -269,8 +269,13 @@ class Session:
         self.dirty = True
         return self._told(ready)
 
+    def _still(self, what: str) -> None:
+        if self.take is not None:
+            raise ArgumentError(what, f"not while take {self.take.id!r} is being recorded")
+
     def remove_object(self, name: str, ready: bool = True) -> list[Out]:
         """Remove an object and its tracks as one step."""
+        self._still("object.remove")
         obj = self.scene.objects.get(name)
         if obj is None:
             raise ArgumentError("object", f"no object {name!r}")
@@ -283,6 +288,7 @@ class Session:
 
     def rename_object(self, name: str, to: str, ready: bool = True) -> list[Out]:
         """Rename an object, its tracks with it, as one step."""
+        self._still("object.rename")
         if name not in self.scene.objects:
             raise ArgumentError("object", f"no object {name!r}")
         if to in self.scene.objects:
@@ -307,8 +313,7 @@ class Session:
         return self._step(self.history.undone, self.history.redo, "after", ready)
 
     def _step(self, stack: list, move, side: str, ready: bool) -> list[Out]:
-        if self.take is not None:
-            raise ArgumentError("undo", "not while a take is being recorded")
+        self._still("undo")
         if not stack:
             return [("self", self.history_message())]
         tracks = dict(getattr(stack[-1], side))
