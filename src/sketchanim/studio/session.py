@@ -180,7 +180,8 @@ class Session:
         fresh = not scene.objects
         self.scene = default_scene() if fresh else scene
         self.player = Player(self.scene, tracks.values())
-        self.history = History(self.player)
+        self._history_changed = False
+        self.history = History(self.player, on_change=lambda _: setattr(self, "_history_changed", True))
         self.transport = {"time": 0.0, "playing": False, "speed": 1.0, "loop": None}
         self.take: _Take | None = None
         self.dirty = fresh
@@ -222,8 +223,10 @@ class Session:
 
     def _told(self, ready: bool, tracks: dict[str, Track | None] | None = None) -> list[Out]:
         """The messages for what changed since the last call: the scene (as values, or
-        the whole state if objects came or went), the tracks given, the history."""
+        the whole state if objects came or went), the tracks given, the history if it
+        changed (the History's change callback says so)."""
         changes, self._changes = self._changes, []
+        history, self._history_changed = self._history_changed, False
         out: list[Out] = []
         if any(what != "set" for what, _, _ in changes):
             return [("all", self.state(ready))]
@@ -234,7 +237,8 @@ class Session:
         if tracks:
             out.append(("all", {"type": "tracks", "changed": [track_message(t) for t in tracks.values() if t is not None],
                                 "removed": [p for p, t in tracks.items() if t is None], "span": list(self.player.span)}))
-        out.append(("all", self.history_message()))
+        if history:
+            out.append(("all", self.history_message()))
         return out
 
     def _exists(self, path: str) -> bool:
@@ -410,7 +414,7 @@ class Session:
                 made = {**{p: last.before[p] for p in last.after if p not in made}, **made}
             self.history.apply(label or f"take {', '.join(tk.result)}", made, merge=tk.loop)
         self.dirty = True               # saved soon after (the journal holds the take until then)
-        out = self._told(ready, made) if made else [("all", self.history_message())]
+        out = self._told(ready, made)
         ms = 1000 * (time.perf_counter() - clock)
         out.append(("all", {"type": "take.ended", "take": take, "label": self.history.done[-1].label if made else None,
                             "paths": list(made), "ms": ms, "gaps": [list(g) for g in tk.gaps]}))
