@@ -141,6 +141,7 @@ class _Take:
     gap: float
     tol: dict[str, float]
     loop: str | None
+    time: float                                # the transport's time at the press
     over: dict[str, Track]                     # what the take is recorded over
     recorder: Recorder | None = None
     result: dict[str, Track] = field(default_factory=dict)   # parts before the last stall
@@ -207,6 +208,7 @@ class Session:
                 "span": list(self.player.span), "history": self.history_message(),
                 "transport": dict(self.transport),
                 "take": None if self.take is None else {"take": self.take.id, "paths": self.take.paths,
+                                                         "mode": self.take.mode, "time": self.take.time,
                                                          "layout": [list(x) for x in self.layout(self.take.paths)]}}
 
     def history_message(self) -> dict:
@@ -346,7 +348,7 @@ class Session:
         if loop is not None and last is not None and last.merge == loop:      # the next pass of a loop
             over.update(last.before)
             over = {p: t for p, t in over.items() if t is not None}
-        self.take = _Take(take, owner, list(paths), mode, blend, speed, gap, dict(tol), loop, over)
+        self.take = _Take(take, owner, list(paths), mode, blend, speed, gap, dict(tol), loop, time, over)
         write_atomic(self.meta_path, json.dumps({"paths": paths, "mode": mode, "blend": blend, "tol": tol,
                                                  "speed": speed, "gap": gap, "loop": loop}))
         self._start_part()
