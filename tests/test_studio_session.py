@@ -260,6 +260,7 @@ def test_an_additive_take_cut_by_a_crash_comes_back_additive(tmp_path):
     s.begin_take(OWNER, "add", ["ball.position"], "additive", 0.1, 1.0, 1.0, {"ball.position": 0.002}, None, 0.25)
     s.samples(OWNER, "add", inside, np.c_[0 * inside, 0.25 + 0 * inside, 0 * inside].tolist())
     time.sleep(0.3)                                     # committed by the journal thread; then the process "dies"
+    s._lock.close()                                     # as the system lets go of a dead process's lock
     again = Session(path)                               # the next start, without s ever ending the take
     try:
         assert again.recovered == "ball.position" and again.history.labels[0][-1] == "recovered take"
@@ -271,3 +272,12 @@ def test_an_additive_take_cut_by_a_crash_comes_back_additive(tmp_path):
         s.take.recorder.stop()
         s.take = None
         s.project.close()
+
+
+def test_one_studio_per_project(tmp_path):
+    first = Session(tmp_path / "one.sketchanim")
+    with pytest.raises(ValueError, match="open in another studio"):
+        Session(tmp_path / "one.sketchanim")
+    first.close()
+    Session(tmp_path / "one.sketchanim").close()            # free again once closed
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["one.sketchanim"]

@@ -25,6 +25,7 @@ import time
 import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -128,6 +129,34 @@ def split_at_stalls(times: np.ndarray, stall: float) -> list[slice]:
     return [slice(a, b) for a, b in zip(cuts, cuts[1:])]
 
 
+def _locked(path: Path) -> IO | None:
+    """An exclusive lock on the project ``path`` (the file ``<path>.lock`` beside it,
+    held while open; the system lets go of it when the process ends, however it ends),
+    or :class:`ArgumentError` if another studio holds it. None where locks are not
+    available.
+
+    >>> import tempfile
+    >>> path = Path(tempfile.mkdtemp()) / "p.sketchanim"
+    >>> lock = _locked(path)
+    >>> _locked(path)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: project: ...p.sketchanim is open in another studio (one server per project)
+    >>> lock.close()
+    """
+    try:
+        import fcntl
+    except ImportError:                                 # not a POSIX system
+        return None
+    handle = open(path.with_name(path.name + ".lock"), "a+")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        handle.close()
+        raise ArgumentError("project", f"{path} is open in another studio (one server per project)") from None
+    return handle
+
+
 @dataclass
 class _Take:
     """The take in progress."""
@@ -176,7 +205,12 @@ class Session:
     def __init__(self, path: str | os.PathLike[str]) -> None:
         self.path = Path(path).resolve()
         self.folder = self.path.parent
-        self.project = Project(self.path)
+        self._lock = _locked(self.path)
+        try:
+            self.project = Project(self.path)
+        except BaseException:
+            self._unlock()
+            raise
         scene, tracks = self.project.load()
         fresh = not scene.objects
         self.scene = default_scene() if fresh else scene
@@ -512,6 +546,13 @@ class Session:
         self.save()
 
     def close(self) -> None:
-        """Flush, then close the file."""
+        """Flush, then close the file (and let another studio open it)."""
         self.flush()
         self.project.close()
+        self._unlock()
+
+    def _unlock(self) -> None:
+        if self._lock is not None:
+            Path(self._lock.name).unlink(missing_ok=True)
+            self._lock.close()
+            self._lock = None
