@@ -188,3 +188,27 @@ def test_autosave_and_relays(client, tmp_path):
     assert state["transport"]["time"] == 1.5
     assert {a["name"]: a["value"] for o in state["objects"] if o["name"] == "box" for a in o["attributes"]}[
         "position"] == [49.0, 0.5, 0.0]
+
+
+def test_objects_stay_while_a_take_runs(client):
+    with client.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        ws.send_json({"type": "take.begin", "take": "a", "paths": ["box.position"]})
+        receive_until(ws, "take.started")
+        for m in ({"type": "object.remove", "id": 1, "name": "box"}, {"type": "object.rename", "id": 2, "name": "box", "to": "b"},
+                  {"type": "undo", "id": 3}, {"type": "take.begin", "id": 4, "take": "b", "paths": ["ball.position"]}):
+            ws.send_json(m)
+            error, _ = receive_until(ws, "error")
+            assert error["id"] == m["id"] and error["code"] == ("busy" if m["type"] == "take.begin" else "refused")
+        ws.send_json({"type": "take.cancel", "id": 5, "take": "a"})
+        ended, _ = receive_until(ws, "take.ended")
+    assert ended["label"] is None and client.get("/api/state").json()["tracks"] == []
+
+
+def test_only_local_host_names_are_answered_on_a_local_server(tmp_path):
+    app = create_app(tmp_path / "h.sketchanim", warm=False, hosts=["127.0.0.1", "localhost"])
+    with TestClient(app, base_url="http://127.0.0.1:8000") as local:
+        assert local.get("/api/ready").status_code == 200
+    with TestClient(app, base_url="http://attacker.example") as rebound:
+        assert rebound.get("/api/project").status_code == 400
+    app.state.hub.session.close()

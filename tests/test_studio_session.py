@@ -244,3 +244,40 @@ def test_pieces_of_the_curve_come_while_the_take_goes_on(session):
         k = p["order"] - 1
         inside = (t >= p["knots"][k]) & (t <= p["knots"][-k - 1])
         assert np.abs(s(t[inside]) - x[inside]).max() <= 0.005 + 1e-9
+
+
+def test_an_additive_take_cut_by_a_crash_comes_back_additive(tmp_path):
+    """The take's mode and tolerances are kept beside the journal, so a recovered
+    additive take is an offset again, not a replacement."""
+    import time
+
+    path = tmp_path / "crash.sketchanim"
+    s = Session(path)
+    t = np.arange(0, 3, 1 / 60)
+    take(s, "base", ["ball.position"], t, np.c_[t, 0.5 + 0 * t, 0 * t])
+    s.save()
+    inside = t[60:120]
+    s.begin_take(OWNER, "add", ["ball.position"], "additive", 0.1, 1.0, 1.0, {"ball.position": 0.002}, None, 0.25)
+    s.samples(OWNER, "add", inside, np.c_[0 * inside, 0.25 + 0 * inside, 0 * inside].tolist())
+    time.sleep(0.3)                                     # committed by the journal thread; then the process "dies"
+    s._lock.close()                                     # as the system lets go of a dead process's lock
+    again = Session(path)                               # the next start, without s ever ending the take
+    try:
+        assert again.recovered == "ball.position" and again.history.labels[0][-1] == "recovered take"
+        track = again.player.tracks["ball.position"]
+        assert track.tol == 0.002 and track.takes[-1].mode == "additive"
+        assert abs(track.evaluate([1.5])[0, 1] - 0.75) <= 0.002 and abs(track.evaluate([2.5])[0, 1] - 0.5) <= 1e-9
+    finally:
+        again.close()
+        s.take.recorder.stop()
+        s.take = None
+        s.project.close()
+
+
+def test_one_studio_per_project(tmp_path):
+    first = Session(tmp_path / "one.sketchanim")
+    with pytest.raises(ValueError, match="open in another studio"):
+        Session(tmp_path / "one.sketchanim")
+    first.close()
+    Session(tmp_path / "one.sketchanim").close()            # free again once closed
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["one.sketchanim"]

@@ -21,6 +21,7 @@ from urllib.parse import urlsplit
 from fastapi import FastAPI, WebSocket, WebSocketDisconnect
 from fastapi.responses import Response
 from fastapi.staticfiles import StaticFiles
+from starlette.middleware.trustedhost import TrustedHostMiddleware
 from pydantic import BaseModel
 from starlette.websockets import WebSocketState
 
@@ -176,10 +177,12 @@ def same_origin(origin: str | None, host: str | None) -> bool:
     return same_host and port == mine
 
 
-def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI:
+def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: list[str] | None = None) -> FastAPI:
     """The studio app for the project file ``project`` (created if missing). With
     ``warm``, the compiled kernels are warmed at start and ``ready`` is said after;
-    without, the app is ready at once. When the app stops, a take still running is
+    without, the app is ready at once. ``hosts``: the only ``Host`` headers answered
+    (a page on another site cannot reach a local server by renaming it: DNS
+    rebinding); any if None. When the app stops, a take still running is
     kept and the project saved; ``app.state.hub.session.close()`` closes the file.
 
     >>> import tempfile
@@ -205,6 +208,8 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True) -> FastAPI
             await hub.call(hub.session.flush)
 
     app = FastAPI(title="sketchanim studio", lifespan=lifespan)
+    if hosts is not None:
+        app.add_middleware(TrustedHostMiddleware, allowed_hosts=hosts)
     app.state.hub = hub
 
     @app.get("/api/ready", response_model=Ready)

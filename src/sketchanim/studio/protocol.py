@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, StrictBool, TypeAdapter, ValidationError
 
 from sketchanim.anim.tracks import BLEND, MODES
 
@@ -28,7 +28,7 @@ Path = Annotated[str, Field(min_length=3, max_length=129)]
 Name = Annotated[str, Field(min_length=1, max_length=64)]
 Key = Annotated[str, Field(min_length=1, max_length=128)]
 Id = Annotated[int, Field(ge=-(2**53), le=2**53)] | Annotated[str, Field(max_length=64)]
-Value = Annotated[list[Number], Field(max_length=64)] | bool | Annotated[str, Field(max_length=256)] | None
+Value = Annotated[list[Number], Field(max_length=64)] | StrictBool | Annotated[str, Field(max_length=256)] | None
 
 
 class _Message(BaseModel):
@@ -163,6 +163,10 @@ def parse(text: str | bytes) -> Message:
 
     >>> parse('{"type": "ping", "id": 3}')
     Ping(id=3, type='ping')
+    >>> parse('{"type": "set", "path": "box.visible", "value": 1}').value    # a number is not a bool
+    Traceback (most recent call last):
+    ...
+    sketchanim.studio.protocol.BadMessage: set.value.list[...]: Input should be a valid list
     >>> parse('{"type": "set", "path": "box.position", "value": "x", "id": 4, "extra": 1}')
     Traceback (most recent call last):
     ...

@@ -35,7 +35,8 @@ def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str
     sock = socket.socket(family, socket.SOCK_STREAM)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind((host, port))
-    app = create_app(project)
+    loopback = host in ("127.0.0.1", "localhost", "::1") or host.startswith("127.")
+    app = create_app(project, hosts=["127.0.0.1", "localhost", "[::1]", host] if loopback else None)
     shown = f"[{host}]" if ":" in host else host
     url = f"http://{'127.0.0.1' if host in ('0.0.0.0', '::') else shown}:{sock.getsockname()[1]}/"
     say(f"sketchanim studio: {Path(project).resolve()} at {url} (Ctrl-C stops it)")

@@ -25,6 +25,7 @@ import time
 import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -128,6 +129,34 @@ def split_at_stalls(times: np.ndarray, stall: float) -> list[slice]:
     return [slice(a, b) for a, b in zip(cuts, cuts[1:])]
 
 
+def _locked(path: Path) -> IO | None:
+    """An exclusive lock on the project ``path`` (the file ``<path>.lock`` beside it,
+    held while open; the system lets go of it when the process ends, however it ends),
+    or :class:`ArgumentError` if another studio holds it. None where locks are not
+    available.
+
+    >>> import tempfile
+    >>> path = Path(tempfile.mkdtemp()) / "p.sketchanim"
+    >>> lock = _locked(path)
+    >>> _locked(path)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: project: ...p.sketchanim is open in another studio (one server per project)
+    >>> lock.close()
+    """
+    try:
+        import fcntl
+    except ImportError:                                 # not a POSIX system
+        return None
+    handle = open(path.with_name(path.name + ".lock"), "a+")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        handle.close()
+        raise ArgumentError("project", f"{path} is open in another studio (one server per project)") from None
+    return handle
+
+
 @dataclass
 class _Take:
     """The take in progress."""
@@ -141,6 +170,7 @@ class _Take:
     gap: float
     tol: dict[str, float]
     loop: str | None
+    time: float                                # the transport's time at the press
     over: dict[str, Track]                     # what the take is recorded over
     recorder: Recorder | None = None
     result: dict[str, Track] = field(default_factory=dict)   # parts before the last stall
@@ -175,12 +205,18 @@ class Session:
     def __init__(self, path: str | os.PathLike[str]) -> None:
         self.path = Path(path).resolve()
         self.folder = self.path.parent
-        self.project = Project(self.path)
+        self._lock = _locked(self.path)
+        try:
+            self.project = Project(self.path)
+        except BaseException:
+            self._unlock()
+            raise
         scene, tracks = self.project.load()
         fresh = not scene.objects
         self.scene = default_scene() if fresh else scene
         self.player = Player(self.scene, tracks.values())
-        self.history = History(self.player)
+        self._history_changed = False
+        self.history = History(self.player, on_change=lambda _: setattr(self, "_history_changed", True))
         self.transport = {"time": 0.0, "playing": False, "speed": 1.0, "loop": None}
         self.take: _Take | None = None
         self.dirty = fresh
@@ -206,6 +242,7 @@ class Session:
                 "span": list(self.player.span), "history": self.history_message(),
                 "transport": dict(self.transport),
                 "take": None if self.take is None else {"take": self.take.id, "paths": self.take.paths,
+                                                         "mode": self.take.mode, "time": self.take.time,
                                                          "layout": [list(x) for x in self.layout(self.take.paths)]}}
 
     def history_message(self) -> dict:
@@ -222,8 +259,10 @@ class Session:
 
     def _told(self, ready: bool, tracks: dict[str, Track | None] | None = None) -> list[Out]:
         """The messages for what changed since the last call: the scene (as values, or
-        the whole state if objects came or went), the tracks given, the history."""
+        the whole state if objects came or went), the tracks given, the history if it
+        changed (the History's change callback says so)."""
         changes, self._changes = self._changes, []
+        history, self._history_changed = self._history_changed, False
         out: list[Out] = []
         if any(what != "set" for what, _, _ in changes):
             return [("all", self.state(ready))]
@@ -234,7 +273,8 @@ class Session:
         if tracks:
             out.append(("all", {"type": "tracks", "changed": [track_message(t) for t in tracks.values() if t is not None],
                                 "removed": [p for p, t in tracks.items() if t is None], "span": list(self.player.span)}))
-        out.append(("all", self.history_message()))
+        if history:
+            out.append(("all", self.history_message()))
         return out
 
     def _exists(self, path: str) -> bool:
@@ -269,8 +309,13 @@ class Session:
         self.dirty = True
         return self._told(ready)
 
+    def _still(self, what: str) -> None:
+        if self.take is not None:
+            raise ArgumentError(what, f"not while take {self.take.id!r} is being recorded")
+
     def remove_object(self, name: str, ready: bool = True) -> list[Out]:
         """Remove an object and its tracks as one step."""
+        self._still("object.remove")
         obj = self.scene.objects.get(name)
         if obj is None:
             raise ArgumentError("object", f"no object {name!r}")
@@ -283,6 +328,7 @@ class Session:
 
     def rename_object(self, name: str, to: str, ready: bool = True) -> list[Out]:
         """Rename an object, its tracks with it, as one step."""
+        self._still("object.rename")
         if name not in self.scene.objects:
             raise ArgumentError("object", f"no object {name!r}")
         if to in self.scene.objects:
@@ -307,8 +353,7 @@ class Session:
         return self._step(self.history.undone, self.history.redo, "after", ready)
 
     def _step(self, stack: list, move, side: str, ready: bool) -> list[Out]:
-        if self.take is not None:
-            raise ArgumentError("undo", "not while a take is being recorded")
+        self._still("undo")
         if not stack:
             return [("self", self.history_message())]
         tracks = dict(getattr(stack[-1], side))
@@ -337,7 +382,7 @@ class Session:
         if loop is not None and last is not None and last.merge == loop:      # the next pass of a loop
             over.update(last.before)
             over = {p: t for p, t in over.items() if t is not None}
-        self.take = _Take(take, owner, list(paths), mode, blend, speed, gap, dict(tol), loop, over)
+        self.take = _Take(take, owner, list(paths), mode, blend, speed, gap, dict(tol), loop, time, over)
         write_atomic(self.meta_path, json.dumps({"paths": paths, "mode": mode, "blend": blend, "tol": tol,
                                                  "speed": speed, "gap": gap, "loop": loop}))
         self._start_part()
@@ -405,7 +450,7 @@ class Session:
                 made = {**{p: last.before[p] for p in last.after if p not in made}, **made}
             self.history.apply(label or f"take {', '.join(tk.result)}", made, merge=tk.loop)
         self.dirty = True               # saved soon after (the journal holds the take until then)
-        out = self._told(ready, made) if made else [("all", self.history_message())]
+        out = self._told(ready, made)
         ms = 1000 * (time.perf_counter() - clock)
         out.append(("all", {"type": "take.ended", "take": take, "label": self.history.done[-1].label if made else None,
                             "paths": list(made), "ms": ms, "gaps": [list(g) for g in tk.gaps]}))
@@ -501,6 +546,13 @@ class Session:
         self.save()
 
     def close(self) -> None:
-        """Flush, then close the file."""
+        """Flush, then close the file (and let another studio open it)."""
         self.flush()
         self.project.close()
+        self._unlock()
+
+    def _unlock(self) -> None:
+        if self._lock is not None:
+            Path(self._lock.name).unlink(missing_ok=True)
+            self._lock.close()
+            self._lock = None
