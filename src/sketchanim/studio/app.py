@@ -18,12 +18,12 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 from urllib.parse import urlsplit
 
+import anyio
 from fastapi import FastAPI, WebSocket, WebSocketDisconnect
 from fastapi.responses import Response
 from fastapi.staticfiles import StaticFiles
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from pydantic import BaseModel
-from starlette.websockets import WebSocketState
 
 from sketchanim.errors import InputError
 from sketchanim.studio import protocol
@@ -249,9 +249,8 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             pass
         finally:
             pump.cancel()
-            await hub.leave(client)
-            if socket.client_state == WebSocketState.CONNECTED:
-                await socket.close()
+            with anyio.CancelScope(shield=True):     # a take the page was recording is kept, even on a cancel
+                await hub.leave(client)
 
     for url, folder, html in (("/vendor/three", THREE, False), ("/", WEB, True)):
         if folder.is_dir():                         # three.js comes with scripts/setup; the page with the package

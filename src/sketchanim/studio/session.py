@@ -37,6 +37,7 @@ from sketchanim.anim.player import Player
 from sketchanim.anim.recorder import Recorder
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Take, Track
+from sketchanim.anim.workers import shared_pool
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.io.atomic import write_atomic
 from sketchanim.io.project import Project
@@ -203,6 +204,7 @@ class Session:
     """
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
+        shared_pool()                   # the reducer processes forked now, before the app's threads exist
         self.path = Path(path).resolve()
         self.folder = self.path.parent
         self._lock = _locked(self.path)
