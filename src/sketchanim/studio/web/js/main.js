@@ -36,9 +36,12 @@ function keep(list, value) {
   if (list.length > KEEP) list.shift();
 }
 
-/** @param {number} now */
-function frame(now) {
-  const start = performance.now();
+/** Every animation frame, stamped with performance.now() when the frame's script runs (the
+ * time the sampled values are true; the frame's own timestamp can be older when the main thread
+ * was busy). */
+function frame() {
+  const now = performance.now();
+  const start = now;
   studio.frame(now);
   const before = performance.now();
   viewport.render();
