@@ -145,5 +145,5 @@ def last_take(page, timeout: float = 30_000) -> dict:  # noqa: ANN001
     page.wait_for_function("() => studio.takes.length && studio.takes.at(-1).final !== null", timeout=timeout)
     return page.evaluate("""() => { const l = studio.takes.at(-1); const s = l.sampler;
         return {id: l.id, paths: s.paths, dims: s.dims, times: s.times, rows: s.rows, stamps: s.stamps,
-                label: l.label, latency: l.final - l.released, errors: studio.errors}; }""")
+                label: l.label, latency: l.final - l.released, errors: studio.errors, gap: s.gap}; }""")
 

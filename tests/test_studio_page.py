@@ -69,9 +69,9 @@ def _sweep(n: int = 45, dx: float = 160, dy: float = -60) -> list[tuple[float, f
     return list(zip(dx * s, dy * np.sin(np.pi * s)))
 
 
-#: What the page sends with each take: a step of more real seconds than this between
-#: samples is a stall, and the server fades the part after it in over the blend.
-GAP, BLEND = 0.25, 0.1
+#: The seconds of fade after a stall (a step between samples longer than the take's ``gap``:
+#: the server fades the part after it in over the blend).
+BLEND = 0.1
 
 
 def _smoothstep(u: np.ndarray) -> np.ndarray:
@@ -93,12 +93,12 @@ def _check_within(take: dict, doc: dict, path: str, below=None) -> np.ndarray:  
     lo = sum(take["dims"][:j])
     rows = np.array(take["rows"])[:, lo : lo + take["dims"][j]]
     times = np.array(take["times"])
-    cuts = np.r_[0, np.flatnonzero(np.diff(times) > GAP) + 1, len(times)]
+    cuts = np.r_[0, np.flatnonzero(np.diff(times) > take["gap"]) + 1, len(times)]
     parts = [slice(i, j) for i, j in zip(cuts[:-1], cuts[1:]) if j - i >= 2]   # a lone sample is no take
     kept = np.zeros(len(times), dtype=bool)
     for part in parts:
         kept[part] = True
-    resumed = times[1:][np.diff(times) > GAP]
+    resumed = times[1:][np.diff(times) > take["gap"]]
     fading = np.zeros(len(times), dtype=bool)
     for t in resumed:
         fading |= (times >= t) & (times < t + BLEND)
@@ -250,7 +250,7 @@ def test_reload_shows_the_same_state(_page, studio: str) -> None:  # noqa: ANN00
 
 
 def test_a_stalled_stretch_inside_a_take_is_a_gap(_page, studio: str) -> None:  # noqa: ANN001
-    """Frames stop for 0.6 s mid-take (the page's main thread busy, as a tab in the
+    """Frames stop for 1.5 s mid-take (the page's main thread busy, as a tab in the
     background): the track holds the value before the stall across it (no swing of the
     curve), and every sample is within tolerance but those the blend fades in after it."""
     page = _page(studio)
@@ -262,7 +262,7 @@ def test_a_stalled_stretch_inside_a_take_is_a_gap(_page, studio: str) -> None:  
     for i in range(1, 21):
         page.wait_for_timeout(16)
         page.mouse.move(start["x"] + 4 * i, start["y"])
-    page.evaluate("(() => { const t = performance.now(); while (performance.now() - t < 600) {} })()")
+    page.evaluate("(() => { const t = performance.now(); while (performance.now() - t < 1500) {} })()")
     for i in range(21, 41):
         page.mouse.move(start["x"] + 4 * i, start["y"] - 3 * (i - 20))
         page.wait_for_timeout(16)
@@ -270,7 +270,7 @@ def test_a_stalled_stretch_inside_a_take_is_a_gap(_page, studio: str) -> None:  
     take = last_take(page)
     times = np.array(take["times"])
     k = int(np.argmax(np.diff(times)))
-    assert times[k + 1] - times[k] > 0.5, "no stall in the take"
+    assert times[k + 1] - times[k] > max(take["gap"], 1.4), "no stall in the take"
     doc = project(studio)
     spline, _ = curve(doc, "box.position")
     rows = np.array(take["rows"])

@@ -37,7 +37,8 @@ import { TakeSampler } from './take.js';
  * @property {number | null} serverMs the server's time from the release's message to the final curve
  */
 
-/** Real seconds between frames beyond which the server treats the step as a stall. */
+/** Real seconds between frames beyond which the server treats the step as a stall (at least;
+ * a slow page, e.g. software WebGL, gets 4 of its frame intervals: its ordinary frames are no stall). */
 const GAP = 0.25;
 /** Seconds of fade at a punch-in's seams. */
 const BLEND = 0.1;
@@ -92,6 +93,8 @@ export class Studio extends EventTarget {
     /** @type {any[]} the server's error messages, oldest first */
     this.errors = [];
     this.lastFrame = -Infinity;
+    /** @type {number[]} the last frame intervals, ms */
+    this.intervals = [];
     /** Milliseconds the last frame's playback took (evaluate and write the values). */
     this.playMs = 0;
     this.frames = 0;
@@ -387,10 +390,11 @@ export class Studio extends EventTarget {
     const id = `t${Date.now().toString(36)}${this.takeCount++}`;
     const dims = grab.paths.map((p) => this.types.get(p)?.dim ?? 0);
     grab.take = new TakeSampler(id, grab.paths, dims);
+    grab.take.gap = this.stallGap();
     if (this.loopRecord && this.clock.loop && !grab.loopKey) grab.loopKey = `loop ${id}`;
     this.pieces.clear();
     this.connection.send({ type: 'take.begin', take: id, paths: grab.paths, mode: this.mode, blend: BLEND, time,
-      speed: this.captureSpeed, loop: grab.loopKey, gap: GAP });
+      speed: this.captureSpeed, loop: grab.loopKey, gap: grab.take.gap });
     this.emit('take');
   }
 
@@ -407,6 +411,13 @@ export class Studio extends EventTarget {
     this.connection.send({ type: 'take.end', take: take.id, label: `take ${grab.label}` });
     this.takes.push({ id: take.id, sampler: take, released: now, final: null, label: null, serverMs: null });
     grab.take = null;
+  }
+
+  /** Real seconds without a frame that make a stall: 0.25 s, or 4 frame intervals on a slow page. */
+  stallGap() {
+    const sorted = [...this.intervals].sort((a, b) => a - b);
+    const median = sorted.length ? sorted[sorted.length >> 1] / 1000 : 0;
+    return Math.max(GAP, 4 * median);
   }
 
   /** The row of the held attributes' current values, end to end. */
@@ -448,6 +459,10 @@ export class Studio extends EventTarget {
    */
   frame(now) {
     const dt = Math.min(Math.max((now - this.lastFrame) / 1000, 0), GAP);   // a device moves for the time that passed
+    if (Number.isFinite(this.lastFrame)) {
+      this.intervals.push(now - this.lastFrame);
+      if (this.intervals.length > 60) this.intervals.shift();
+    }
     this.lastFrame = now;
     this.frames += 1;
     const wasPlaying = this.clock.playing;

@@ -26,6 +26,8 @@ export class TakeSampler {
     this.stamps = [];
     this.sent = 0;
     this.dropped = 0;
+    /** Real seconds without a frame that the server treats as a stall (set at the take's start). */
+    this.gap = 0.25;
   }
 
   /** The last sample's transport time (-Infinity before the first). */
