@@ -177,13 +177,15 @@ def same_origin(origin: str | None, host: str | None) -> bool:
     return same_host and port == mine
 
 
-def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: list[str] | None = None) -> FastAPI:
+def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: list[str] | None = None,
+               close: bool = False) -> FastAPI:
     """The studio app for the project file ``project`` (created if missing). With
     ``warm``, the compiled kernels are warmed at start and ``ready`` is said after;
     without, the app is ready at once. ``hosts``: the only ``Host`` headers answered
     (a page on another site cannot reach a local server by renaming it: DNS
     rebinding); any if None. When the app stops, a take still running is
-    kept and the project saved; ``app.state.hub.session.close()`` closes the file.
+    kept and the project saved, and with ``close`` the file is closed (a server's app;
+    otherwise ``app.state.hub.session.close()`` does it, and the app can start again).
 
     >>> import tempfile
     >>> from fastapi.testclient import TestClient
@@ -205,7 +207,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
         finally:
             if task is not None:
                 task.cancel()
-            await hub.call(hub.session.flush)
+            await hub.call(hub.session.close if close else hub.session.flush)
 
     app = FastAPI(title="sketchanim studio", lifespan=lifespan)
     if hosts is not None:

@@ -36,14 +36,11 @@ def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind((host, port))
     loopback = host in ("127.0.0.1", "localhost", "::1") or host.startswith("127.")
-    app = create_app(project, hosts=["127.0.0.1", "localhost", "[::1]", host] if loopback else None)
+    app = create_app(project, hosts=["127.0.0.1", "localhost", "[::1]", host] if loopback else None, close=True)
     shown = f"[{host}]" if ":" in host else host
     url = f"http://{'127.0.0.1' if host in ('0.0.0.0', '::') else shown}:{sock.getsockname()[1]}/"
     say(f"sketchanim studio: {Path(project).resolve()} at {url} (Ctrl-C stops it)")
     if browser and has_display():
         threading.Timer(1.0, webbrowser.open, (url,)).start()
     config = uvicorn.Config(app, log_level="warning", ws_max_size=4 * MAX_MESSAGE_BYTES, ws_ping_interval=20)
-    try:
-        uvicorn.Server(config).run(sockets=[sock])
-    finally:
-        app.state.hub.session.close()
+    uvicorn.Server(config).run(sockets=[sock])         # the app closes the project when it stops
