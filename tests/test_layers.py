@@ -10,7 +10,7 @@ import sketchanim
 
 PACKAGE = Path(sketchanim.__file__).parent
 #: Bottom to top.
-LAYERS = ["errors", "spline", "reducer", "motion", "anim", "io", "plot", "paper", "cli"]
+LAYERS = ["errors", "spline", "reducer", "motion", "anim", "io", "plot", "paper", "studio", "cli"]
 
 
 def layer(module: str) -> int:

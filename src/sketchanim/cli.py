@@ -712,6 +712,25 @@ def paper_command(
     console.print(f"wrote the figures to {output}/")
 
 
+@app.command("studio")
+def studio_command(
+    project: Annotated[Path, typer.Argument(help="The project file (created with a default scene if missing).")]
+    = Path("studio.sketchanim"),
+    host: Annotated[str, typer.Option(help="Address to serve on (127.0.0.1: this machine only).")] = "127.0.0.1",
+    port: Annotated[int, typer.Option(help="Port to serve on.")] = 8000,
+    browser: Annotated[bool, typer.Option("--browser/--no-browser", help="Open the page in a browser.")] = True,
+) -> None:
+    """Start the studio: perform, record, play back and layer animation in the browser."""
+    from sketchanim.studio.serve import serve
+
+    try:
+        serve(project, host, port, browser, console.print)
+    except InputError as err:
+        _fail(str(err))
+    except OSError as err:
+        _fail(f"{err.filename or f'{host}:{port}'}: {err.strerror or err}")
+
+
 def _fail(message: str) -> None:
     errors.print(Text.assemble(("error: ", "red"), message), soft_wrap=True)
     raise typer.Exit(2)

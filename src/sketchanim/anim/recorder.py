@@ -28,6 +28,7 @@ from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import BLEND, MODES, ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.anim.workers import Pool, Spec, shared_pool
 from sketchanim.errors import ArgumentError, SampleError
+from sketchanim.reducer.stream import Piece
 from sketchanim.motion.rotations import MIN_NORM
 from sketchanim.reducer.conditioning import TIME_RANGE, VALUE_RANGE
 
@@ -300,6 +301,12 @@ class Recorder:
         for w, (lo, hi) in ((w, c) for w, c in self._workers.items() if c is not None):
             self._pool.send(w, ("frames", self._take, stamp, times, x[None, lo:hi]))
 
+    def pieces(self) -> list[tuple[str, Piece]]:
+        """The pieces of curve the reducer processes finished since the last call, as
+        (path, piece), during a take (never waits): a take over a track gives pieces of
+        its targets (the take faded onto the track, :class:`.layers.Overlay`)."""
+        return self._pool.pieces(self._take) if self.recording else []
+
     @staticmethod
     def _time(t: float, last: float, index: int, where: str) -> float:
         try:
@@ -351,7 +358,8 @@ class Recorder:
                 return
 
     def stop(self, *, at: tuple[float, float] | None = None) -> dict[str, Track]:
-        """End the take: the new tracks of the armed attributes that got samples.
+        """End the take: the new tracks of the armed attributes that got samples (two
+        or more for a continuous one).
 
         ``at`` is the span of the take for discrete attributes (events recorded over it
         replace those there); by default from their first to their last sample.
@@ -365,7 +373,7 @@ class Recorder:
         raw = {}                                    # made while the reducer processes finish
         for a in self.armed.values():
             times, values, _ = self._samples(a)
-            if len(times):
+            if len(times) >= (2 if a.type.continuous else 1):     # one sample is no curve: left as it was
                 raw[a.path] = Take(times, values, a.mode, a.blend) if a.type.continuous else (times, values)
         if self._journaling is not None:
             self._journaling.join()

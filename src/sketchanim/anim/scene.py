@@ -9,6 +9,7 @@ entries in :data:`KINDS`.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -82,6 +83,13 @@ class SceneObject:
         return attribute
 
 
+#: Told of every change made through a :class:`Scene`'s methods: (what, subject, detail)
+#: with what = "add" (subject: the object), "remove" (the object), "rename" (the old
+#: name; detail: the new one) or "set" (subject: the path). Playback writes values
+#: without telling (the player owns them while it plays).
+Watcher = Callable[[str, str, str | None], None]
+
+
 class Scene:
     """Objects by name; attributes by path.
 
@@ -90,18 +98,64 @@ class Scene:
     >>> scene.set("lamp.color", [1.0, 0.5, 0.0])
     >>> scene.get("lamp.color").tolist(), scene.type("lamp.color").unit
     ([1.0, 0.5, 0.0], 'colour units')
+    >>> changes = []; scene.watch(lambda *change: changes.append(change))
+    >>> scene.rename("lamp", "sun"); scene.set("sun.intensity", [2.0]); _ = scene.remove("sun")
+    >>> changes, scene.paths()
+    ([('rename', 'lamp', 'sun'), ('set', 'sun.intensity', None), ('remove', 'sun', None)], [])
     """
 
     def __init__(self) -> None:
         self.objects: dict[str, SceneObject] = {}
+        self._watchers: list[Watcher] = []
+
+    def watch(self, watcher: Watcher) -> None:
+        """Tell ``watcher`` of every change from now on (see :data:`Watcher`)."""
+        self._watchers.append(watcher)
+
+    def _tell(self, what: str, subject: str, detail: str | None = None) -> None:
+        for watcher in self._watchers:
+            watcher(what, subject, detail)
 
     def add(self, name: str, kind: str = "object") -> SceneObject:
         """Add an object of ``kind`` ("object", "light", "camera", ...)."""
-        if name in self.objects:
-            raise ArgumentError("object", f"{name!r} exists already")
-        obj = SceneObject(name, kind)
-        self.objects[name] = obj
+        return self.insert(SceneObject(name, kind))
+
+    def insert(self, obj: SceneObject, at: int | None = None) -> SceneObject:
+        """Add ``obj`` as it is (e.g. one :meth:`remove` gave back, to undo that), at
+        place ``at`` among the objects (last by default)."""
+        if obj.name in self.objects:
+            raise ArgumentError("object", f"{obj.name!r} exists already")
+        items = list(self.objects.items())
+        items.insert(len(items) if at is None else at, (obj.name, obj))
+        self.objects = dict(items)
+        self._tell("add", obj.name)
         return obj
+
+    def index(self, name: str) -> int:
+        """The place of object ``name`` among the objects."""
+        if name not in self.objects:
+            raise ArgumentError("object", f"no object {name!r}")
+        return list(self.objects).index(name)
+
+    def remove(self, name: str) -> SceneObject:
+        """Take the object ``name`` out of the scene; it is returned, attributes and all."""
+        if name not in self.objects:
+            raise ArgumentError("object", f"no object {name!r}")
+        obj = self.objects.pop(name)
+        self._tell("remove", name)
+        return obj
+
+    def rename(self, name: str, to: str) -> None:
+        """Call the object ``name`` ``to`` (its paths become ``to.attribute``), keeping
+        its place among the objects."""
+        if name not in self.objects:
+            raise ArgumentError("object", f"no object {name!r}")
+        check_name(to, "object")
+        if to in self.objects:
+            raise ArgumentError("object", f"{to!r} exists already")
+        self.objects = {(to if k == name else k): v for k, v in self.objects.items()}
+        self.objects[to].name = to
+        self._tell("rename", name, to)
 
     def attribute(self, path: str) -> Attribute:
         """The attribute at ``path`` ("object.attribute"); :class:`ArgumentError` naming
@@ -133,3 +187,4 @@ class Scene:
         """Set the value at ``path``, checked against its type."""
         attribute = self.attribute(path)
         attribute.value = attribute.type.check(value, path)
+        self._tell("set", path)

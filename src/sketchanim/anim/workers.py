@@ -18,6 +18,10 @@ its own queue, in order:
 * ``("stop", take)``: finish the take's streams and send back a :class:`Result`;
 * ``None``: exit.
 
+While a take goes on, each piece of curve a stream finishes is sent back as
+``("piece", take, path, knots, coef)`` (:meth:`Pool.pieces` hands them out), so a
+client can draw the curve growing.
+
 A worker takes everything queued at once and feeds each stream one batch, in time
 order: the further behind it is, the bigger the batch and the cheaper each sample, so it
 catches up instead of falling further behind.
@@ -42,6 +46,7 @@ from sketchanim.anim.attributes import AttributeType
 from sketchanim.anim.layers import Overlay
 from sketchanim.motion.rotations import RotationStream
 from sketchanim.reducer import StreamReducer
+from sketchanim.reducer.stream import Piece
 
 #: Seconds a worker lets samples gather before it feeds them (about 4 frames at 120 Hz).
 GATHER = 0.03
@@ -106,16 +111,20 @@ class _Shard:
     """A worker's part of one take: its streams and the messages not yet fed. A failure
     is kept in the result (the caller then reduces those attributes from the raw take)."""
 
-    def __init__(self, take: int, worker: int, order: int, window: int, specs: list[Spec]) -> None:
+    def __init__(self, outbox: multiprocessing.Queue, take: int, worker: int, order: int, window: int,
+                 specs: list[Spec]) -> None:
         self.result = Result(take, worker)
         self.framed = [s for s in specs if s.columns is not None]
         self.streams: dict[str, StreamReducer | RotationStream] = {}
         self.overlays = {s.path: Overlay(s.type, *s.over) for s in specs if s.over is not None}
         self.pending: list[tuple] = []
         self.fed: set[str] = set()                      # streams that got samples
+        def sender(path: str) -> Callable[[Piece], None]:
+            return lambda piece: outbox.put(("piece", take, path, piece.knots, piece.coef))
+
         self._guarded(lambda: self.streams.update({
-            s.path: RotationStream(s.tol, order=order, window=window) if s.type.is_rotation
-            else StreamReducer(s.type.dim, s.tol, order=order, window=window)
+            s.path: RotationStream(s.tol, order=order, window=window, on_piece=sender(s.path)) if s.type.is_rotation
+            else StreamReducer(s.type.dim, s.tol, order=order, window=window, on_piece=sender(s.path))
             for s in specs
         }))
 
@@ -234,7 +243,7 @@ def _serve(worker: int, inbox: multiprocessing.Queue, outbox: multiprocessing.Qu
                 return
             kind, take = message[0], message[1]
             if kind == "take":
-                shards[take] = _Shard(take, worker, *message[2:])
+                shards[take] = _Shard(outbox, take, worker, *message[2:])
             elif kind == "stop":
                 outbox.put(shards.pop(take).finish())
             else:
@@ -267,6 +276,7 @@ class Pool:
         self._takes = itertools.count()
         self._lock = threading.Lock()
         self._arrived: dict[int, list[Result]] = {}
+        self._pieces: dict[int, list[tuple[str, Piece]]] = {}
 
     def new_take(self) -> int:
         """A number for a take, unique in this pool."""
@@ -280,22 +290,34 @@ class Pool:
     def alive(self) -> bool:
         return all(p.is_alive() for p in self.processes)
 
-    def results(self, take: int, count: int) -> list[Result]:
-        """Wait for the ``count`` results of ``take``; fewer if a worker died."""
+    def _sort(self, item: Result | tuple) -> None:
+        """Keep a result or a piece that came back for the take it belongs to."""
+        if isinstance(item, Result):
+            self._arrived.setdefault(item.take, []).append(item)
+        else:
+            self._pieces.setdefault(item[1], []).append((item[2], Piece(item[3], item[4])))
+
+    def pieces(self, take: int) -> list[tuple[str, Piece]]:
+        """The (path, piece) of ``take`` finished since the last call (never waits)."""
         with self._lock:
-            got = self._arrived.pop(take, [])
-            while len(got) < count:
+            while True:
                 try:
-                    result = self.outbox.get(timeout=0.1)
+                    self._sort(self.outbox.get_nowait())
+                except queue.Empty:
+                    return self._pieces.pop(take, [])
+
+    def results(self, take: int, count: int) -> list[Result]:
+        """Wait for the ``count`` results of ``take``; fewer if a worker died. Its pieces
+        not yet handed out are dropped."""
+        with self._lock:
+            while len(self._arrived.get(take, [])) < count:
+                try:
+                    self._sort(self.outbox.get(timeout=0.1))
                 except queue.Empty:
                     if not self.alive:
                         break
-                    continue
-                if result.take == take:
-                    got.append(result)
-                else:
-                    self._arrived.setdefault(result.take, []).append(result)
-            return got
+            self._pieces.pop(take, None)
+            return self._arrived.pop(take, [])
 
     def close(self) -> None:
         """Stop the workers."""

@@ -1,0 +1,141 @@
+"""The studio page in a browser (Debian's chromium, headless, WebGL through SwiftShader,
+driven by Playwright) against a real server.
+
+    .venv/bin/python benchmarks/bench_studio.py [--takes 20] [--objects 50] [--seconds 4]
+
+1. Capture: ``--takes`` drags of the box in record mode (0.4 to 1.2 s each): samples per
+   second of each take against the page's frame rate (one sample per animation frame is
+   the promise), and the release-to-final-curve latency (the release's frame to the final
+   curve in the page; target <= 100 ms), p50 / p99, with the server's share.
+2. Playback: a project of ``--objects`` objects, each with a position and an orientation
+   track (5 s, 24 control points), played in a loop for ``--seconds``: the page's
+   per-frame time to evaluate every track and write the values into the three.js scene
+   (target <= 4 ms), the whole frame's script, and the frame rate.
+
+Software WebGL draws every pixel on the CPU, so the frame rate here is bounded by
+rasterisation on this machine, not by the page's script; the script times are what a
+GPU would leave. One run; medians and p99.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+from scipy.interpolate import BSpline
+from scipy.spatial.transform import Rotation
+
+from sketchanim.anim.attributes import ORIENTATION, POSITION
+from sketchanim.anim.scene import Scene
+from sketchanim.anim.tracks import ContinuousTrack
+from sketchanim.io.project import Project
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "tests"))
+from studio_browser import drag, last_take, launch, open_page, studio_server  # noqa: E402
+
+
+def capture(browser, url: str, takes: int, rng: np.random.Generator) -> dict:  # noqa: ANN001
+    """Record ``takes`` drags; per take: samples/s, frames/s, latencies."""
+    page = open_page(browser, url)
+    page.click("[data-testid=record]")
+    rates, frames, latency, server = [], [], [], []
+    for i in range(takes):
+        page.wait_for_timeout(150)
+        start = page.evaluate("viewport.screenOf('box')")
+        steps = int(rng.integers(25, 75))
+        s = np.linspace(0, 1, steps)
+        sign = 1 if i % 2 == 0 else -1
+        drag(page, start, list(zip(sign * 120 * s, -50 * np.sin(np.pi * s))))
+        take = last_take(page)
+        stamps = np.array(take["stamps"])
+        rates.append((len(stamps) - 1) / ((stamps[-1] - stamps[0]) / 1000))
+        interval = np.array(page.evaluate("studioStats.interval"))[-len(stamps):]
+        frames.append(1000 / np.mean(interval))
+        latency.append(take["latency"])
+        server.append(page.evaluate("studio.takes.at(-1).serverMs"))
+    page.close()
+    return {"rates": np.array(rates), "frames": np.array(frames), "latency": np.array(latency),
+            "server": np.array(server, dtype=float)}
+
+
+def animated_project(path: Path, objects: int, rng: np.random.Generator) -> None:
+    """A project of ``objects`` objects with position and orientation tracks (5 s)."""
+    scene = Scene()
+    tracks = {}
+    knots = np.r_[[0.0] * 4, np.linspace(0, 5, 22)[1:-1], [5.0] * 4]
+    for i in range(objects):
+        name = f"obj{i}"
+        scene.add(name)
+        centre = np.array([(i % 10) - 4.5, 0.5, (i // 10) - 2.0])
+        pos = centre + 0.4 * rng.standard_normal((24, 3))
+        quat = Rotation.from_rotvec(rng.standard_normal((24, 3))).as_quat()
+        tracks[f"{name}.position"] = ContinuousTrack(f"{name}.position", POSITION, BSpline(knots, pos, 3), 0.005)
+        tracks[f"{name}.orientation"] = ContinuousTrack(f"{name}.orientation", ORIENTATION, BSpline(knots, quat, 3), 0.5)
+    scene.add("lamp", "light").attributes["position"].value = np.array([2.0, 5.0, 4.0])
+    scene.add("cam", "camera").attributes["position"].value = np.array([0.0, 2.0, 9.0])
+    with Project(path) as project:
+        project.save(scene, tracks)
+
+
+def playback(browser, url: str, seconds: float) -> dict:  # noqa: ANN001
+    """Loop the animation for ``seconds``; the page's per-frame timings."""
+    page = open_page(browser, url)
+    page.evaluate("studio.setLoop([0, 5]); studio.seek(0); studio.play()")
+    page.wait_for_timeout(500)
+    page.evaluate("for (const k of Object.keys(studioStats)) studioStats[k].length = 0")
+    page.wait_for_timeout(int(seconds * 1000))
+    stats = page.evaluate("studioStats")
+    tracks = page.evaluate("studio.packed.paths.length")
+    page.close()
+    return {k: np.array(v) for k, v in stats.items()} | {"tracks": tracks}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--takes", type=int, default=20)
+    parser.add_argument("--objects", type=int, default=50)
+    parser.add_argument("--seconds", type=float, default=4.0)
+    args = parser.parse_args()
+    from playwright.sync_api import sync_playwright
+
+    rng = np.random.default_rng(7)
+    console = Console()
+    with tempfile.TemporaryDirectory() as tmp, sync_playwright() as p:
+        browser = launch(p)
+        with studio_server(Path(tmp) / "capture.sketchanim") as url:
+            cap = capture(browser, url, args.takes, rng)
+        animated_project(Path(tmp) / "play.sketchanim", args.objects, rng)
+        with studio_server(Path(tmp) / "play.sketchanim") as url:
+            play = playback(browser, url, args.seconds)
+        browser.close()
+
+    table = Table(title=f"Capture: {args.takes} drags in record mode (chromium, SwiftShader)")
+    for col in ("measure", "p50", "p99", "target"):
+        table.add_column(col, justify="right" if col != "measure" else "left")
+    ratio = cap["rates"] / cap["frames"]
+    table.add_row("samples / s of a take", f"{np.median(cap['rates']):.1f}", f"{np.percentile(cap['rates'], 1):.1f} (p1)", "")
+    table.add_row("page frames / s meanwhile", f"{np.median(cap['frames']):.1f}", f"{np.percentile(cap['frames'], 1):.1f} (p1)", "")
+    table.add_row("capture rate / frame rate", f"{np.median(ratio):.3f}", f"{np.percentile(ratio, 1):.3f} (p1)", "1")
+    table.add_row("release to final curve, ms", f"{np.median(cap['latency']):.1f}", f"{np.percentile(cap['latency'], 99):.1f}", "<= 100")
+    table.add_row("  of which the server, ms", f"{np.median(cap['server']):.1f}", f"{np.percentile(cap['server'], 99):.1f}", "")
+    console.print(table)
+
+    table = Table(title=f"Playback: {args.objects} animated objects ({play['tracks']} tracks), looping {args.seconds:g} s")
+    for col in ("per frame", "median ms", "p99 ms", "target"):
+        table.add_column(col, justify="right" if col != "per frame" else "left")
+    table.add_row("evaluate + write every track", f"{np.median(play['play']):.3f}", f"{np.percentile(play['play'], 99):.3f}", "<= 4")
+    table.add_row("whole frame's script", f"{np.median(play['script']):.3f}", f"{np.percentile(play['script'], 99):.3f}", "")
+    table.add_row("  of which render calls", f"{np.median(play['render']):.3f}", f"{np.percentile(play['render'], 99):.3f}", "")
+    fps = 1000 / np.median(play["interval"])
+    table.add_row("frame rate (frames / s)", f"{fps:.1f}", f"{1000 / np.percentile(play['interval'], 99):.1f} (slowest 1%)", "60")
+    console.print(table)
+
+
+if __name__ == "__main__":
+    main()

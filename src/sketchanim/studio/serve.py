@@ -1,0 +1,46 @@
+"""Serving the studio: the app on uvicorn, the URL printed, the page opened."""
+
+from __future__ import annotations
+
+import os
+import socket
+import sys
+import threading
+import webbrowser
+from collections.abc import Callable
+from pathlib import Path
+
+from sketchanim.studio.app import create_app
+from sketchanim.studio.protocol import MAX_MESSAGE_BYTES
+
+
+def has_display() -> bool:
+    """Whether a browser could be shown (a desktop session, or not Linux/BSD).
+
+    >>> isinstance(has_display(), bool)
+    True
+    """
+    if sys.platform.startswith(("linux", "freebsd", "openbsd")):
+        return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+    return True
+
+
+def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str], object] = print) -> None:
+    """Serve the studio for ``project`` on ``host:port`` until interrupted; open the page
+    in a browser if ``browser`` and there is a display. The port is bound first, so a
+    busy one fails here (:class:`OSError`) before anything else starts."""
+    import uvicorn
+
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    sock.bind((host, port))
+    loopback = host in ("127.0.0.1", "localhost", "::1") or host.startswith("127.")
+    app = create_app(project, hosts=["127.0.0.1", "localhost", "[::1]", host] if loopback else None, close=True)
+    shown = f"[{host}]" if ":" in host else host
+    url = f"http://{'127.0.0.1' if host in ('0.0.0.0', '::') else shown}:{sock.getsockname()[1]}/"
+    say(f"sketchanim studio: {Path(project).resolve()} at {url} (Ctrl-C stops it)")
+    if browser and has_display():
+        threading.Timer(1.0, webbrowser.open, (url,)).start()
+    config = uvicorn.Config(app, log_level="warning", ws_max_size=4 * MAX_MESSAGE_BYTES, ws_ping_interval=20)
+    uvicorn.Server(config).run(sockets=[sock])         # the app closes the project when it stops

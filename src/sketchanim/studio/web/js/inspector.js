@@ -1,0 +1,195 @@
+// @ts-check
+/**
+ * The inspector: the selected object's attributes. Numbers for positions, scales and
+ * orientations (shown as XYZ Euler angles in degrees); sliders for the other floats
+ * (intensity, field of view, any float attribute) and a colour picker for colours: a
+ * drag of one is a hold of its attribute, so in record mode it records a take of it.
+ * A click on an attribute's name shows it in the curve view.
+ */
+import * as THREE from 'three';
+import { el } from './timeline.js';
+
+/** Slider ranges by attribute type. */
+const RANGES = { intensity: [0, 5, 0.01], fov: [10, 120, 0.1] };
+const LABELS = { position: 'x y z', scale: 'x y z', orientation: 'x° y° z°' };
+
+export class Inspector {
+  /**
+   * @param {import('./Studio.js').Studio} studio
+   * @param {HTMLElement} root
+   */
+  constructor(studio, root) {
+    this.studio = studio;
+    this.head = el('div', { class: 'panel-head' }, 'Inspector');
+    this.body = el('div', { class: 'inspector', 'data-testid': 'inspector' });
+    root.append(this.head, this.body);
+    /** @type {Map<string, () => void>} what refreshes each row from the current values */
+    this.refreshers = new Map();
+    this.lastRefresh = 0;
+    for (const signal of ['state', 'selection', 'tracks', 'attribute']) studio.on(signal, () => this.show());
+    studio.on('frame', (now) => {
+      if (now - this.lastRefresh > 100) this.refresh(now);
+    });
+    studio.on('values', () => this.refresh(performance.now()));
+  }
+
+  /** @param {number} now */
+  refresh(now) {
+    this.lastRefresh = now;
+    for (const refresh of this.refreshers.values()) refresh();
+  }
+
+  show() {
+    const s = this.studio;
+    this.refreshers.clear();
+    const obj = s.selected ? s.objectOf(s.selected) : null;
+    this.head.textContent = obj ? `${obj.name} · ${obj.kind}` : 'Inspector';
+    if (!obj) {
+      this.body.replaceChildren(el('p', { class: 'hint' }, 'Click an object in the view or the list to select it. Drag it to move it; turn REC on first to record the move.'));
+      return;
+    }
+    this.body.replaceChildren(...obj.attributes.map((a) => this.row(obj.name, a.name, a.type)));
+  }
+
+  /**
+   * @param {string} name
+   * @param {string} attr
+   * @param {import('./Studio.js').AttrType} type
+   */
+  row(name, attr, type) {
+    const s = this.studio;
+    const path = `${name}.${attr}`;
+    const row = el('div', { class: 'row', 'data-path': path });
+    const animated = s.tracks.has(path);
+    const label = el('button', { class: `attr${attr === s.attribute ? ' shown' : ''}`, title: type.continuous ? `Show ${path} in the curve view` : path },
+      `${animated ? '● ' : ''}${attr}`);
+    label.classList.toggle('animated', animated);
+    if (type.continuous) {
+      label.addEventListener('click', () => {
+        s.attribute = attr;
+        s.emit('attribute');
+      });
+    }
+    row.append(label);
+    const editor = this.editor(path, attr, type);
+    row.append(editor);
+    return row;
+  }
+
+  /**
+   * @param {string} path
+   * @param {string} attr
+   * @param {import('./Studio.js').AttrType} type
+   * @returns {HTMLElement}
+   */
+  editor(path, attr, type) {
+    const s = this.studio;
+    const value = () => s.values.get(path);
+    if (type.name === 'bool') {
+      const box = /** @type {HTMLInputElement} */ (el('input', { type: 'checkbox', 'data-testid': `edit-${path}` }));
+      box.addEventListener('change', () => s.set(path, box.checked, `set ${path}`));
+      this.refreshers.set(path, () => { box.checked = !!value(); });
+      return box;
+    }
+    if (type.name === 'enum') {
+      const select = /** @type {HTMLSelectElement} */ (el('select', { 'data-testid': `edit-${path}` }));
+      for (const c of type.choices) select.append(el('option', { value: c }, c));
+      select.addEventListener('change', () => s.set(path, select.value, `set ${path}`));
+      this.refreshers.set(path, () => { if (document.activeElement !== select) select.value = value(); });
+      return select;
+    }
+    if (!type.continuous) return el('span', { class: 'hint' }, type.name);
+    if (type.name === 'color') return this.colour(path);
+    if (type.dim === 1) return this.slider(path, type);
+    return this.numbers(path, attr, type);
+  }
+
+  /**
+   * A slider and its number: a drag is a hold (a take in record mode).
+   * @param {string} path
+   * @param {import('./Studio.js').AttrType} type
+   */
+  slider(path, type) {
+    const s = this.studio;
+    const v = s.values.get(path)[0];
+    const [lo, hi, step] = RANGES[/** @type {keyof RANGES} */ (type.name)]
+      ?? [Math.min(0, Math.floor(v - 1)), Math.max(1, Math.ceil(v + 1)), 0.001];
+    const wrap = el('div', { class: 'slider' });
+    const range = /** @type {HTMLInputElement} */ (el('input', { type: 'range', min: String(lo), max: String(hi), step: String(step), 'data-testid': `slider-${path}` }));
+    const readout = el('span', { class: 'num' });
+    range.addEventListener('pointerdown', () => s.hold([path], `slide ${path}`));
+    range.addEventListener('input', () => {
+      if (!s.grab) s.hold([path], `slide ${path}`);        // the keyboard
+      s.setLocal(path, [Number(range.value)]);
+    });
+    const done = () => { if (s.grab?.paths[0] === path) s.release(); };
+    range.addEventListener('pointerup', done);
+    range.addEventListener('change', done);
+    range.addEventListener('lostpointercapture', done);
+    this.refreshers.set(path, () => {
+      const x = s.values.get(path)[0];
+      if (s.grab?.paths[0] !== path) range.value = String(x);
+      readout.textContent = `${x.toFixed(type.name === 'fov' ? 1 : 2)}${type.unit === 'degrees' ? '°' : ''}`;
+    });
+    this.refreshers.get(path)?.();
+    wrap.append(range, readout);
+    return wrap;
+  }
+
+  /**
+   * A colour picker (linear RGB in the model, sRGB in the picker).
+   * @param {string} path
+   */
+  colour(path) {
+    const s = this.studio;
+    const picker = /** @type {HTMLInputElement} */ (el('input', { type: 'color', 'data-testid': `color-${path}` }));
+    const c = new THREE.Color();
+    picker.addEventListener('input', () => {
+      if (!s.grab) s.hold([path], `colour ${path}`);
+      c.set(picker.value);
+      s.setLocal(path, [c.r, c.g, c.b]);
+    });
+    picker.addEventListener('change', () => { if (s.grab?.paths[0] === path) s.release(); });
+    this.refreshers.set(path, () => {
+      const v = s.values.get(path);
+      if (s.grab?.paths[0] !== path) picker.value = `#${c.setRGB(v[0], v[1], v[2]).getHexString()}`;
+    });
+    this.refreshers.get(path)?.();
+    return picker;
+  }
+
+  /**
+   * Number fields (orientations as XYZ Euler degrees); an edit is one undoable step.
+   * @param {string} path
+   * @param {string} attr
+   * @param {import('./Studio.js').AttrType} type
+   */
+  numbers(path, attr, type) {
+    const s = this.studio;
+    const wrap = el('div', { class: 'numbers', title: LABELS[/** @type {keyof LABELS} */ (attr)] ?? '' });
+    const n = type.name === 'orientation' ? 3 : type.dim;
+    const fields = Array.from({ length: n }, (_, i) => {
+      const f = /** @type {HTMLInputElement} */ (el('input', { type: 'number', step: type.name === 'orientation' ? '1' : '0.01', 'data-testid': `edit-${path}-${i}` }));
+      f.addEventListener('change', () => {
+        const xs = fields.map((g) => Number(g.value));
+        if (!xs.every(Number.isFinite)) return;
+        const value = type.name === 'orientation'
+          ? new THREE.Quaternion().setFromEuler(new THREE.Euler(...xs.map(THREE.MathUtils.degToRad))).toArray()
+          : xs;
+        s.set(path, value, `set ${path}`);
+      });
+      return f;
+    });
+    const e = new THREE.Euler();
+    this.refreshers.set(path, () => {
+      const v = s.values.get(path);
+      const xs = type.name === 'orientation'
+        ? e.setFromQuaternion(new THREE.Quaternion(v[0], v[1], v[2], v[3])).toArray().slice(0, 3).map((r) => THREE.MathUtils.radToDeg(/** @type {number} */ (r)))
+        : v;
+      fields.forEach((f, i) => { if (document.activeElement !== f) f.value = Number(xs[i]).toFixed(type.name === 'orientation' ? 1 : 2); });
+    });
+    this.refreshers.get(path)?.();
+    wrap.append(...fields);
+    return wrap;
+  }
+}

@@ -1,0 +1,398 @@
+// @ts-check
+/**
+ * The 3D view: the scene drawn with three.js (floor grid, objects, lights, cameras), with
+ * direct manipulation (press on an object and drag: it follows the pointer in the plane
+ * facing the view), translate / rotate / scale gizmos (W, E, S), orbit / pan / zoom, a
+ * gamepad or 3D mouse moving and turning the selected object, and a preview of the scene
+ * camera's view in a corner.
+ */
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { TransformControls } from 'three/addons/controls/TransformControls.js';
+import { active, applyPad, readPad } from './gamepad.js';
+
+const PALETTE = [0xe07a5f, 0x81b29a, 0xf2cc8f, 0x6d9dc5, 0xb388eb, 0xf28482, 0x84a59d];
+/** three.js intensity (candela) of a light of intensity 1: a clear pool of light on the floor. */
+const LIGHT_SCALE = 6;
+/** Real seconds a device rests before its hold (and take) ends. */
+const PAD_REST = 0.3;
+
+/**
+ * @typedef {object} Node  What draws one scene object.
+ * @property {string} name
+ * @property {string} kind
+ * @property {THREE.Object3D} root     carries position, orientation, scale
+ * @property {THREE.Mesh[]} pick       what the pointer can grab
+ * @property {THREE.SpotLight} [light]
+ * @property {THREE.PerspectiveCamera} [camera]
+ * @property {THREE.PerspectiveCamera} [frustum] a short copy of the camera, drawn by the helper
+ * @property {THREE.CameraHelper} [helper]
+ */
+
+/** @param {string} shape */
+function geometry(shape) {
+  switch (shape) {
+    case 'sphere': return new THREE.SphereGeometry(0.45, 32, 16);
+    case 'cone': return new THREE.ConeGeometry(0.45, 0.9, 32);
+    case 'cylinder': return new THREE.CylinderGeometry(0.4, 0.4, 0.9, 32);
+    case 'torus': return new THREE.TorusGeometry(0.35, 0.14, 16, 48);
+    default: return new THREE.BoxGeometry(0.8, 0.8, 0.8);
+  }
+}
+
+/** Whether WebGL runs on a software rasteriser (SwiftShader, llvmpipe): no GPU to spare. */
+function softwareGL() {
+  const gl = document.createElement('canvas').getContext('webgl2');
+  const info = gl?.getExtension('WEBGL_debug_renderer_info');
+  const name = gl && info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : '';
+  gl?.getExtension('WEBGL_lose_context')?.loseContext();
+  return /swiftshader|llvmpipe|software/i.test(name);
+}
+
+export class Viewport {
+  /**
+   * @param {import('./Studio.js').Studio} studio
+   * @param {HTMLElement} container
+   */
+  constructor(studio, container) {
+    this.studio = studio;
+    this.container = container;
+    const software = softwareGL();                        // a CPU rasteriser: cheaper settings keep frames coming
+    this.renderer = new THREE.WebGLRenderer({ antialias: !software });
+    this.renderer.setPixelRatio(software ? 1 : Math.min(window.devicePixelRatio, 2));
+    this.renderer.domElement.dataset.testid = 'viewport';
+    container.appendChild(this.renderer.domElement);
+    this.insetFrame = document.createElement('div');
+    this.insetFrame.className = 'inset';
+    this.insetFrame.hidden = true;
+    container.appendChild(this.insetFrame);
+    this.insetKey = '';
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(0x1b1e24);
+    this.scene.add(new THREE.GridHelper(20, 20, 0x6a7180, 0x353a44));
+    const floor = new THREE.Mesh(new THREE.PlaneGeometry(20, 20), new THREE.MeshStandardMaterial({ color: 0x23272f, roughness: 1 }));
+    floor.rotation.x = -Math.PI / 2;
+    floor.position.y = -0.002;
+    this.scene.add(floor);
+    this.scene.add(new THREE.HemisphereLight(0xdde6ff, 0x2a2520, 0.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 0.35);
+    sun.position.set(3, 8, 5);
+    this.scene.add(sun);
+    this.camera = new THREE.PerspectiveCamera(45, 1, 0.05, 500);
+    this.camera.position.set(4.5, 3.5, 7);
+    this.orbit = new OrbitControls(this.camera, this.renderer.domElement);
+    this.orbit.enableDamping = false;
+    this.transform = new TransformControls(this.camera, this.renderer.domElement);
+    this.transform.setSize(0.8);
+    this.scene.add(this.transform.getHelper());
+    this.selection = new THREE.BoxHelper(new THREE.Object3D(), 0xffc640);
+    this.selection.visible = false;
+    this.scene.add(this.selection);
+    /** @type {Map<string, Node>} */
+    this.nodes = new Map();
+    this.raycaster = new THREE.Raycaster();
+    this.previewCamera = true;
+    this.aimed = false;
+    /** @type {{name: string, plane: THREE.Plane, offset: THREE.Vector3, x: number, y: number} | null} */
+    this.drag = null;
+    /** @type {{idle: number} | null} the device's hold */
+    this.pad = null;
+    this.drawn = 0;
+    studio.sinks.push((path, value) => this.apply(path, value));
+    studio.on('state', () => this.build());
+    studio.on('selection', () => this.showSelection());
+    studio.on('frame', () => this.poll());
+    this.bind();
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.resize();
+  }
+
+  // -- the scene --------------------------------------------------------------------------
+
+  build() {
+    for (const node of this.nodes.values()) {
+      node.root.removeFromParent();
+      node.helper?.removeFromParent();
+    }
+    this.nodes.clear();
+    this.studio.objects.forEach((obj, i) => {
+      const root = new THREE.Group();
+      root.name = obj.name;
+      /** @type {Node} */
+      const node = { name: obj.name, kind: obj.kind, root, pick: [] };
+      if (obj.kind === 'light') {
+        const light = new THREE.SpotLight(0xffffff, 1, 0, Math.PI / 5, 0.4, 0);
+        light.target.position.set(0, 0, -1);
+        root.add(light, light.target);
+        const bulb = new THREE.Mesh(new THREE.SphereGeometry(0.16, 24, 12), new THREE.MeshBasicMaterial({ color: 0xffffff }));
+        const beam = new THREE.Mesh(new THREE.ConeGeometry(0.22, 0.4, 24, 1, true),
+          new THREE.MeshBasicMaterial({ color: 0xffffff, wireframe: true, transparent: true, opacity: 0.5 }));
+        beam.rotation.x = Math.PI / 2;
+        beam.position.z = -0.25;
+        root.add(bulb, beam);
+        node.light = light;
+        node.pick = [bulb, beam];
+      } else if (obj.kind === 'camera') {
+        const camera = new THREE.PerspectiveCamera(50, 16 / 9, 0.1, 100);
+        root.add(camera);
+        const body = new THREE.Mesh(new THREE.BoxGeometry(0.3, 0.22, 0.36), new THREE.MeshStandardMaterial({ color: 0x8a93a6 }));
+        const lens = new THREE.Mesh(new THREE.CylinderGeometry(0.08, 0.1, 0.14, 20), new THREE.MeshStandardMaterial({ color: 0x30343c }));
+        lens.rotation.x = Math.PI / 2;
+        lens.position.z = -0.24;
+        root.add(body, lens);
+        node.camera = camera;
+        const frustum = new THREE.PerspectiveCamera(50, 16 / 9, 0.1, 1.2);   // the helper's: a short frustum
+        root.add(frustum);
+        node.frustum = frustum;
+        node.helper = new THREE.CameraHelper(frustum);
+        this.scene.add(node.helper);
+        node.pick = [body, lens];
+      } else {
+        const mesh = new THREE.Mesh(geometry('box'), new THREE.MeshStandardMaterial({ color: PALETTE[i % PALETTE.length], roughness: 0.55 }));
+        root.add(mesh);
+        node.pick = [mesh];
+      }
+      for (const mesh of node.pick) mesh.userData.object = obj.name;
+      this.scene.add(root);
+      this.nodes.set(obj.name, node);
+      for (const a of obj.attributes) this.apply(`${obj.name}.${a.name}`, this.studio.values.get(`${obj.name}.${a.name}`));
+    });
+    if (!this.aimed) this.aim();
+    this.showSelection();
+  }
+
+  /** Look at the box (or the scene's first object) from the front, once. */
+  aim() {
+    const node = this.nodes.get('box') ?? [...this.nodes.values()].find((n) => n.kind === 'object');
+    if (!node) return;
+    this.aimed = true;
+    const target = node.root.position.clone();
+    this.orbit.target.copy(target);
+    this.camera.position.copy(target).add(new THREE.Vector3(4.5, 4, 8.5));
+    this.camera.lookAt(target);
+    this.orbit.update();
+  }
+
+  /**
+   * Draw one value.
+   * @param {string} path
+   * @param {any} value
+   */
+  apply(path, value) {
+    const dot = path.indexOf('.');
+    const node = this.nodes.get(path.slice(0, dot));
+    if (!node || value == null) return;
+    const attr = path.slice(dot + 1);
+    const root = node.root;
+    if (attr === 'position') root.position.set(value[0], value[1], value[2]);
+    else if (attr === 'orientation') root.quaternion.set(value[0], value[1], value[2], value[3]);
+    else if (attr === 'scale') root.scale.set(value[0], value[1], value[2]);
+    else if (attr === 'visible') root.visible = value;
+    else if (attr === 'shape' && node.kind === 'object') {
+      const mesh = node.pick[0];
+      mesh.geometry.dispose();
+      mesh.geometry = geometry(value);
+    } else if (node.light && attr === 'color') {
+      node.light.color.setRGB(value[0], value[1], value[2]);
+      for (const mesh of node.pick) /** @type {THREE.MeshBasicMaterial} */ (mesh.material).color.setRGB(value[0], value[1], value[2]);
+    } else if (node.light && attr === 'intensity') node.light.intensity = value[0] * LIGHT_SCALE;
+    else if (node.light && attr === 'on') node.light.visible = value;
+    else if (node.camera && attr === 'fov') {
+      for (const cam of [node.camera, node.frustum]) {
+        if (!cam) continue;
+        cam.fov = value[0];
+        cam.updateProjectionMatrix();
+      }
+    }
+  }
+
+  showSelection() {
+    const node = this.studio.selected ? this.nodes.get(this.studio.selected) : null;
+    if (node) {
+      this.transform.attach(node.root);
+      this.selection.setFromObject(node.root);
+      this.selection.visible = true;
+    } else {
+      this.transform.detach();
+      this.selection.visible = false;
+    }
+  }
+
+  // -- the pointer ------------------------------------------------------------------------
+
+  bind() {
+    const el = this.renderer.domElement;
+    el.addEventListener('pointerdown', (e) => this.press(e), { capture: true });   // before the controls
+    el.addEventListener('pointermove', (e) => this.move(e));
+    el.addEventListener('pointerup', (e) => this.lift(e));
+    el.addEventListener('pointercancel', (e) => this.lift(e));
+    this.transform.addEventListener('dragging-changed', (e) => { this.orbit.enabled = !e.value; });
+    this.transform.addEventListener('mouseDown', () => {
+      const name = this.studio.selected;
+      if (!name) return;
+      const attr = { translate: 'position', rotate: 'orientation', scale: 'scale' }[this.transform.mode];
+      this.studio.hold([`${name}.${attr}`], `${this.transform.mode} ${name}`);
+    });
+    this.transform.addEventListener('objectChange', () => {
+      const grab = this.studio.grab;
+      const node = this.studio.selected ? this.nodes.get(this.studio.selected) : null;
+      if (!grab || !node) return;
+      const r = node.root;
+      for (const path of grab.paths) {
+        if (path.endsWith('.position')) this.studio.setLocal(path, r.position.toArray());
+        if (path.endsWith('.orientation')) this.studio.setLocal(path, r.quaternion.toArray());
+        if (path.endsWith('.scale')) this.studio.setLocal(path, r.scale.toArray());
+      }
+    });
+    this.transform.addEventListener('mouseUp', () => this.studio.release());
+    window.addEventListener('keydown', (e) => {
+      if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;
+      const mode = { w: 'translate', e: 'rotate', s: 'scale' }[e.key];
+      if (mode && !e.ctrlKey && !e.metaKey) this.transform.setMode(/** @type {'translate'|'rotate'|'scale'} */ (mode));
+    });
+  }
+
+  /** @param {PointerEvent} e */
+  ray(e) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((e.clientX - rect.left) / rect.width) * 2 - 1, -((e.clientY - rect.top) / rect.height) * 2 + 1);
+    this.raycaster.setFromCamera(ndc, this.camera);
+    return this.raycaster;
+  }
+
+  /** @param {PointerEvent} e */
+  press(e) {
+    if (e.button !== 0 || this.transform.dragging || this.transform.axis !== null) return;
+    const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => n.pick);
+    const hit = this.ray(e).intersectObjects(meshes, false)[0];
+    this.downAt = { x: e.clientX, y: e.clientY };
+    if (!hit) return;
+    const name = hit.object.userData.object;
+    const node = /** @type {Node} */ (this.nodes.get(name));
+    const normal = this.camera.getWorldDirection(new THREE.Vector3());
+    const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.point);
+    this.drag = { name, plane, offset: node.root.position.clone().sub(hit.point), x: e.clientX, y: e.clientY };
+    this.orbit.enabled = false;
+    this.renderer.domElement.setPointerCapture(e.pointerId);
+    if (this.studio.selected !== name) this.studio.select(name);
+    this.studio.hold([`${name}.position`], `move ${name}`);
+    e.stopImmediatePropagation();
+  }
+
+  /** @param {PointerEvent} e */
+  move(e) {
+    if (!this.drag) return;
+    const point = this.ray(e).ray.intersectPlane(this.drag.plane, new THREE.Vector3());
+    if (point) this.studio.setLocal(`${this.drag.name}.position`, point.add(this.drag.offset).toArray());
+  }
+
+  /** @param {PointerEvent} e */
+  lift(e) {
+    if (this.drag) {
+      this.drag = null;
+      this.orbit.enabled = true;
+      this.studio.release();
+    } else if (this.downAt && Math.hypot(e.clientX - this.downAt.x, e.clientY - this.downAt.y) < 4 && !this.transform.dragging && this.transform.axis === null) {
+      this.studio.select(null);                         // a click on nothing
+    }
+    this.downAt = null;
+  }
+
+  /**
+   * The page coordinates of an object's centre (for tests and tools).
+   * @param {string} name
+   * @returns {{x: number, y: number} | null}
+   */
+  screenOf(name) {
+    const node = this.nodes.get(name);
+    if (!node) return null;
+    const p = node.root.getWorldPosition(new THREE.Vector3()).project(this.camera);
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height };
+  }
+
+  // -- a gamepad or 3D mouse ----------------------------------------------------------------
+
+  /** Each frame: a device at work moves the selected object (a hold: a take in record mode). */
+  poll() {
+    const pads = navigator.getGamepads ? [...navigator.getGamepads()].filter(Boolean) : [];
+    const pad = /** @type {Gamepad | undefined} */ (pads[0]);
+    const name = this.studio.selected;
+    if (!pad || !name || !this.nodes.has(name)) return;
+    if (this.pad && this.pad.idle >= PAD_REST) {
+      this.pad = null;
+      this.studio.release();
+      return;
+    }
+    if (this.pad || this.studio.grab || !active(readPad(pad))) return;
+    const state = { idle: 0 };
+    this.pad = state;
+    const paths = [`${name}.position`, `${name}.orientation`];
+    const grab = this.studio.hold(paths, `steer ${name}`, (dt) => {
+      const current = /** @type {Gamepad | undefined} */ ([...navigator.getGamepads()].filter(Boolean)[0]);
+      const input = current ? readPad(current) : { move: [0, 0, 0], turn: [0, 0, 0] };
+      state.idle = active(/** @type {any} */ (input)) ? 0 : state.idle + dt;
+      const next = applyPad(this.studio.values.get(paths[0]), this.studio.values.get(paths[1]),
+        /** @type {any} */ (input), dt, this.camera.quaternion.toArray());
+      this.studio.setLocal(paths[0], next.position);
+      this.studio.setLocal(paths[1], next.orientation);
+    });
+    grab.changed = true;
+  }
+
+  // -- drawing ------------------------------------------------------------------------------
+
+  /**
+   * Frame and name the camera preview (an element over the canvas).
+   * @param {{left: number, top: number, width: number, height: number} | null} box
+   * @param {string} name
+   */
+  showInset(box, name) {
+    const key = box ? `${box.left},${box.top},${box.width},${box.height},${name}` : '';
+    if (key === this.insetKey) return;
+    this.insetKey = key;
+    this.insetFrame.hidden = !box;
+    if (!box) return;
+    Object.assign(this.insetFrame.style, { left: `${box.left}px`, top: `${box.top}px`, width: `${box.width}px`, height: `${box.height}px` });
+    this.insetFrame.textContent = `${name} view (C hides)`;
+  }
+
+  resize() {
+    const w = Math.max(this.container.clientWidth, 1);
+    const h = Math.max(this.container.clientHeight, 1);
+    this.renderer.setSize(w, h);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+  }
+
+  render() {
+    const r = this.renderer;
+    const size = r.getSize(new THREE.Vector2());
+    if (this.selection.visible) {
+      const node = this.studio.selected ? this.nodes.get(this.studio.selected) : null;
+      if (node) this.selection.setFromObject(node.root);
+    }
+    for (const node of this.nodes.values()) node.helper?.update();
+    r.setScissorTest(false);
+    r.setViewport(0, 0, size.x, size.y);
+    r.render(this.scene, this.camera);
+    const cam = [...this.nodes.values()].find((n) => n.camera);
+    if (this.previewCamera && cam?.camera) {
+      const w = Math.round(size.x * 0.26);
+      const h = Math.round(w / cam.camera.aspect);
+      const x = size.x - w - 12;
+      const y = 12;
+      r.setScissorTest(true);
+      r.setScissor(x, y, w, h);
+      r.setViewport(x, y, w, h);
+      const hidden = [cam.helper, this.transform.getHelper(), this.selection, cam.root];
+      const was = hidden.map((o) => o?.visible);
+      hidden.forEach((o) => o && (o.visible = false));
+      r.render(this.scene, cam.camera);
+      hidden.forEach((o, i) => o && (o.visible = /** @type {boolean} */ (was[i])));
+      r.setScissorTest(false);
+      this.showInset({ left: x, top: size.y - y - h, width: w, height: h }, cam.name);
+    } else this.showInset(null, '');
+    this.drawn += 1;
+  }
+}

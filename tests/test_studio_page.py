@@ -1,0 +1,280 @@
+"""The studio page in a real browser (Debian's chromium, headless, WebGL through
+SwiftShader, driven by Playwright) against a real server on a fresh project. Every test
+also checks that the page drew something (a screenshot that is not uniform), so a page
+without a WebGL context cannot pass."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from studio_browser import curve, drag, drew_something, held, last_take, launch, open_page, project, studio_server
+from studio_browser import viewport_drew
+
+playwright_api = pytest.importorskip("playwright.sync_api", reason="playwright is a dev dependency (scripts/setup)")
+
+
+@pytest.fixture(scope="module")
+def browser():  # noqa: ANN201
+    with playwright_api.sync_playwright() as p:
+        b = launch(p)
+        yield b
+        b.close()
+
+
+@pytest.fixture
+def studio(tmp_path: Path):  # noqa: ANN201
+    with studio_server(tmp_path / "studio.sketchanim") as url:
+        yield url
+
+
+@pytest.fixture
+def _page(browser):  # noqa: ANN001, ANN201
+    """Opens pages on a studio (checking they drew something); closes them after the test,
+    so no page reconnects to the next test's server."""
+    pages = []
+
+    def opener(url: str, init_script: str | None = None):  # noqa: ANN202
+        page = open_page(browser, url, init_script)
+        pages.append(page)
+        assert drew_something(page) > 5 and viewport_drew(page) > 5, "the page drew nothing"
+        return page
+
+    yield opener
+    for page in pages:
+        page.close()
+
+
+def _record_drag(page, name: str, offsets: list[tuple[float, float]]) -> dict:  # noqa: ANN001
+    """Drag an object in record mode; the take as the page sent it."""
+    page.wait_for_timeout(100)
+    start = page.evaluate(f"viewport.screenOf('{name}')")
+    drag(page, start, offsets)
+    return last_take(page)
+
+
+def _record_once(page, name: str, offsets: list[tuple[float, float]]) -> dict:  # noqa: ANN001
+    """Record mode on, one drag of ``name``, record mode off; the take."""
+    page.click("[data-testid=record]")
+    take = _record_drag(page, name, offsets)
+    page.click("[data-testid=record]")
+    return take
+
+
+def _sweep(n: int = 45, dx: float = 160, dy: float = -60) -> list[tuple[float, float]]:
+    s = np.linspace(0, 1, n)
+    return list(zip(dx * s, dy * np.sin(np.pi * s)))
+
+
+#: The seconds of fade after a stall (a step between samples longer than the take's ``gap``:
+#: the server fades the part after it in over the blend).
+BLEND = 0.1
+
+
+def _smoothstep(u: np.ndarray) -> np.ndarray:
+    u = np.clip(u, 0.0, 1.0)
+    return u * u * (3 - 2 * u)
+
+
+def _check_within(take: dict, doc: dict, path: str, below=None) -> np.ndarray:  # noqa: ANN001
+    """The track at ``path`` plays every sample the page sent within its tolerance
+    (except within the blend after a stall, where the curve fades in from its hold); the
+    sample times (transport seconds from the browser's clock) are the raw takes'. A take
+    punched in over the curve ``below`` is checked against its documented targets: the
+    samples faded in and out of ``below`` over the blend (smoothstep) at its seams."""
+    assert take["label"] and not take["errors"], f"the take was refused: {take['errors']}"
+    found = curve(doc, path)
+    assert found is not None, f"no track for {path}"
+    spline, entry = found
+    j = take["paths"].index(path)
+    lo = sum(take["dims"][:j])
+    rows = np.array(take["rows"])[:, lo : lo + take["dims"][j]]
+    times = np.array(take["times"])
+    cuts = np.r_[0, np.flatnonzero(np.diff(times) > take["gap"]) + 1, len(times)]
+    parts = [slice(i, j) for i, j in zip(cuts[:-1], cuts[1:]) if j - i >= 2]   # a lone sample is no take
+    kept = np.zeros(len(times), dtype=bool)
+    for part in parts:
+        kept[part] = True
+    resumed = times[1:][np.diff(times) > take["gap"]]
+    fading = np.zeros(len(times), dtype=bool)
+    for t in resumed:
+        fading |= (times >= t) & (times < t + BLEND)
+    played = held(spline, times)
+    if below is not None:                   # each part (between stalls) is punched in on its own
+        w = np.ones(len(times))
+        for part in parts:
+            i, j = part.start, part.stop
+            t = times[i:j]
+            blend = min(BLEND, (t[-1] - t[0]) / 2)
+            w[i:j] = _smoothstep((t - t[0]) / blend) * _smoothstep((t[-1] - t) / blend) if blend > 0 else 0
+        old = held(below, times)
+        rows = old + w[:, None] * (rows - old)
+        fading[:] = False
+    if path.endswith(".orientation"):
+        played /= np.linalg.norm(played, axis=1, keepdims=True)
+        error = np.degrees((Rotation.from_quat(played).inv() * Rotation.from_quat(rows)).magnitude())
+    else:
+        error = np.abs(played - rows).max(axis=1)
+    fading |= ~kept
+    worst = int(np.argmax(np.where(fading, 0, error)))
+    assert error[~fading].max() <= entry["tol"] * (1 + 1e-6), (
+        f"{path}: sample {worst} of {len(times)} at t={times[worst]:.4f} is {error[worst]:.4g} off; "
+        f"steps around it {np.diff(times)[max(worst - 3, 0):worst + 3].round(4).tolist()}")
+    raw = [np.array(doc["takes"][i]["times"]) for i in entry["takes"]]
+    ours = [r for r in raw if r[0] >= times[0] and r[-1] <= times[-1]]
+    assert np.array_equal(np.concatenate(ours), times[kept]), "the raw takes are not the page's samples"
+    return times
+
+
+def test_drag_in_record_mode_records_the_track_at_the_pages_frame_rate(_page, studio: str) -> None:  # noqa: ANN001
+    page = _page(studio)
+    page.click("[data-testid=record]")
+    take = _record_drag(page, "box", _sweep())
+    assert take["paths"] == ["box.position"] and take["label"]
+    times = _check_within(take, project(studio), "box.position")
+    # timed by the browser's clock: transport time follows performance.now() of each frame
+    stamps = np.array(take["stamps"])
+    assert np.allclose(times - times[0], (stamps - stamps[0]) / 1000, atol=1e-9)
+    # at the page's frame rate: one sample on every animation frame of the take
+    frames = np.array(page.evaluate("studioStats.stamps"))
+    assert np.array_equal(frames[(frames >= stamps[0]) & (frames <= stamps[-1])], stamps)
+    # the box moved with the pointer: the track spans the drag
+    rows = np.array(take["rows"])
+    assert np.linalg.norm(rows[-1] - rows[0]) > 0.5
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_a_layer_during_playback_changes_only_the_grabbed_span(_page, studio: str) -> None:  # noqa: ANN001
+    page = _page(studio)
+    for name, sweep in (("box", _sweep(90)), ("ball", _sweep(150, dx=-120, dy=40))):
+        page.evaluate("studio.seek(0)")
+        _record_once(page, name, sweep)                      # record mode off after: the transport stops
+    before = project(studio)
+    box0, ball0 = curve(before, "box.position"), curve(before, "ball.position")
+    # from the start, in record mode: the transport plays both tracks; grab the ball midway
+    page.evaluate("studio.seek(0)")
+    page.click("[data-testid=record]")
+    page.wait_for_function(f"studio.time > {ball0[0].t[0] + 0.2}")
+    start = page.evaluate("viewport.screenOf('ball')")
+    drag(page, start, [(0, -40 * np.sin(np.pi * s)) for s in np.linspace(0, 1, 20)])
+    layer = last_take(page)
+    page.click("[data-testid=record]")
+    after = project(studio)
+    assert curve(after, "box.position")[1] == box0[1], "a track not grabbed changed"
+    t = np.array(layer["times"])
+    assert ball0[0].t[0] < t[0] and t[-1] < ball0[0].t[-1], "the layer is not inside the ball's track"
+    spline1, _ = curve(after, "ball.position")
+    outside = np.r_[np.linspace(ball0[0].t[0] - 1, t[0], 300, endpoint=False),
+                    np.linspace(t[-1], ball0[0].t[-1] + 1, 300)[1:]]
+    assert np.abs(held(spline1, outside) - held(ball0[0], outside)).max() <= 1e-9
+    _check_within(layer, after, "ball.position", below=ball0[0])
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_a_slider_drag_in_record_mode_records_its_attribute(_page, studio: str) -> None:  # noqa: ANN001
+    page = _page(studio)
+    page.click("[data-testid=outliner] li[data-object=lamp]")
+    page.click("[data-testid=record]")
+    box = page.locator("[data-testid='slider-lamp.intensity']").bounding_box()
+    y = box["y"] + box["height"] / 2
+    start = {"x": box["x"] + box["width"] * 0.2, "y": y}
+    drag(page, start, [(box["width"] * 0.6 * np.sin(np.pi * s) ** 2, 0) for s in np.linspace(0, 1, 50)])
+    take = last_take(page)
+    assert take["paths"] == ["lamp.intensity"]
+    values = np.array(take["rows"])[:, 0]
+    assert values.max() - values.min() > 1.0, "the slider did not move the intensity"
+    _check_within(take, project(studio), "lamp.intensity")
+    assert drew_something(page) > 5 and not page.errors
+
+
+GAMEPAD = """
+window.__pad = {axes: [0, 0, 0, 0], buttons: []};
+navigator.getGamepads = () => [{id: 'stub pad', index: 0, connected: true, mapping: 'standard',
+    timestamp: performance.now(), axes: window.__pad.axes, buttons: window.__pad.buttons}];
+"""
+
+
+def test_a_gamepad_moves_and_turns_the_selected_object_into_a_take(_page, studio: str) -> None:  # noqa: ANN001
+    page = _page(studio, GAMEPAD)
+    page.click("[data-testid=outliner] li[data-object=box]")
+    page.click("[data-testid=record]")
+    page.evaluate("window.__pad.axes = [0.9, 0, -0.8, 0]")       # left stick right, right stick left
+    page.wait_for_timeout(1500)
+    page.evaluate("window.__pad.axes = [0, 0, 0, 0]")
+    take = last_take(page)
+    assert take["paths"] == ["box.position", "box.orientation"]
+    rows = np.array(take["rows"])
+    assert np.linalg.norm(rows[-1, :3] - rows[0, :3]) > 0.3
+    turned = (Rotation.from_quat(rows[0, 3:]).inv() * Rotation.from_quat(rows[-1, 3:])).magnitude()
+    assert np.degrees(turned) > 20
+    doc = project(studio)
+    _check_within(take, doc, "box.position")
+    _check_within(take, doc, "box.orientation")
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_undo_and_redo_a_take(_page, studio: str) -> None:  # noqa: ANN001
+    page = _page(studio)
+    _record_once(page, "box", _sweep(30))
+    recorded = curve(project(studio), "box.position")[1]
+    page.click("[data-testid=undo]")
+    page.wait_for_function("() => studio.history.can_redo && !studio.tracks.has('box.position')")
+    assert curve(project(studio), "box.position") is None
+    page.click("[data-testid=redo]")
+    page.wait_for_function("() => studio.tracks.has('box.position')")
+    assert curve(project(studio), "box.position")[1] == recorded
+    assert page.evaluate("studio.tracks.get('box.position').coef") == recorded["coef"]
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_reload_shows_the_same_state(_page, studio: str) -> None:  # noqa: ANN001
+    page = _page(studio)
+    _record_once(page, "box", _sweep(30))
+    page.evaluate("studio.setLoop([0.1, 0.4]); studio.seek(0.25)")
+    page.wait_for_timeout(300)
+    before = page.evaluate("({coef: studio.tracks.get('box.position').coef, time: studio.time, "
+                           "loop: studio.clock.loop, box: studio.values.get('box.position'), "
+                           "history: studio.history.undo})")
+    page.reload()
+    page.wait_for_selector("body[data-ready=true]", timeout=60_000)
+    after = page.evaluate("({coef: studio.tracks.get('box.position').coef, time: studio.time, "
+                          "loop: studio.clock.loop, box: studio.values.get('box.position'), "
+                          "history: studio.history.undo})")
+    assert after["coef"] == before["coef"] and after["history"] == before["history"]
+    assert after["time"] == pytest.approx(0.25) and after["loop"] == [0.1, 0.4]
+    assert np.allclose(after["box"], before["box"], atol=1e-12)
+    assert drew_something(page) > 5 and viewport_drew(page) > 5 and not page.errors
+
+
+def test_a_stalled_stretch_inside_a_take_is_a_gap(_page, studio: str) -> None:  # noqa: ANN001
+    """Frames stop for 1.5 s mid-take (the page's main thread busy, as a tab in the
+    background): the track holds the value before the stall across it (no swing of the
+    curve), and every sample is within tolerance but those the blend fades in after it."""
+    page = _page(studio)
+    page.click("[data-testid=record]")
+    page.wait_for_timeout(100)
+    start = page.evaluate("viewport.screenOf('box')")
+    page.mouse.move(start["x"], start["y"])
+    page.mouse.down()
+    for i in range(1, 21):
+        page.wait_for_timeout(16)
+        page.mouse.move(start["x"] + 4 * i, start["y"])
+    page.evaluate("(() => { const t = performance.now(); while (performance.now() - t < 1500) {} })()")
+    for i in range(21, 41):
+        page.mouse.move(start["x"] + 4 * i, start["y"] - 3 * (i - 20))
+        page.wait_for_timeout(16)
+    page.mouse.up()
+    take = last_take(page)
+    times = np.array(take["times"])
+    k = int(np.argmax(np.diff(times)))
+    assert times[k + 1] - times[k] > max(take["gap"], 1.4), "no stall in the take"
+    doc = project(studio)
+    spline, _ = curve(doc, "box.position")
+    rows = np.array(take["rows"])
+    inside = np.linspace(times[k], times[k + 1], 50, endpoint=False)
+    assert np.abs(held(spline, inside) - rows[k]).max() <= 0.005, "the curve swings across the stall"
+    _check_within(take, doc, "box.position")
+    assert drew_something(page) > 5 and not page.errors
