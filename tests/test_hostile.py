@@ -94,15 +94,15 @@ CLI_CASES = {
                        ["line 7", "channel 0", "1e+308", "tolerances"]),
     "csv full-width digits": ("s.csv", csv_rows({3: "１２"}), ["--tol", "0.01"], ["line 5", "１２"]),
     "csv underscore digits": ("s.csv", csv_rows({3: "1_000"}), ["--tol", "0.01"], ["line 5", "1_000"]),
-    "order 60": ("s.csv", csv_rows(), ["--tol", "0.01", "--order", "60"], ["order", "60", "32"]),
+    "order 60": ("s.csv", csv_rows(), ["--tol", "0.01", "--order", "60"], ["--order", "2 to 8", "60"]),
     "window 100000000": ("s.csv", csv_rows(), ["--tol", "0.01", "--method", "incremental", "--window",
-                                               "100000000"], ["window", "1024"]),
+                                               "100000000"], ["--window", "4 to 1000", "100000000"]),
     "bvh frame time 1e300": ("c.bvh", bvh(frame_time="1e300"), [], ["line", "frame time", "1e300"]),
     "bvh offset 1e308": ("c.bvh", bvh(offset="0 1e308 0"), [], ["line 8", "OFFSET", "1e+308"]),
     "bvh position 1e308": ("c.bvh", bvh(position="1e308"), [], ["frame 20", "1e+308"]),
     "bvh full-width digits": ("c.bvh", bvh(position="１２"), [], ["frame 20", "not a number"]),
-    "bvh rate 1e9": ("c.bvh", bvh(), ["--rate", "1e9"], ["rate", "1000000000"]),
-    "bvh rate 0": ("c.bvh", bvh(), ["--rate", "0"], ["rate", "0.0"]),
+    "bvh rate 1e9": ("c.bvh", bvh(), ["--rate", "1e9"], ["--rate", "1 to 1000", "1e+09"]),
+    "bvh rate 0": ("c.bvh", bvh(), ["--rate", "0"], ["--rate", "1 to 1000", "got 0"]),
 }
 
 

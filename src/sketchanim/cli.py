@@ -277,6 +277,11 @@ def reduce_command(
         return
     _refuse(given, CLIP_ONLY + FOLDER_ONLY, "sample table", "every option marked Tables:, and --tol, --rot-tol-deg, "
             "--rate (frame numbers), --format (its layout)")
+    if rate is not None:
+        try:
+            check_rate(rate)
+        except InputError as err:
+            _fail(str(err))
     output = _single_output(input, output, ".json")
     _check_outputs(input, output, plot, order)
     try:
@@ -395,11 +400,6 @@ def _check_ranges(params: dict, given: set[str]) -> None:
         _fail(f"--unordered: one of {', '.join(UNORDERED)}, got {params['unordered']!r}")
     if params["time_unit"] is not None and params["time_unit"] not in TIME_UNITS:
         _fail(f"--time-unit: one of {', '.join(TIME_UNITS)}, got {params['time_unit']!r}")
-    if params["rate"] is not None:
-        try:
-            check_rate(params["rate"])
-        except InputError as err:
-            _fail(str(err))
     if params["tol"] is not None:
         try:
             _tolerances(params["tol"])
