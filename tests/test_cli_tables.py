@@ -178,7 +178,7 @@ def test_text_column_named_and_cols_and_groups(tmp_path):
 
 
 @pytest.mark.parametrize(("args", "words"), [
-    (["-o", "{d}/x.usda"], ["-o", ".json", ".glb"]),
+    (["-o", "{d}/x.fbx"], ["-o", ".json", ".glb", ".usda"]),
     (["-o", "{d}/x.bvh"], ["-o", ".json", ".glb"]),
     (["--plot", "{d}/x.xyz"], ["--plot", ".png"]),
     (["-o", "{d}/x.glb", "--order", "6"], ["--order", "glTF"]),

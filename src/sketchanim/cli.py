@@ -168,8 +168,8 @@ Examples:
 
 
 @app.command("reduce", help="""Reduce samples to B-splines: a sample table (CSV, TSV, whitespace-separated, TUM,
-Wacom SVC, EuRoC, KITTI poses or JSON: print the report, write the spline as .json or an animated node as .glb,
-and plot), a motion clip (BVH, AMC: write .glb, .bvh, .usd or .json, by -o's extension; C3D markers: .glb or
+Wacom SVC, EuRoC, KITTI poses or JSON: print the report, write the spline as .json or an animated node as .glb
+or .usd(a/c), and plot), a motion clip (BVH, AMC: write .glb, .bvh, .usd or .json, by -o's extension; C3D markers: .glb or
 .json), or a folder of clips (write them all to -o, with a CSV report). Options marked "Tables:" apply to sample
 tables only, "Clips:" to clips and folders, "Folders:" to folders.""" + EXAMPLES)
 def reduce_command(
@@ -183,7 +183,7 @@ def reduce_command(
                                                 "0.5 cm).")] = None,
     output: Annotated[Optional[Path], typer.Option("-o", "--output", help="Tables: the spline as .json (a rotation's "
                                                    "goes beside it, as STEM.rotation.json) or an animated node as "
-                                                   ".glb. Clips: .glb, .bvh, .usd(a/c) or .json; folders: the output "
+                                                   ".glb or .usd(a/c). Clips: .glb, .bvh, .usd(a/c) or .json; folders: the output "
                                                    "folder. An existing folder for one input: written into it.")]
     = None,
     order: Annotated[int, typer.Option(help=f"Tables: spline order, {ORDERS[0]} to {ORDERS[1]} (4: cubic; "
@@ -306,8 +306,8 @@ def reduce_command(
         if plot is not None and not parts:
             raise InputError(f"--plot: draws the channels reduced with --tol; {input} has only an orientation "
                              f"({', '.join(table.channels[j] for j in rot)})")
-        if output is not None and output.suffix.lower() == ".glb":
-            _check_glb(table, parts, rot)
+        if output is not None and output.suffix.lower() in (".glb",) + USD_TABLE:
+            _check_glb(table, parts, rot, output.suffix.lower())
         reductions = []
         for part in parts:
             part_tol = [tols[0] if len(tols) == 1 else tols[rest.index(j)] for j in part]
@@ -351,6 +351,8 @@ def reduce_command(
     try:
         if output is not None and output.suffix.lower() == ".glb":
             _write_glb(output, table, parts, reductions, rotation, rot_tol_deg)
+        elif output is not None and output.suffix.lower() in USD_TABLE:
+            _write_usd(output, table, reductions, rotation, rate)
         elif output is not None:
             for k, (part, reduction) in enumerate(zip(parts, reductions)):
                 _write(_group_path(output, table, part, k), reduction)
@@ -430,9 +432,16 @@ def _check_outputs(input: Path, output: Path | None, plot: Path | None, order: i
             if _same_file(input, path):
                 _fail(f"-o: {path} is the input; choose another output")
         suffix = output.suffix.lower()
-        if suffix not in (".json", ".glb"):
-            _fail(f"-o: a sample table is written as .json (the spline) or .glb (an animated node), not "
-                  f"{suffix or 'a file without an extension'}")
+        if suffix not in (".json", ".glb") + USD_TABLE:
+            _fail(f"-o: a sample table is written as .json (the spline), or .glb or .usd/.usda/.usdc (an animated "
+                  f"node), not {suffix or 'a file without an extension'}")
+        if suffix in USD_TABLE:
+            from sketchanim.io.usd import pxr_modules
+
+            try:
+                pxr_modules()
+            except InputError as err:
+                _fail(f"-o: {err}")
         if suffix == ".glb" and order > 4:
             _fail(f"--order: glTF plays orders 2 to 4, got {order} (write .json for higher orders)")
     if plot is not None:
@@ -474,13 +483,15 @@ def _group_path(path: Path, table: SampleTable, part: list[int], k: int) -> Path
     return path.with_name(f"{path.stem}.{'+'.join(table.channels[j] for j in part)}{path.suffix}")
 
 
-def _check_glb(table: SampleTable, parts: list[list[int]], rot: list[int]) -> None:
-    """A .glb holds one animated node: a position of 2 or 3 channels and/or an orientation."""
-    if len(parts) > 1 or (parts and len(parts[0]) not in (2, 3)) or (rot and len(rot) != 4):
+def _check_glb(table: SampleTable, parts: list[list[int]], rot: list[int], suffix: str = ".glb") -> None:
+    """A .glb (or USD file) holds one animated node: a position of 2 or 3 channels
+    and/or an orientation (a quaternion; USD takes Euler columns too)."""
+    euler = bool(rot) and len(rot) != 4 and suffix == ".glb"
+    if len(parts) > 1 or (parts and len(parts[0]) not in (2, 3)) or euler:
         chans = ", ".join(table.channels[j] for p in parts for j in p)
-        raise InputError(f"-o: a .glb holds one animated node: a position of 2 or 3 channels (x, y[, z]) and a "
-                         f"quaternion; this take has {chans or 'no position channels'}"
-                         + (" and Euler rotation columns" if rot and len(rot) != 4 else "")
+        raise InputError(f"-o: a {suffix} holds one animated node: a position of 2 or 3 channels (x, y[, z]) and "
+                         f"{'a quaternion' if suffix == '.glb' else 'an orientation'}; this take has "
+                         f"{chans or 'no position channels'}" + (" and Euler rotation columns" if euler else "")
                          + " (write .json, or pick the channels with --cols)")
 
 
@@ -521,6 +532,40 @@ def _write_glb(path: Path, table: SampleTable, parts: list[list[int]], reduction
     console.print(f"wrote {path} (one node, {', '.join(k.split('.')[1] for k in tracks)}; the file's units "
                   f"written as metres" + (f"; times from the first sample, at {origin:.9g} s: glTF keeps float32 "
                                          f"times" if origin else "") + ")", soft_wrap=True)
+
+
+#: A sample table's USD outputs (an animated Xform, sampled at the table's times).
+USD_TABLE = (".usd", ".usda", ".usdc")
+
+
+def _write_usd(path: Path, table: SampleTable, reductions: list[Reduction], rotation: Reduction | None,
+               rate: float | None) -> None:
+    """One animated Xform, ``/path``: the curves' values at every sample time (USD
+    interpolates samples linearly, orientations by slerp), in double precision; time
+    codes are seconds times ``rate`` (else the median sampling rate), the clock kept."""
+    from scipy.spatial.transform import Rotation
+
+    from sketchanim.anim.tracks import held_values
+    from sketchanim.io.usd import write_usd_path
+
+    t = table.times
+    positions = None
+    if reductions:
+        positions = held_values(reductions[0].columns, t, False)
+        positions = np.c_[positions, np.zeros(len(t))] if positions.shape[1] == 2 else positions
+    orientations = None
+    if rotation is not None:
+        if rotation.report.get("mode") == "euler":
+            orientations = Rotation.from_euler(rotation.report["seq"], rotation.spline(t)).as_quat()
+        else:
+            q = held_values(rotation.columns, t, True)
+            orientations = np.roll(q, -1, axis=1) if rotation.report.get("scalar_first") else q
+    fps = rate or (float(f"{1 / np.median(np.diff(t)):.6g}") if len(t) > 1 else 1.0)
+    write_usd_path(path, t, fps, positions=positions, orientations=orientations)
+    console.print(f"wrote {path} (one Xform, /path: {len(t)} samples of "
+                  f"{', '.join(k for k, v in (('translate', positions), ('orient', orientations)) if v is not None)}"
+                  f" at the source's times, {fps:g} time codes per second; the file's units written as metres)",
+                  soft_wrap=True)
 
 
 def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rate: float | None,
