@@ -87,6 +87,22 @@ def test_tum_finds_its_quaternion_and_writes_glb(tmp_path):
     assert angle.max() <= 0.5 * (1 + KEY_SHARE) + 1e-3
 
 
+def test_scalar_first_quaternions_play_in_glb_and_euler_curves_are_refused(tmp_path):
+    t, x = motion()
+    q = quats(t)
+    f = tmp_path / "wxyz.csv"
+    np.savetxt(f, np.c_[t, x, q[:, [3, 0, 1, 2]]], delimiter=",", header="t,x,y,z,qw,qx,qy,qz", comments="")
+    out = tmp_path / "p.glb"
+    args = ["reduce", str(f), "--tol", "0.005", "--rot-cols", "qw,qx,qy,qz", "--scalar-first"]
+    res = runner.invoke(app, [*args, "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    angle = np.degrees(rotation_angle(played(out, "path", "rotation", t), q))     # glTF plays x, y, z, w
+    assert angle.max() <= 0.5 * (1 + KEY_SHARE) + 1e-3
+    euler = tmp_path / "e.glb"
+    refused(runner.invoke(app, [*args, "--rot-mode", "euler", "-o", str(euler)]), "--rot-mode euler", ".glb")
+    assert not euler.exists()
+
+
 def test_svc_and_kitti(tmp_path):
     t, x = motion(300)
     svc = tmp_path / "pen.svc"

@@ -307,7 +307,7 @@ def reduce_command(
             raise InputError(f"--plot: draws the channels reduced with --tol; {input} has only an orientation "
                              f"({', '.join(table.channels[j] for j in rot)})")
         if output is not None and output.suffix.lower() in (".glb",) + USD_TABLE:
-            _check_glb(table, parts, rot, output.suffix.lower())
+            _check_glb(table, parts, rot, output.suffix.lower(), rot_mode)
         reductions = []
         for part in parts:
             part_tol = [tols[0] if len(tols) == 1 else tols[rest.index(j)] for j in part]
@@ -483,15 +483,17 @@ def _group_path(path: Path, table: SampleTable, part: list[int], k: int) -> Path
     return path.with_name(f"{path.stem}.{'+'.join(table.channels[j] for j in part)}{path.suffix}")
 
 
-def _check_glb(table: SampleTable, parts: list[list[int]], rot: list[int], suffix: str = ".glb") -> None:
+def _check_glb(table: SampleTable, parts: list[list[int]], rot: list[int], suffix: str = ".glb",
+               rot_mode: str = "quaternion") -> None:
     """A .glb (or USD file) holds one animated node: a position of 2 or 3 channels
-    and/or an orientation (a quaternion; USD takes Euler columns too)."""
-    euler = bool(rot) and len(rot) != 4 and suffix == ".glb"
+    and/or an orientation (a quaternion curve in a .glb; USD takes Euler columns and
+    curves too, since it stores values at the samples)."""
+    euler = bool(rot) and (len(rot) != 4 or rot_mode == "euler") and suffix == ".glb"
     if len(parts) > 1 or (parts and len(parts[0]) not in (2, 3)) or euler:
         chans = ", ".join(table.channels[j] for p in parts for j in p)
         raise InputError(f"-o: a {suffix} holds one animated node: a position of 2 or 3 channels (x, y[, z]) and "
                          f"{'a quaternion' if suffix == '.glb' else 'an orientation'}; this take has "
-                         f"{chans or 'no position channels'}" + (" and Euler rotation columns" if euler else "")
+                         f"{chans or 'no position channels'}" + (" and Euler rotation columns or --rot-mode euler" if euler else "")
                          + " (write .json, or pick the channels with --cols)")
 
 
@@ -525,8 +527,9 @@ def _write_glb(path: Path, table: SampleTable, parts: list[list[int]], reduction
                                                      float(np.max(reductions[0].tol)))
     if rotation is not None:
         s = rotation.columns
+        c = np.asarray(s.c)[:, [1, 2, 3, 0]] if rotation.report.get("scalar_first") else s.c   # glTF: x, y, z, w
         tracks[f"{name}.orientation"] = ContinuousTrack(f"{name}.orientation", ORIENTATION,
-                                                        BSpline(s.t - origin, s.c, s.k), rot_tol_deg)
+                                                        BSpline(s.t - origin, c, s.k), rot_tol_deg)
     glb, _ = scene_glb(scene, tracks, name=path.stem)
     write_atomic(path, glb)
     console.print(f"wrote {path} (one node, {', '.join(k.split('.')[1] for k in tracks)}; the file's units "
