@@ -34,7 +34,7 @@ from scipy.interpolate import BSpline
 from sketchanim.anim.clip_reduction import position_budget, rotation_budget
 from sketchanim.anim.layers import reduce_samples
 from sketchanim.anim.scene import Scene
-from sketchanim.anim.tracks import ContinuousTrack, Track
+from sketchanim.anim.tracks import ContinuousTrack, Track, held_values
 from sketchanim.errors import ArgumentError
 from sketchanim.io.gltf import Channel, Node, glb_bytes, octahedron
 from sketchanim.io.gltf_frames import FRAME_SHARE, KEYS, allowance, frame_channel, frame_times
@@ -121,18 +121,19 @@ def _rest(scene: Scene, name: str, attribute: str) -> list[float] | None:
     return np.asarray(scene.get(f"{name}.{attribute}"), dtype=float).tolist() if attribute in obj.attributes else None
 
 
-def frame_allowance(track: ContinuousTrack) -> float:
+def frame_allowance(track: ContinuousTrack, spline: BSpline | None = None) -> float:
     """What dropping frame keys may add to a track (a distance, or radians): for a track
-    of one take, what its tolerance leaves over the curve's error at the take's samples
-    (at most ``FRAME_SHARE`` of it), so the keys stay within the tolerance of the take;
-    over layered takes, ``FRAME_SHARE`` of the tolerance.
+    of one take, what its float32 budget (:func:`written_curve`'s) leaves over the error
+    of ``spline`` (by default the track's curve) at the take's samples (at most
+    ``FRAME_SHARE`` of it), so the keys stay within the tolerance of the take; over
+    layered takes, ``FRAME_SHARE`` of the tolerance.
 
     >>> from sketchanim.anim.attributes import POSITION
     >>> from sketchanim.anim.tracks import Take
     >>> t = np.linspace(0, 1, 11)
     >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 0, 0]]), 1)
     >>> take = Take(t, np.c_[t + 0.004, 0 * t, 0 * t])
-    >>> round(frame_allowance(ContinuousTrack("a.position", POSITION, s, 0.005, (take,))), 6)
+    >>> round(frame_allowance(ContinuousTrack("a.position", POSITION, s, 0.005, (take,))), 5)
     0.0005
     """
     rotation = track.type.is_rotation
@@ -141,8 +142,11 @@ def frame_allowance(track: ContinuousTrack) -> float:
         return FRAME_SHARE * tol
     take = track.takes[0]
     inside = (take.times >= track.start) & (take.times <= track.end)
-    error = float(max_errors(track.evaluate(take.times[inside]), take.values[inside], 1.0 if rotation else 0.0).max())
-    return allowance(tol, error)
+    t, x = take.times[inside], take.values[inside]
+    curve = held_values(track.spline if spline is None else spline, t, rotation)
+    error = float(max_errors(curve, x, 1.0 if rotation else 0.0).max())
+    budget = float(np.radians(rotation_budget(t, x, track.tol))) if rotation else position_budget(t, x, track.tol)
+    return allowance(budget, error)
 
 
 def track_times(track: ContinuousTrack, rate: float | None = None) -> np.ndarray:
@@ -205,8 +209,9 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
             left_out.append(path)
             continue
         if keys == "frames":
-            channels.append(frame_channel(index[obj], PATHS[attribute], track.spline, track_times(track, rate),
-                                          frame_allowance(track)))
+            spline = written_curve(track)
+            channels.append(frame_channel(index[obj], PATHS[attribute], spline, track_times(track, rate),
+                                          frame_allowance(track, spline)))
         else:
             channels.append(Channel.curve(index[obj], PATHS[attribute], written_curve(track)))
     return glb_bytes(nodes, channels, animation=name, meshes=meshes, cameras=cameras, lights=lights), left_out
