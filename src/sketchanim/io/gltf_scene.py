@@ -22,7 +22,7 @@ curve). An orientation's unit-quaternion keys (glTF requires them) are checked a
 the take's samples within the same budget, knots inserted where one would miss. Tracks
 of layered takes (punch-ins, additive takes) or without takes are written as their
 curves, orientations' keys within ``KEY_SHARE`` of their own curve: there float32 may
-add its rounding (about 1e-7 of the values' size) to the curve's error.
+add its rounding (about 1e-6 of the values' size) to the curve's error.
 """
 
 from __future__ import annotations
