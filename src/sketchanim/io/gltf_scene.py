@@ -10,6 +10,19 @@ Core glTF animates only translation, rotation and scale. The other tracks (colou
 intensity, field of view, visibility, events, custom attributes) are not written; their
 values at the scene's current state are, where glTF has a place for them, and
 :func:`scene_glb` lists the tracks it left out.
+
+What a client plays is the written keys and key times in float32, computed in float32.
+For a track of one take (recorded in ``replace`` mode), :func:`written_curve` keeps that
+within the track's tolerance of every sample of the take: the curve may use only
+:func:`~sketchanim.anim.clip_reduction.position_budget` (or ``rotation_budget``) of the
+tolerance, float32's share left out, as clip exports do. A track whose curve already
+is within the budget is written as it is; one the recorder's streaming reducer ran closer
+to the tolerance is reduced again from its take, for the file only (the project keeps its
+curve). An orientation's unit-quaternion keys (glTF requires them) are checked against
+the take's samples within the same budget, knots inserted where one would miss. Tracks
+of layered takes (punch-ins, additive takes) or without takes are written as their
+curves, orientations' keys within ``KEY_SHARE`` of their own curve: there float32 may
+add its rounding (about 1e-6 of the values' size) to the curve's error.
 """
 
 from __future__ import annotations
@@ -18,8 +31,10 @@ import numpy as np
 import pygltflib as gl
 from scipy.interpolate import BSpline
 
+from sketchanim.anim.clip_reduction import position_budget, rotation_budget
+from sketchanim.anim.layers import reduce_samples
 from sketchanim.anim.scene import Scene
-from sketchanim.anim.tracks import ContinuousTrack, Track
+from sketchanim.anim.tracks import ContinuousTrack, Track, held_values
 from sketchanim.errors import ArgumentError
 from sketchanim.io.gltf import Channel, Node, glb_bytes, octahedron
 from sketchanim.io.gltf_frames import FRAME_SHARE, KEYS, allowance, frame_channel, frame_times
@@ -69,23 +84,56 @@ def rotation_keys(track: ContinuousTrack) -> BSpline:
     return fixed
 
 
+def written_curve(track: ContinuousTrack) -> BSpline:
+    """The curve :func:`scene_glb` writes for a track: for one ``replace`` take, within
+    the float32 budget of the track's tolerance (``position_budget`` per axis,
+    ``rotation_budget`` in degrees) of every sample of the take inside the track's span,
+    reduced again from the take where the track's curve is not, orientations with unit
+    keys (:func:`~sketchanim.motion.rotations.unit_keys`, checked against the take); for
+    other tracks, the track's curve (orientations by :func:`rotation_keys`).
+
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> from sketchanim.anim.tracks import Take
+    >>> t = np.linspace(0, 1, 31)
+    >>> x = np.c_[t, 0 * t, 1000 + 0 * t]
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 1000], [1.0, 0, 1000]]), 1)
+    >>> take = Take(t, x + [0, 0.005, 0])                         # the curve at the tolerance
+    >>> w = written_curve(ContinuousTrack("a.position", POSITION, s, 0.005, (take,)))
+    >>> bool(np.abs(w(t) - take.values).max() <= position_budget(t, take.values, 0.005) < 0.005)
+    True
+    """
+    if len(track.takes) != 1 or track.takes[0].mode != "replace":
+        return rotation_keys(track) if track.type.is_rotation else track.spline
+    take = track.takes[0]
+    inside = (take.times >= track.start) & (take.times <= track.end)
+    t, x = take.times[inside], take.values[inside]
+    rotation = track.type.is_rotation
+    budget = rotation_budget(t, x, track.tol) if rotation else position_budget(t, x, track.tol)
+    error = max_errors(track.evaluate(t), x, 1.0 if rotation else 0.0).max()
+    spline = track.spline
+    if (np.degrees(error) if rotation else error) > budget:
+        spline = reduce_samples(track.type, t, x, budget, track.spline.k + 1)
+    return unit_keys(spline, t, x, np.radians(budget))[0] if rotation else spline
+
+
 def _rest(scene: Scene, name: str, attribute: str) -> list[float] | None:
     obj = scene.objects[name]
     return np.asarray(scene.get(f"{name}.{attribute}"), dtype=float).tolist() if attribute in obj.attributes else None
 
 
-def frame_allowance(track: ContinuousTrack) -> float:
+def frame_allowance(track: ContinuousTrack, spline: BSpline | None = None) -> float:
     """What dropping frame keys may add to a track (a distance, or radians): for a track
-    of one take, what its tolerance leaves over the curve's error at the take's samples
-    (at most ``FRAME_SHARE`` of it), so the keys stay within the tolerance of the take;
-    over layered takes, ``FRAME_SHARE`` of the tolerance.
+    of one take, what its float32 budget (:func:`written_curve`'s) leaves over the error
+    of ``spline`` (by default the track's curve) at the take's samples (at most
+    ``FRAME_SHARE`` of it), so the keys stay within the tolerance of the take; over
+    layered takes, ``FRAME_SHARE`` of the tolerance.
 
     >>> from sketchanim.anim.attributes import POSITION
     >>> from sketchanim.anim.tracks import Take
     >>> t = np.linspace(0, 1, 11)
     >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 0, 0]]), 1)
     >>> take = Take(t, np.c_[t + 0.004, 0 * t, 0 * t])
-    >>> round(frame_allowance(ContinuousTrack("a.position", POSITION, s, 0.005, (take,))), 6)
+    >>> round(frame_allowance(ContinuousTrack("a.position", POSITION, s, 0.005, (take,))), 5)
     0.0005
     """
     rotation = track.type.is_rotation
@@ -94,8 +142,11 @@ def frame_allowance(track: ContinuousTrack) -> float:
         return FRAME_SHARE * tol
     take = track.takes[0]
     inside = (take.times >= track.start) & (take.times <= track.end)
-    error = float(max_errors(track.evaluate(take.times[inside]), take.values[inside], 1.0 if rotation else 0.0).max())
-    return allowance(tol, error)
+    t, x = take.times[inside], take.values[inside]
+    curve = held_values(track.spline if spline is None else spline, t, rotation)
+    error = float(max_errors(curve, x, 1.0 if rotation else 0.0).max())
+    budget = float(np.radians(rotation_budget(t, x, track.tol))) if rotation else position_budget(t, x, track.tol)
+    return allowance(budget, error)
 
 
 def track_times(track: ContinuousTrack, rate: float | None = None) -> np.ndarray:
@@ -116,11 +167,10 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
               rate: float | None = None) -> tuple[bytes, list[str]]:
     """The scene as a .glb: one node per object (its current position, orientation and
     scale at rest), a perspective camera for each camera, a spot light for each light,
-    and one animation of every position, orientation and scale track (exactly; an
-    orientation's keys made unit quaternions by :func:`rotation_keys`; or with
-    ``keys="frames"``, LINEAR keys at :func:`track_times`, dropping those within
-    :func:`frame_allowance`). Also returns the paths of the tracks
-    glTF cannot animate, which are left out.
+    and one animation of every position, orientation and scale track (its curve, written by :func:`written_curve` to play in float32 within the
+    tolerance of its take; or with ``keys="frames"``, LINEAR keys at
+    :func:`track_times`, dropping those within :func:`frame_allowance`). Also returns
+    the paths of the tracks glTF cannot animate, which are left out.
 
     >>> from sketchanim.anim.attributes import POSITION
     >>> scene = Scene(); _ = scene.add("cam", "camera"); _ = scene.add("lamp", "light")
@@ -159,10 +209,10 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
             left_out.append(path)
             continue
         if keys == "frames":
-            channels.append(frame_channel(index[obj], PATHS[attribute], track.spline, track_times(track, rate),
-                                          frame_allowance(track)))
+            spline = written_curve(track)
+            channels.append(frame_channel(index[obj], PATHS[attribute], spline, track_times(track, rate),
+                                          frame_allowance(track, spline)))
         else:
-            spline = rotation_keys(track) if track.type.is_rotation else track.spline
-            channels.append(Channel.curve(index[obj], PATHS[attribute], spline))
+            channels.append(Channel.curve(index[obj], PATHS[attribute], written_curve(track)))
     return glb_bytes(nodes, channels, animation=name, meshes=meshes, cameras=cameras, lights=lights), left_out
 
