@@ -88,6 +88,11 @@ def test_a_still_joint_gets_two_keys_and_cli_writes_frames(tmp_path: Path) -> No
     result = runner.invoke(app, ["reduce", str(source), "-o", str(out), "--tol", "0.5", "--keys", "frames",
                                  "--rate", "-3"])
     assert result.exit_code == 2 and "--rate" in result.output
+    scene = tmp_path / "absent.sketchanim"                 # the rate is refused before the project is opened
+    result = runner.invoke(app, ["export", str(scene), "-o", str(tmp_path / "s.glb"), "--keys", "frames",
+                                 "--rate", "1e9"])
+    assert result.exit_code == 2 and "--rate" in result.output and "1000000" in result.output
+    assert not (tmp_path / "s.glb").exists() and not scene.exists()
 
 
 @pytest.mark.realdata

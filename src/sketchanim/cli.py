@@ -277,11 +277,7 @@ def reduce_command(
         return
     _refuse(given, CLIP_ONLY + FOLDER_ONLY, "sample table", "every option marked Tables:, and --tol, --rot-tol-deg, "
             "--rate (frame numbers), --format (its layout)")
-    if rate is not None:
-        try:
-            check_rate(rate)
-        except InputError as err:
-            _fail(str(err))
+    _check_rate(rate)
     output = _single_output(input, output, ".json")
     _check_outputs(input, output, plot, order)
     try:
@@ -593,8 +589,16 @@ def _clip_options(tol: str | None, *, rot_tol_deg: float, units: str | None, rat
 def _check_keys(keys: str, rate: float | None) -> None:
     if keys not in KEYS:
         _fail(f"--keys: one of {', '.join(KEYS)}, got {keys!r}")
-    if rate is not None and not (np.isfinite(rate) and rate > 0):
-        _fail(f"--rate: a positive number of frames per second, got {rate!r}")
+    _check_rate(rate)
+
+
+def _check_rate(rate: float | None) -> None:
+    """A table's frame numbers, or keys per second: above 0, at most 1e6 Hz."""
+    if rate is not None:
+        try:
+            check_rate(rate)
+        except InputError as err:
+            _fail(str(err))
 
 
 def _reduce_clip(input: Path, output: Path | None, options: Options) -> None:
