@@ -39,9 +39,9 @@ from clips import local_errors  # noqa: E402
 from blender_client import blender_play, joint_locals  # noqa: E402
 from threejs_client import three_play  # noqa: E402
 
-from sketchanim.anim.clip_reduction import reduce_clip  # noqa: E402
-from sketchanim.anim.skeleton import Clip  # noqa: E402
-from sketchanim.io.clip_files import read_clip, write_reduced  # noqa: E402
+from sketchanim.mocap.clip_reduction import reduce_clip  # noqa: E402
+from sketchanim.motion.skeleton import Clip  # noqa: E402
+from sketchanim.formats.clip_files import read_clip, write_reduced  # noqa: E402
 
 TOL_CM, ROT_TOL = 0.5, 0.5
 

@@ -33,12 +33,12 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from sketchanim.anim.clip_reduction import reduce_clip
-from sketchanim.anim.markers import reduce_markers
-from sketchanim.anim.world_reduction import reduce_clip_world
-from sketchanim.io.batch import outcome
-from sketchanim.io.c3d import read_c3d
-from sketchanim.io.clip_files import read_clip
+from sketchanim.mocap.clip_reduction import reduce_clip
+from sketchanim.mocap.markers import reduce_markers
+from sketchanim.mocap.world_reduction import reduce_clip_world
+from sketchanim.batch import outcome
+from sketchanim.formats.c3d import read_c3d
+from sketchanim.formats.clip_files import read_clip
 
 REPO = Path(__file__).resolve().parents[1]
 TOLERANCES = ((0.5, 0.5), (0.1, 0.1))

@@ -45,7 +45,7 @@ def measure(kind: str, path: Path) -> dict:
     """Run one measurement in a fresh process; its time, peak memory and row count."""
     code = f"""
 import json, resource, time, numpy as np
-from sketchanim.io.csvio import read_samples_csv, iter_columns, sniff
+from sketchanim.formats.csvio import read_samples_csv, iter_columns, sniff
 from sketchanim.reducer import StreamReducer
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 clock = time.perf_counter()

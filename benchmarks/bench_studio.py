@@ -33,7 +33,7 @@ from scipy.spatial.transform import Rotation
 from sketchanim.anim.attributes import ORIENTATION, POSITION
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack
-from sketchanim.io.project import Project
+from sketchanim.project.store import Project
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tests"))

@@ -27,7 +27,7 @@ from sketchanim.anim.player import Player
 from sketchanim.anim.recorder import Recorder
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack
-from sketchanim.io.project import Project
+from sketchanim.project.store import Project
 from sketchanim.reducer.metric import max_errors
 
 RATE = 120.0

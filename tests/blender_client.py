@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from sketchanim.anim.skeleton import Skeleton
+from sketchanim.motion.skeleton import Skeleton
 
 ROOT = Path(__file__).resolve().parents[1]
 PYTHON = ROOT / ".venv-blender" / "bin" / "python"

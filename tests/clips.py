@@ -13,7 +13,7 @@ import pygltflib as gl
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from sketchanim.anim.skeleton import Clip, Skeleton
+from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer.metric import rotation_angle
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -168,7 +168,7 @@ def float32_shares(clip: Clip, tol: float, rot_tol_deg: float) -> tuple[float, f
     """The largest share of the tolerances that reduce_clip leaves to float32 over the
     clip's joints (rotation degrees, distance): how far a float32 client may play from
     our float64 curves."""
-    from sketchanim.anim.clip_reduction import position_budget, rotation_budget
+    from sketchanim.mocap.clip_reduction import position_budget, rotation_budget
 
     angle = max(rot_tol_deg - rotation_budget(clip.times, clip.rotations[:, j], rot_tol_deg)
                 for j in np.flatnonzero(clip.rotating))

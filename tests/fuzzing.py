@@ -10,7 +10,7 @@ check, refused later: an internal error reported as the user's), ``beyond_tolera
 (a result that breaks its promise), ``silent_damage`` (a damaged project loaded with
 different contents).
 
-Used by tests/test_fuzz.py (a few hundred mutations) and benchmarks/fuzz_readers.py
+Used by tests/formats/test_fuzz.py (a few hundred mutations) and benchmarks/fuzz_readers.py
 (as many as asked for).
 """
 
@@ -29,19 +29,19 @@ from scipy.interpolate import BSpline
 
 import sketchanim
 from sketchanim.anim.attributes import EVENT, POSITION
-from sketchanim.anim.clip_reduction import reduce_clip
-from sketchanim.anim.markers import Markers, reduce_markers
+from sketchanim.mocap.clip_reduction import reduce_clip
+from sketchanim.mocap.markers import Markers, reduce_markers
 from sketchanim.anim.scene import Scene
-from sketchanim.anim.skeleton import Clip
+from sketchanim.motion.skeleton import Clip
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Take
 from sketchanim.errors import InputError
-from sketchanim.io.amc import read_amc, read_asf
-from sketchanim.io.bvh import read_bvh
-from sketchanim.io.c3d import read_c3d
-from sketchanim.io.csvio import read_samples_csv
-from sketchanim.io.jsonio import read_samples_json
-from sketchanim.io.project import Project
-from sketchanim.io.recordings import read_svc, read_tum
+from sketchanim.formats.amc import read_amc, read_asf
+from sketchanim.formats.bvh import read_bvh
+from sketchanim.formats.c3d import read_c3d
+from sketchanim.formats.csvio import read_samples_csv
+from sketchanim.formats.jsonio import read_samples_json
+from sketchanim.project.store import Project
+from sketchanim.formats.recordings import read_svc, read_tum
 from sketchanim.reducer import Reduction
 from sketchanim.reducer.conditioning import condition
 

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from sketchanim.io.csvio import read_samples_csv
-from sketchanim.io.bvh import read_bvh
-from sketchanim.io.recordings import read_lasa, read_svc, read_tum
+from sketchanim.formats.csvio import read_samples_csv
+from sketchanim.formats.bvh import read_bvh
+from sketchanim.formats.recordings import read_lasa, read_svc, read_tum
 from sketchanim.reducer.metric import rotation_angle
 
 LASA = Path(__file__).resolve().parents[1] / ".cache" / "lasa"

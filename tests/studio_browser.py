@@ -1,6 +1,6 @@
 """Driving the studio page in Debian's chromium (headless, WebGL through SwiftShader)
 with Playwright: a server on a fresh project, a page on it, and what the page drew.
-Shared by tests/test_studio_page.py and benchmarks/bench_studio.py."""
+Shared by tests/studio/test_studio_page.py and benchmarks/bench_studio.py."""
 
 from __future__ import annotations
 

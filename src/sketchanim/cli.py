@@ -16,18 +16,18 @@ from rich.table import Table
 from rich.text import Text
 from scipy.spatial.transform import Rotation
 
-from sketchanim.anim.clip_reduction import ReducedClip
-from sketchanim.anim.markers import ReducedMarkers
-from sketchanim.anim.skeleton import UNITS_M
+from sketchanim.mocap.clip_reduction import ReducedClip
+from sketchanim.mocap.markers import ReducedMarkers
+from sketchanim.motion.skeleton import UNITS_M
 from sketchanim.errors import InputError, SampleError
-from sketchanim.io.atomic import write_atomic
-from sketchanim.io.batch import REPORT, Options, Outcome, outcome, plan, previous_report, reduce_file, run, write_report
-from sketchanim.io.clip_files import CLIP_INPUTS, CLIP_OUTPUTS, write_reduced
-from sketchanim.io.csvio import SampleTable
-from sketchanim.io.gltf_frames import KEYS
-from sketchanim.io.quirks import DUPLICATES, UNORDERED, merged, ordered
-from sketchanim.io.tables import FORMATS, read_table
-from sketchanim.io.time_units import TIME_UNITS, check_rate
+from sketchanim.atomic import write_atomic
+from sketchanim.batch import REPORT, Options, Outcome, outcome, plan, previous_report, reduce_file, run, write_report
+from sketchanim.formats.clip_files import CLIP_INPUTS, CLIP_OUTPUTS, write_reduced
+from sketchanim.formats.csvio import SampleTable
+from sketchanim.formats.gltf_frames import KEYS
+from sketchanim.formats.quirks import DUPLICATES, UNORDERED, merged, ordered
+from sketchanim.formats.tables import FORMATS, read_table
+from sketchanim.formats.time_units import TIME_UNITS, check_rate
 from sketchanim.motion import reduce_rotations
 from sketchanim.reducer import METHODS, FeatureOptions, Reduction, reduce
 
@@ -432,7 +432,7 @@ def _check_outputs(input: Path, output: Path | None, plot: Path | None, order: i
             _fail(f"-o: a sample table is written as .json (the spline), or .glb or .usd/.usda/.usdc (an animated "
                   f"node), not {suffix or 'a file without an extension'}")
         if suffix in USD_TABLE:
-            from sketchanim.io.usd import pxr_modules
+            from sketchanim.formats.usd import pxr_modules
 
             try:
                 pxr_modules()
@@ -507,7 +507,7 @@ def _write_glb(path: Path, table: SampleTable, parts: list[list[int]], reduction
     from sketchanim.anim.attributes import ORIENTATION, POSITION
     from sketchanim.anim.scene import Scene
     from sketchanim.anim.tracks import ContinuousTrack
-    from sketchanim.io.gltf_scene import scene_glb
+    from sketchanim.formats.gltf_scene import scene_glb
 
     origin = float(table.times[0]) if abs(float(table.times[-1])) >= GLB_CLOCK else 0.0
     name = "path"
@@ -545,7 +545,7 @@ def _write_usd(path: Path, table: SampleTable, reductions: list[Reduction], rota
     from scipy.spatial.transform import Rotation
 
     from sketchanim.anim.tracks import held_values
-    from sketchanim.io.usd import write_usd_path
+    from sketchanim.formats.usd import write_usd_path
 
     t = table.times
     positions = None
@@ -713,8 +713,8 @@ def export_command(
     position, orientation and scale tracks), or everything as JSON.
 
     Examples: sketchanim export show.sketchanim -o show.glb; sketchanim export show.sketchanim -o show.json"""
-    from sketchanim.io.gltf_scene import scene_glb
-    from sketchanim.io.project import Project
+    from sketchanim.formats.gltf_scene import scene_glb
+    from sketchanim.project.store import Project
 
     suffix = output.suffix.lower()
     _check_keys(keys, rate)

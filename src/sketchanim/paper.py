@@ -23,8 +23,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy.spatial.transform import Rotation  # noqa: E402
 
-from sketchanim.io.atomic import write_atomic  # noqa: E402
-from sketchanim.io.recordings import read_tum  # noqa: E402
+from sketchanim.atomic import write_atomic  # noqa: E402
+from sketchanim.formats.recordings import read_tum  # noqa: E402
 from sketchanim.plot import plot_reduction  # noqa: E402
 from sketchanim.reducer import Reduction, StreamReducer, reduce  # noqa: E402
 from sketchanim.reducer.stream import CONSTRAINTS  # noqa: E402

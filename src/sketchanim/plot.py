@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from sketchanim.io.atomic import write_atomic  # noqa: E402
+from sketchanim.atomic import write_atomic  # noqa: E402
 from sketchanim.reducer import Reduction  # noqa: E402
 from sketchanim.spline import greville  # noqa: E402
 

@@ -1,7 +1,7 @@
 """The studio's messages: one pydantic model per message, a union keyed on ``type``.
 
 A message from the page is validated once, at the websocket (:func:`parse`), as
-:mod:`sketchanim.io.project` validates documents; what the server sends is built by the
+:mod:`sketchanim.project.store` validates documents; what the server sends is built by the
 session as plain dictionaries of the shapes documented here. Values are the attribute
 types' canonical forms as JSON: lists of floats (orientations scalar-last x, y, z, w; a
 field of view in degrees), or a bool / string for discrete attributes.

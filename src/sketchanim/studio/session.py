@@ -39,8 +39,8 @@ from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.anim.workers import shared_pool
 from sketchanim.errors import ArgumentError, InputError
-from sketchanim.io.atomic import write_atomic
-from sketchanim.io.project import Project
+from sketchanim.atomic import write_atomic
+from sketchanim.project.store import Project
 
 #: The mesh the page draws for an object of kind "object".
 SHAPE = AttributeType.enum(["box", "sphere", "cone", "cylinder", "torus"])
@@ -525,7 +525,7 @@ class Session:
     def export(self, name: str) -> Path:
         """Write the scene (``.glb``) or the project (``.json``) to ``name`` in the
         project's folder; a name that would leave the folder is refused."""
-        from sketchanim.io.gltf_scene import scene_glb
+        from sketchanim.formats.gltf_scene import scene_glb
 
         if os.sep in name or "/" in name or "\\" in name or name in (".", "..") or name.startswith("."):
             raise ArgumentError("file", f"{name!r}: a file name in the project's folder, not a path")

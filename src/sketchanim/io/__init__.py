@@ -1,1 +1,0 @@
-"""Files: sample tables in, reductions and reports out (every writer atomic)."""

@@ -1,0 +1,1 @@
+"""The project store: one SQLite file per project (scene document, takes, journal), checked and recoverable."""

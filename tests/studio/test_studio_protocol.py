@@ -1,0 +1,214 @@
+"""The studio's websocket protocol through FastAPI's TestClient: good and bad messages,
+a foreign origin, the size and rate limits, the JSON API."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+from starlette.websockets import WebSocketDisconnect
+
+from sketchanim.project.store import Project
+from sketchanim.studio import app as studio_app
+from sketchanim.studio.app import create_app
+from sketchanim.studio.protocol import MAX_MESSAGE_BYTES
+
+
+@pytest.fixture
+def client(tmp_path):
+    app = create_app(tmp_path / "p.sketchanim", warm=False)
+    with TestClient(app) as c:
+        yield c
+    app.state.hub.session.close()
+
+
+def receive_until(ws, kind: str, limit: int = 50) -> tuple[dict, list[dict]]:
+    """Messages up to the first of type ``kind``: that one and all before it."""
+    seen = []
+    for _ in range(limit):
+        m = ws.receive_json()
+        seen.append(m)
+        if m["type"] == kind:
+            return m, seen
+    raise AssertionError(f"no {kind} in {[m['type'] for m in seen]}")
+
+
+def test_state_on_connect_has_default_scene_and_tracks(client):
+    with client.websocket_connect("/ws") as ws:
+        state = ws.receive_json()
+    assert state["type"] == "state" and state["ready"] is True
+    names = {o["name"]: o for o in state["objects"]}
+    assert {"box", "lamp", "cam"} <= set(names)
+    box = {a["name"]: a for a in names["box"]["attributes"]}
+    assert box["position"]["value"] == [0.0, 0.5, 0.0] and box["shape"]["type"]["choices"][0] == "box"
+    lamp = {a["name"]: a for a in names["lamp"]["attributes"]}
+    assert lamp["color"]["type"]["continuous"] and lamp["intensity"]["type"]["dim"] == 1
+    assert {a["name"] for a in names["cam"]["attributes"]} >= {"fov", "position", "orientation"}
+    assert state["tracks"] == [] and state["history"]["can_undo"] is False
+    assert client.get("/api/state").json()["objects"] == state["objects"]
+
+
+def test_ping_set_undo_redo_acks_and_broadcast(client):
+    with client.websocket_connect("/ws") as a, client.websocket_connect("/ws") as b:
+        a.receive_json(), b.receive_json()
+        a.send_json({"type": "ping", "id": 7})
+        assert a.receive_json()["type"] == "pong"
+        assert a.receive_json() == {"type": "ack", "id": 7, "ref": "ping"}
+        a.send_json({"type": "set", "id": "s1", "path": "lamp.intensity", "value": [2.5]})
+        values, _ = receive_until(b, "values")          # the other page hears of it
+        assert values["values"] == {"lamp.intensity": [2.5]}
+        history, _ = receive_until(a, "history")
+        assert history["undo"] == ["set lamp.intensity"] and history["can_undo"]
+        receive_until(a, "ack")
+        a.send_json({"type": "undo", "id": 2})
+        values, _ = receive_until(a, "values")
+        assert values["values"] == {"lamp.intensity": [1.0]}
+        a.send_json({"type": "redo", "id": 3})
+        values, _ = receive_until(a, "values")
+        assert values["values"] == {"lamp.intensity": [2.5]}
+
+
+@pytest.mark.parametrize("text, code, field", [
+    ("not json", "bad_message", "not JSON"),
+    ("[1, 2]", "bad_message", "JSON object"),
+    ('{"type": "warp", "id": 1}', "bad_message", "type"),
+    ('{"type": "set", "id": 2, "path": "box.position", "value": [1, 2]}', "refused", "3 numbers"),
+    ('{"type": "set", "id": 3, "path": "nobox.position", "value": [1, 2, 3]}', "refused", "nobox"),
+    ('{"type": "set", "id": 4, "path": "box.position", "value": [1, 2, NaN]}', "bad_message", "value"),
+    ('{"type": "take.begin", "id": 5, "take": "t", "paths": ["box.visible"]}', "refused", "bool"),
+    ('{"type": "take.samples", "id": 6, "take": "nope", "t": [0], "values": [[0, 0, 0]]}', "refused", "nope"),
+    ('{"type": "take.begin", "id": 7, "take": "t", "paths": ["box.position"], "speed": 0}', "bad_message", "speed"),
+    ('{"type": "export", "id": 8, "file": "../escape.json"}', "refused", "not a path"),
+    ('{"type": "export", "id": 9, "file": "x.txt"}', "refused", ".glb or .json"),
+    ('{"type": "object.rename", "id": 10, "name": "box", "to": "lamp"}', "refused", "exists"),
+])
+def test_bad_messages_get_an_error_and_change_nothing(client, tmp_path, text, code, field):
+    before = client.get("/api/project").content
+    with client.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        ws.send_text(text)
+        error = ws.receive_json()
+        ws.send_json({"type": "ping", "id": "after"})         # the socket goes on
+        receive_until(ws, "pong")
+    assert error["type"] == "error" and error["code"] == code and field in error["message"], error
+    sent = json.loads(text) if text.startswith("{") else {}
+    assert error["id"] == sent.get("id")
+    assert client.get("/api/project").content == before
+    assert not (tmp_path.parent / "escape.json").exists()
+
+
+def test_foreign_origin_is_refused_and_own_origin_accepted(client):
+    with pytest.raises(WebSocketDisconnect):
+        with client.websocket_connect("/ws", headers={"origin": "http://evil.example"}) as ws:
+            ws.receive_json()
+    with client.websocket_connect("/ws", headers={"origin": "http://testserver"}) as ws:
+        assert ws.receive_json()["type"] == "state"
+
+
+def test_oversized_message_is_refused(client):
+    with client.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        ws.send_text(json.dumps({"type": "ping", "pad": "x" * MAX_MESSAGE_BYTES}))
+        error = ws.receive_json()
+        assert error["code"] == "too_large"
+
+
+def test_rate_limit_drops_messages_past_the_burst(client, monkeypatch):
+    monkeypatch.setattr(studio_app, "BURST", 20.0)
+    monkeypatch.setattr(studio_app, "RATE", 1.0)
+    with client.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        for i in range(40):
+            ws.send_json({"type": "ping", "id": i})
+        got = [ws.receive_json() for _ in range(2 * 20 + 20)]
+    codes = [m.get("code") for m in got if m["type"] == "error"]
+    assert codes.count("rate") == 20 and sum(m["type"] == "pong" for m in got) == 20
+
+
+def test_take_over_the_socket_and_the_project_document(client, tmp_path):
+    t = np.arange(90) / 60
+    x = np.c_[np.sin(t), 0.5 + 0 * t, np.cos(2 * t)]
+    with client.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        ws.send_json({"type": "take.begin", "id": 1, "take": "a", "paths": ["box.position"], "time": 0.0})
+        started, _ = receive_until(ws, "take.started")
+        assert started["layout"] == [["box.position", 0, 3]] and started["width"] == 3
+        for i in range(0, 90, 9):
+            ws.send_json({"type": "take.samples", "take": "a", "t": t[i:i + 9].tolist(), "values": x[i:i + 9].tolist()})
+        ws.send_json({"type": "take.end", "id": 2, "take": "a"})
+        tracks, _ = receive_until(ws, "tracks")
+        ended, _ = receive_until(ws, "take.ended")
+    assert ended["paths"] == ["box.position"] and ended["label"] == "take box.position"
+    track = tracks["changed"][0]
+    assert track["order"] == 4 and not track["rotation"] and track["takes"][0]["n"] == 90
+    doc = client.get("/api/project").json()
+    assert doc["curves"][0]["path"] == "box.position" and len(doc["takes"][0]["times"]) == 90
+    exported = tmp_path / "x.json"
+    with Project(tmp_path / "p.sketchanim", create=False) as project:
+        project.export_json(exported)
+    assert client.get("/api/project").content == exported.read_bytes()
+
+
+def test_closing_the_socket_mid_take_keeps_the_take(client):
+    t = np.arange(30) / 60
+    with client.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        ws.send_json({"type": "take.begin", "id": 1, "take": "a", "paths": ["lamp.intensity"]})
+        receive_until(ws, "take.started")
+        ws.send_json({"type": "take.samples", "id": 2, "take": "a", "t": t.tolist(), "values": (1 + t)[:, None].tolist()})
+        receive_until(ws, "ack")
+    with client.websocket_connect("/ws") as ws:                  # a reload
+        state = ws.receive_json()
+        tracks = state["tracks"] or receive_until(ws, "tracks")[0]["changed"]    # if it came before the take ended
+    assert [tr["path"] for tr in tracks] == ["lamp.intensity"] and tracks[0]["takes"][0]["n"] == 30
+
+
+def test_autosave_and_relays(client, tmp_path):
+    import time
+
+    with client.websocket_connect("/ws") as a, client.websocket_connect("/ws") as b:
+        a.receive_json(), b.receive_json()
+        for i in range(50):
+            a.send_json({"type": "preview", "key": "drag box", "path": "box.position", "value": [i, 0.5, 0]})
+        a.send_json({"type": "transport", "time": 1.5, "playing": True, "speed": 0.5, "loop": [1, 3]})
+        a.send_json({"type": "set", "id": 1, "path": "cam.fov", "value": [35]})
+        receive_until(a, "ack")
+        transport, before = receive_until(b, "transport", limit=200)
+        previews = [m["value"][0] for m in before if m["type"] == "preview"]
+        assert previews and previews[-1] == 49 and previews == sorted(previews)     # newest kept, never older after newer
+        assert transport == {"type": "transport", "time": 1.5, "playing": True, "speed": 0.5, "loop": [1.0, 3.0]}
+        time.sleep(1.0)                                                  # autosave: half a second after a change
+        with Project(tmp_path / "p.sketchanim", create=False) as project:
+            scene, _ = project.load()
+        assert scene.get("cam.fov").tolist() == [35.0]
+    with client.websocket_connect("/ws") as c:
+        state = c.receive_json()
+    assert state["transport"]["time"] == 1.5
+    assert {a["name"]: a["value"] for o in state["objects"] if o["name"] == "box" for a in o["attributes"]}[
+        "position"] == [49.0, 0.5, 0.0]
+
+
+def test_objects_stay_while_a_take_runs(client):
+    with client.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        ws.send_json({"type": "take.begin", "take": "a", "paths": ["box.position"]})
+        receive_until(ws, "take.started")
+        for m in ({"type": "object.remove", "id": 1, "name": "box"}, {"type": "object.rename", "id": 2, "name": "box", "to": "b"},
+                  {"type": "undo", "id": 3}, {"type": "take.begin", "id": 4, "take": "b", "paths": ["ball.position"]}):
+            ws.send_json(m)
+            error, _ = receive_until(ws, "error")
+            assert error["id"] == m["id"] and error["code"] == ("busy" if m["type"] == "take.begin" else "refused")
+        ws.send_json({"type": "take.cancel", "id": 5, "take": "a"})
+        ended, _ = receive_until(ws, "take.ended")
+    assert ended["label"] is None and client.get("/api/state").json()["tracks"] == []
+
+
+def test_only_local_host_names_are_answered_on_a_local_server(tmp_path):
+    app = create_app(tmp_path / "h.sketchanim", warm=False, hosts=["127.0.0.1", "localhost"])
+    with TestClient(app, base_url="http://127.0.0.1:8000") as local:
+        assert local.get("/api/ready").status_code == 200
+    with TestClient(app, base_url="http://attacker.example") as rebound:
+        assert rebound.get("/api/project").status_code == 400
+    app.state.hub.session.close()
