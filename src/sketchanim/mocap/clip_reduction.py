@@ -23,7 +23,7 @@ from sketchanim.anim.tracks import held_values
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.motion import reduce_rotations
 from sketchanim.reducer import Reduction, reduce
-from sketchanim.reducer.result import load_document
+from sketchanim.reducer.result import load_versioned
 
 SCHEMA = "sketchanim.clip"
 VERSION = 1
@@ -265,7 +265,7 @@ class ReducedClip:
         >>> ReducedClip.from_json(r.to_json()).rotations[0].n_coefficients == r.rotations[0].n_coefficients
         True
         """
-        doc = load_document(text, source, SCHEMA, VERSION)
+        doc = load_versioned(text, source, SCHEMA, VERSION)
         try:
             joints = doc["joints"]
             skeleton = Skeleton(tuple(str(j["name"]) for j in joints), tuple(int(j["parent"]) for j in joints),

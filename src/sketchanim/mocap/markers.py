@@ -20,7 +20,7 @@ from sketchanim.mocap.clip_reduction import FLOAT32, curve_bytes, position_budge
 from sketchanim.motion.skeleton import frame_time
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.reducer import reduce
-from sketchanim.reducer.result import load_document
+from sketchanim.reducer.result import load_versioned
 
 SCHEMA = "sketchanim.markers"
 VERSION = 1
@@ -192,7 +192,7 @@ class ReducedMarkers:
         >>> ReducedMarkers.from_json(r.to_json()).evaluate(t).tolist() == r.evaluate(t).tolist()
         True
         """
-        doc = load_document(text, source, SCHEMA, VERSION)
+        doc = load_versioned(text, source, SCHEMA, VERSION)
         try:
             names = tuple(str(n) for n in doc["markers"])
             pieces = tuple(tuple(

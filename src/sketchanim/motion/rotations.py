@@ -30,7 +30,7 @@ from sketchanim.reducer.metric import rotation_angle
 from sketchanim.spline.knots import insert_knots
 
 #: What a rotation channel is reduced as.
-MODES = ("quaternion", "euler")
+ROTATION_MODES = ("quaternion", "euler")
 
 #: Quaternions shorter than this are not rotations (a zero or corrupt sample).
 MIN_NORM = 1e-6
@@ -114,8 +114,8 @@ def _unwrapped_euler(q: np.ndarray, seq: str, scalar_first: bool, previous: Arra
 
 
 def _check_mode(mode: str, tol_deg: float) -> float:
-    if mode not in MODES:
-        raise ArgumentError("mode", f"must be one of {', '.join(MODES)}, got {mode!r}")
+    if mode not in ROTATION_MODES:
+        raise ArgumentError("mode", f"must be one of {', '.join(ROTATION_MODES)}, got {mode!r}")
     tol = float(check_tolerance(tol_deg, 1)[0])
     if mode == "quaternion" and tol > 180.0:
         raise ArgumentError("tol_deg", f"must be at most 180 degrees, got {tol_deg!r}")

@@ -181,9 +181,9 @@ def condition(times: ArrayLike, values: ArrayLike, tol: ArrayLike, *, min_sample
     tol_arr = check_tolerance(tol, x.shape[1])
 
     with np.errstate(all="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)       # all-NaN channels: scan names them
+        warnings.simplefilter("ignore", RuntimeWarning)       # all-NaN channels: scan_samples names them
         reference = np.nanmedian(np.where(np.isinf(x), np.nan, x), axis=0) if len(x) else np.zeros(x.shape[1])
-    keep, error = scan(t, x, tol=tol_arr, reference=reference)
+    keep, error = scan_samples(t, x, tol=tol_arr, reference=reference)
     if error is not None:
         raise error
     t, x = t[keep], x[keep]
@@ -235,7 +235,7 @@ def _far(values: np.ndarray, tol: np.ndarray, reference: np.ndarray) -> tuple[in
     return int(rows[0]), int(np.argmax(far[rows[0]]))
 
 
-def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
+def scan_samples(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
          previous: tuple[float, np.ndarray] | None = None, tol: np.ndarray | None = None,
          reference: np.ndarray | None = None) -> tuple[np.ndarray, SampleError | None]:
     """Find the first bad sample of a batch, and the exact duplicates before it.
@@ -264,7 +264,7 @@ def scan(times: np.ndarray, values: np.ndarray, *, offset: int = 0,
 
     Examples
     --------
-    >>> keep, err = scan(np.array([0.0, 1.0, 1.0, 0.5]), np.array([[0.0], [1.0], [1.0], [2.0]]))
+    >>> keep, err = scan_samples(np.array([0.0, 1.0, 1.0, 0.5]), np.array([[0.0], [1.0], [1.0], [2.0]]))
     >>> keep.tolist(), str(err)
     ([True, True, False], 'sample 3, time: time goes backwards (0.5 after 1.0)')
     """

@@ -41,7 +41,7 @@ from sketchanim.errors import ArgumentError
 from sketchanim.reducer.approximate import PASS
 from sketchanim.reducer.metric import max_errors
 
-KINDS = ("pause", "break", "gap", "jump")
+FEATURE_KINDS = ("pause", "break", "gap", "jump")
 
 #: Codes the scanner returns.
 NOTHING, BREAK, PAUSE_START, PAUSE_END = 0, 1, 2, 3
@@ -208,7 +208,7 @@ def _arrives(T: np.ndarray, X: np.ndarray, r: int, before: float, start: float) 
 
 
 @njit(cache=True, error_model="numpy")
-def scan(T: np.ndarray, X: np.ndarray, n: int, st: np.ndarray, jumps: np.ndarray, p: np.ndarray,
+def scan_features(T: np.ndarray, X: np.ndarray, n: int, st: np.ndarray, jumps: np.ndarray, p: np.ndarray,
          half_band: float, min_pause: float, min_count: int, gap: int, w: int, pauses: bool,
          breaks: bool, start: float) -> int:
     """Advance the detector over samples ``st[_I] .. n - 1`` of ``T``, ``X`` (values in
@@ -399,7 +399,7 @@ class FeatureDetector:
         o = self.options
         st = self._st
         while True:
-            event = scan(self._t, self._x, self._n, st, self._jumps, self._p, self.half_band, o.min_pause,
+            event = scan_features(self._t, self._x, self._n, st, self._jumps, self._p, self.half_band, o.min_pause,
                          self.min_count, self.gap, self.w, o.pauses, o.breaks, self._start)
             if event == NOTHING:
                 break

@@ -10,17 +10,17 @@ import numpy as np
 from scipy.interpolate import BSpline
 
 from sketchanim.errors import InputError, load_json
-from sketchanim.reducer.features import KINDS, Feature
+from sketchanim.reducer.features import FEATURE_KINDS, Feature
 
 SCHEMA = "sketchanim.reduction"
 VERSION = 1
 
 
-def load_document(text: str, source: str, schema: str, version: int) -> dict[str, Any]:
+def load_versioned(text: str, source: str, schema: str, version: int) -> dict[str, Any]:
     """The JSON object in ``text``, checked to be a ``schema`` document of ``version``;
     :class:`InputError` naming ``source`` (and the line, for text that is not JSON).
 
-    >>> load_document('{"schema": "s", "version": 2}', "f.json", "s", 1)
+    >>> load_versioned('{"schema": "s", "version": 2}', "f.json", "s", 1)
     Traceback (most recent call last):
     sketchanim.errors.InputError: f.json: version 2, this reader knows 1
     """
@@ -134,7 +134,7 @@ class Reduction:
     @classmethod
     def from_json(cls, text: str, *, source: str = "<json>") -> Reduction:
         """Read a document written by :meth:`to_json`; errors name ``source`` and the field."""
-        doc = load_document(text, source, SCHEMA, VERSION)
+        doc = load_versioned(text, source, SCHEMA, VERSION)
 
         def field_array(name: str, ndim: tuple[int, ...]) -> np.ndarray:
             try:
@@ -171,11 +171,11 @@ class Reduction:
             raise InputError(f"{source}: field 'features' must be a list")
         found = []
         for i, f in enumerate(features):
-            ok = isinstance(f, dict) and f.get("kind") in KINDS and all(
+            ok = isinstance(f, dict) and f.get("kind") in FEATURE_KINDS and all(
                 isinstance(f.get(key), (int, float)) and not isinstance(f.get(key), bool) and np.isfinite(f[key])
                 for key in ("start", "end"))
             if not ok or f["start"] > f["end"]:
-                raise InputError(f"{source}: field 'features', item {i}: needs kind ({' or '.join(KINDS)}) "
+                raise InputError(f"{source}: field 'features', item {i}: needs kind ({' or '.join(FEATURE_KINDS)}) "
                                  "and finite start <= end")
             found.append(Feature(f["kind"], float(f["start"]), float(f["end"])))
         return cls(

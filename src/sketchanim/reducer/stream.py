@@ -28,7 +28,7 @@ from scipy.interpolate import BSpline, insert
 from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer import window_kernel
 from sketchanim.reducer.conditioning import (MAX_SPAN, MAX_WINDOW, check_angle, check_count, check_order,
-                                             check_tolerance, scan)
+                                             check_tolerance, scan_samples)
 from sketchanim.reducer.features import Feature, FeatureDetector, FeatureOptions
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
@@ -358,7 +358,7 @@ class StreamReducer:
             raise ArgumentError("values", f"needs shape ({len(t)}, {self.dim}), got {x.shape}")
         if self._reference is None and len(x) and np.all(np.isfinite(x[0])):
             self._reference = x[0].copy()
-        keep, error = scan(t, x, offset=self._pushed, previous=self._previous, tol=self.tol,
+        keep, error = scan_samples(t, x, offset=self._pushed, previous=self._previous, tol=self.tol,
                            reference=self._reference)
         good = len(keep)
         if good:

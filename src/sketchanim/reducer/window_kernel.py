@@ -77,7 +77,7 @@ def evaluate(first: np.ndarray, rows: np.ndarray, coef: np.ndarray) -> np.ndarra
 
 
 @njit(cache=True, error_model="numpy")
-def rotation_angle(v: np.ndarray, x: np.ndarray, scale: np.ndarray, center: np.ndarray) -> float:
+def scaled_rotation_angle(v: np.ndarray, x: np.ndarray, scale: np.ndarray, center: np.ndarray) -> float:
     """Rotation angle (radians) between the quaternions ``center + scale * v`` and
     ``center + scale * x`` (any norm, either sign): twice the angle between the lines
     they span. The sine comes from Lagrange's identity, exact for small angles."""
@@ -174,7 +174,7 @@ def fit(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int, ts: np.ndarra
     worst = 0.0
     for s in range(len(ts)):
         if angle > 0.0:
-            e = rotation_angle(values[s], xs[s], scale, center) / angle
+            e = scaled_rotation_angle(values[s], xs[s], scale, center) / angle
         else:
             e = 0.0
             for c in range(d):
@@ -395,7 +395,7 @@ def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarr
     out = np.zeros(1 if angle > 0.0 else xs.shape[1])
     for s in range(len(ts)):
         if angle > 0.0:
-            out[0] = max(out[0], rotation_angle(values[s], xs[s], scale, center))
+            out[0] = max(out[0], scaled_rotation_angle(values[s], xs[s], scale, center))
         else:
             for c in range(xs.shape[1]):
                 out[c] = max(out[c], abs(values[s, c] - xs[s, c]) * scale[c])
