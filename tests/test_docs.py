@@ -68,6 +68,17 @@ def test_no_page_cites_the_design_notes_outside_the_repo() -> None:
     assert not [p.name for p in PAGES if "DESIGN.md" in p.read_text()]
 
 
+#: Pages that describe the code as it is: no issue numbers, no branches, no history.
+REFERENCE = [README, *(DOCS / name for name in ("architecture.md", "reducer.md", "animation-model.md",
+                                                "mocap.md", "clients.md", "benchmarks.md"))]
+WORK_LOG = re.compile(r"\bissue \d+|\bbranch\b|\bworktree\b|\bwe (changed|moved|now)\b", re.I)
+
+
+@pytest.mark.parametrize("page", REFERENCE, ids=lambda p: p.name)
+def test_reference_pages_describe_the_code_not_the_work(page: Path) -> None:
+    assert not WORK_LOG.findall(page.read_text()), f"{page.name} reads like a work log"
+
+
 def documented_layers() -> list[str]:
     text = (DOCS / "architecture.md").read_text()
     assert LAYER_MARK in text, "docs/architecture.md has lost its layer marker"
