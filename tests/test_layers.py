@@ -1,4 +1,4 @@
-"""Layers import only downward (README, Layout): a module may import its own layer and
+"""Layers import only downward (docs/architecture.md): a module may import its own layer and
 the ones below it, never one above."""
 
 from __future__ import annotations
