@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sketchanim.anim.attributes import AttributeType
-from sketchanim.anim.layers import punch_in
+from sketchanim.anim.layers import recorded_over
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import BLEND, MODES, ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.anim.workers import Pool, Spec, shared_pool
@@ -406,7 +406,4 @@ class Recorder:
             merged = sorted(keep + list(zip(times.tolist(), values)), key=lambda p: p[0])
             return DiscreteTrack(a.path, a.type, [p[0] for p in merged], [p[1] for p in merged])
         below = old if isinstance(old, ContinuousTrack) else None
-        if curve is not None and curve[1] is None:
-            return ContinuousTrack(a.path, a.type, curve[0], a.tol, (take,))
-        spline = punch_in(a.type, None if below is None else below.spline, take, a.tol, self.order, curve)
-        return ContinuousTrack(a.path, a.type, spline, a.tol, (() if below is None else below.takes) + (take,))
+        return recorded_over(a.path, a.type, below, take, a.tol, self.order, curve)

@@ -31,7 +31,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.attributes import AttributeType
-from sketchanim.anim.edits import History
+from sketchanim.anim.history import History
 from sketchanim.anim.layers import punch_in
 from sketchanim.anim.player import Player
 from sketchanim.anim.recorder import Recorder
