@@ -373,6 +373,12 @@ MESSAGES: tuple[type[BaseModel], ...] = (
     State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice)
 
 
+#: Who gets a message: every page, every page but the sender's, or the sender's alone.
+Audience = Literal["all", "others", "self"]
+#: A message (as :func:`wire` or :func:`relay` made it) and who gets it.
+Out = tuple[Audience, dict]
+
+
 def wire(message: _Outbound) -> dict:
     """``message`` as it is sent: a JSON object.
 
