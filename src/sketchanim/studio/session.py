@@ -97,6 +97,11 @@ class Session:
         return self.editor.history
 
     @property
+    def dirty(self) -> bool:
+        """Whether the model changed since the project was last saved."""
+        return self.editor.dirty
+
+    @property
     def take(self) -> RunningTake | None:
         """The take in progress, or None."""
         return self.takes.take
