@@ -35,7 +35,7 @@ from sketchanim.reducer.conditioning import TIME_RANGE, VALUE_RANGE
 #: Called from the recorder's journal thread about every :data:`JOURNAL_PERIOD` seconds
 #: with the samples queued since the last call: (path, times (n,), values (n, dim) or a
 #: list of discrete values) for each attribute that got some.
-Journal = Callable[[list[tuple[str, np.ndarray, object]]], None]
+SampleSink = Callable[[list[tuple[str, np.ndarray, object]]], None]
 JOURNAL_PERIOD = 0.05
 
 
@@ -98,7 +98,7 @@ class Recorder:
         The streaming reducer's window (see :class:`sketchanim.StreamReducer`).
     journal : callable or None
         Given every sample queued, in batches, while the take goes on (see
-        :data:`Journal`), e.g. to commit them to a project file.
+        :data:`SampleSink`), e.g. to commit them to a project file.
 
     Examples
     --------
@@ -115,7 +115,7 @@ class Recorder:
     (True, True)
     """
 
-    def __init__(self, scene: Scene, *, order: int = 4, window: int = 20, journal: Journal | None = None) -> None:
+    def __init__(self, scene: Scene, *, order: int = 4, window: int = 20, journal: SampleSink | None = None) -> None:
         self.scene = scene
         self.order = order
         self.window = window

@@ -26,11 +26,11 @@ import numpy as np
 from sketchanim.errors import FileFormatError
 
 FORMAT = "sketchanim-project"
-VERSION = 1
+FORMAT_VERSION = 1
 #: Most samples in one take (a hostile file cannot make a reader allocate more).
 MAX_TAKE_SAMPLES = 50_000_000
 
-SCHEMA = """
+CREATE_TABLES = """
 CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS documents (name TEXT PRIMARY KEY, body TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS takes (id INTEGER PRIMARY KEY, mode TEXT NOT NULL, blend REAL NOT NULL,
@@ -39,7 +39,7 @@ CREATE TABLE IF NOT EXISTS journal (seq INTEGER PRIMARY KEY, started REAL NOT NU
     n INTEGER NOT NULL, times BLOB NOT NULL, vals NOT NULL);
 CREATE TABLE IF NOT EXISTS checksums (name TEXT PRIMARY KEY, digest TEXT NOT NULL);
 """
-#: The columns of each table, as SCHEMA makes them (a file with others is not ours).
+#: The columns of each table, as CREATE_TABLES makes them (a file with others is not ours).
 COLUMNS = {"meta": ("key", "value"), "documents": ("name", "body"),
            "takes": ("id", "mode", "blend", "dim", "n", "times", "vals"),
            "journal": ("seq", "started", "path", "n", "times", "vals"), "checksums": ("name", "digest")}

@@ -15,16 +15,16 @@ from sketchanim.anim.attributes import DISCRETE, AttributeType
 from sketchanim.anim.scene import KINDS, Scene
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.errors import FileFormatError, InputError
-from sketchanim.project.database import FORMAT, VERSION
+from sketchanim.project.database import FORMAT, FORMAT_VERSION
 
 #: Bounds on what a file may hold (a hostile file cannot make a reader allocate more).
 MAX_DOCUMENT_BYTES = 256 * 2**20
 MAX_ITEMS = 10_000_000
 TYPE_NAMES = ("position", "orientation", "scale", "color", "intensity", "fov", "float", "vector") + DISCRETE
 
-Number = Annotated[float, Field(allow_inf_nan=False)]
-Name = Annotated[str, Field(min_length=1, max_length=64)]
-Items = Field(max_length=MAX_ITEMS)
+_Number = Annotated[float, Field(allow_inf_nan=False)]
+_Name = Annotated[str, Field(min_length=1, max_length=64)]
+_Items = Field(max_length=MAX_ITEMS)
 
 
 class _Doc(BaseModel):
@@ -34,37 +34,37 @@ class _Doc(BaseModel):
 class TypeDoc(_Doc):
     name: Literal[TYPE_NAMES]  # type: ignore[valid-type]
     dim: int = Field(ge=0, le=64)
-    tol: Number = Field(ge=0)
+    tol: _Number = Field(ge=0)
     unit: str = Field(max_length=64)
-    default: list[Number | bool | str | None] = Field(max_length=64)
-    choices: list[Name] = Field(default_factory=list, max_length=1024)
+    default: list[_Number | bool | str | None] = Field(max_length=64)
+    choices: list[_Name] = Field(default_factory=list, max_length=1024)
 
 
 class AttributeDoc(_Doc):
-    name: Name
+    name: _Name
     type: TypeDoc
-    value: list[Number] | bool | str | None
+    value: list[_Number] | bool | str | None
 
 
 class ObjectDoc(_Doc):
-    name: Name
+    name: _Name
     kind: Literal[tuple(KINDS)]  # type: ignore[valid-type]
     attributes: list[AttributeDoc] = Field(max_length=4096)
 
 
 class CurveDoc(_Doc):
     path: str = Field(max_length=200)
-    tol: Number = Field(gt=0)
+    tol: _Number = Field(gt=0)
     order: int = Field(ge=1, le=32)
-    knots: list[Number] = Items
-    coef: list[list[Number]] = Items
+    knots: list[_Number] = _Items
+    coef: list[list[_Number]] = _Items
     takes: list[int] = Field(default_factory=list, max_length=100_000)
 
 
 class StepsDoc(_Doc):
     path: str = Field(max_length=200)
-    times: list[Number] = Items
-    values: list[bool | str | None] = Items
+    times: list[_Number] = _Items
+    values: list[bool | str | None] = _Items
 
 
 class ProjectDoc(_Doc):
@@ -72,7 +72,7 @@ class ProjectDoc(_Doc):
     referenced by id)."""
 
     format: Literal["sketchanim-project"] = FORMAT
-    version: Literal[1] = VERSION
+    version: Literal[1] = FORMAT_VERSION
     objects: list[ObjectDoc] = Field(max_length=100_000)
     curves: list[CurveDoc] = Field(max_length=100_000)
     steps: list[StepsDoc] = Field(max_length=100_000)

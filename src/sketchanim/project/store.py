@@ -26,8 +26,8 @@ from sketchanim.anim.tracks import MODES, ContinuousTrack, Take, Track
 from sketchanim.atomic import write_atomic
 from sketchanim.errors import FileFormatError, InputError, load_json
 from sketchanim.project.checksums import CHECKSUMS, document_digest, take_digest
-from sketchanim.project.database import (COLUMNS, FORMAT, MAX_TAKE_SAMPLES, SCHEMA, VERSION, connect, floats,
-                                         reading, use_wal, writable)
+from sketchanim.project.database import (COLUMNS, CREATE_TABLES, FORMAT, FORMAT_VERSION, MAX_TAKE_SAMPLES, connect,
+                                         floats, reading, use_wal, writable)
 from sketchanim.project.document import MAX_DOCUMENT_BYTES, from_document, load_document, to_document
 from sketchanim.project.journal import Journal, journaled_take
 
@@ -104,7 +104,8 @@ class Project:
         if not meta:
             with self.db:
                 self.db.execute("BEGIN")
-                self.db.executemany("INSERT INTO meta VALUES (?, ?)", [("format", FORMAT), ("version", str(VERSION)),
+                self.db.executemany("INSERT INTO meta VALUES (?, ?)", [("format", FORMAT),
+                                                                       ("version", str(FORMAT_VERSION)),
                                                                        ("checksums", CHECKSUMS)])
         #: Whether the file carries checksums (an older project does not until saved;
         #: checksum rows are checked whatever meta says).
@@ -128,12 +129,12 @@ class Project:
         if tables and missing:
             raise FileFormatError(source, f"not a project file (no {', '.join(sorted(missing))} table)")
         meta = dict(self.db.execute("SELECT key, value FROM meta").fetchall()) if tables else {}
-        if meta and (meta.get("format") != FORMAT or meta.get("version") != str(VERSION)):
-            raise FileFormatError(source, f"not a {FORMAT} version {VERSION} file (meta says {meta})")
+        if meta and (meta.get("format") != FORMAT or meta.get("version") != str(FORMAT_VERSION)):
+            raise FileFormatError(source, f"not a {FORMAT} version {FORMAT_VERSION} file (meta says {meta})")
         if set(meta) - {"format", "version", "checksums"} or meta.get("checksums", CHECKSUMS) != CHECKSUMS:
             raise FileFormatError(source, f"damaged: meta says {meta}")
         if not self.read_only:
-            self.db.executescript(SCHEMA)
+            self.db.executescript(CREATE_TABLES)
             tables |= set(COLUMNS)
         sums = self.db.execute("SELECT count(*) FROM checksums").fetchone()[0] if "checksums" in tables else 0
         return meta, sums
