@@ -281,3 +281,27 @@ def test_one_studio_per_project(tmp_path):
     first.close()
     Session(tmp_path / "one.sketchanim").close()            # free again once closed
     assert sorted(p.name for p in tmp_path.iterdir()) == ["one.sketchanim"]
+
+
+def test_a_reducer_process_that_died_is_a_notice_for_every_page(session, monkeypatch, caplog):
+    """The recorder warns that a reducer process died (its attributes reduced from the
+    raw take): the session says so to every page and logs it, and keeps the take."""
+    import logging
+
+    from sketchanim.anim.workers import Pool
+
+    real = Pool.results
+
+    def one_lost(self, take, n):
+        return real(self, take, n)[1:]                 # the first process's answer never comes
+
+    monkeypatch.setattr(Pool, "results", one_lost)
+    t = np.arange(0, 1, 1 / 60)
+    with caplog.at_level(logging.WARNING, logger="sketchanim.studio"):
+        out = take(session, "a", ["box.position"], t, np.c_[t, 0.5 + 0 * t, 0 * t])
+    notices = [(who, m) for who, m in out if m["type"] == "notice"]
+    assert notices == [("all", {"type": "notice", "level": "warning", "source": "recorder",
+                                "text": "a reducer process died; reducing its attributes from the raw take"})]
+    assert any("a reducer process died" in r.getMessage() for r in caplog.records)
+    track = session.player.tracks["box.position"]
+    assert within(track, t, np.c_[t, 0.5 + 0 * t, 0 * t]) <= track.tol
