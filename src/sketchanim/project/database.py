@@ -46,6 +46,15 @@ COLUMNS = {"meta": ("key", "value"), "documents": ("name", "body"),
 
 
 def connect(path: Path, read_only: bool = False, *, wal: bool = True) -> sqlite3.Connection:
+    """A connection to the project database at ``path`` (autocommit: transactions are
+    begun explicitly), in write-ahead-log mode with ``wal``; read-only opens write nothing.
+
+    >>> import tempfile
+    >>> db = connect(Path(tempfile.mkdtemp()) / "p.sketchanim")
+    >>> db.execute("PRAGMA journal_mode").fetchone()[0]
+    'wal'
+    >>> db.close()
+    """
     if read_only:
         # immutable: no lock, no -shm, nothing written (read-only media); a left-over
         # write-ahead log needs a normal read-only open to be read
@@ -81,6 +90,12 @@ def reading(source: str, what: str) -> Iterator[None]:
 
 
 def floats(blob: object, count: int, where: str, source: str) -> np.ndarray:
+    """The ``count`` finite little-endian float64 values in ``blob``; a
+    :class:`FileFormatError` naming ``where`` in the file ``source`` otherwise.
+
+    >>> floats(np.arange(2.0).tobytes(), 2, "take 0", "p.sketchanim").tolist()
+    [0.0, 1.0]
+    """
     if not isinstance(blob, bytes) or len(blob) != 8 * count:
         raise FileFormatError(source, f"{where}: expected {count} float64 values")
     x = np.frombuffer(blob, dtype="<f8").astype(float)

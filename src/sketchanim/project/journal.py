@@ -30,6 +30,7 @@ class Journal:
         self._lock = threading.Lock()
 
     def __call__(self, batches: list[tuple[str, np.ndarray, object]]) -> None:
+        """Commit ``batches`` (path, times, values) as one transaction."""
         rows = [(self.started, path, len(times), np.asarray(times, "<f8").tobytes(),
                  np.asarray(values, "<f8").tobytes() if isinstance(values, np.ndarray) else json.dumps(list(values)))
                 for path, times, values in batches]
@@ -42,6 +43,7 @@ class Journal:
                                      rows)
 
     def close(self) -> None:
+        """Close the journal's connection (the rows stay until the project is saved)."""
         with self._lock:
             if self._db is not None:
                 self._db.close()
