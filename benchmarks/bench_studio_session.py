@@ -26,7 +26,7 @@ from rich.table import Table
 from scipy.spatial.transform import Rotation
 
 from sketchanim.studio.session import Session
-from sketchanim.studio.warm import warm_model
+from sketchanim.anim.warmup import warm_recorder
 
 RATE, BATCH = 60.0, 6
 
@@ -60,7 +60,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=7)
     args = parser.parse_args()
-    warm_model()
+    warm_recorder()
     table = Table(title=f"studio session: a position and an orientation at {RATE:.0f} Hz, batches of {BATCH}")
     for column in ("take", "over", "batch p50 ms", "batch max ms", "release p50 ms", "release max ms", "save p50 ms"):
         table.add_column(column, justify="right")

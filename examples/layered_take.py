@@ -22,7 +22,7 @@ import numpy as np
 from scipy.interpolate import BSpline
 from scipy.spatial.transform import Rotation
 
-from sketchanim.anim.edits import History
+from sketchanim.anim.history import History
 from sketchanim.anim.player import Player
 from sketchanim.anim.recorder import Recorder
 from sketchanim.anim.scene import Scene

@@ -1,6 +1,7 @@
 """Driving the studio page in Debian's chromium (headless, WebGL through SwiftShader)
 with Playwright: a server on a fresh project, a page on it, and what the page drew.
-Shared by tests/studio/test_studio_page.py and benchmarks/bench_studio.py."""
+Shared by tests/studio/test_studio_page.py, test_studio_recovery.py (the server) and
+benchmarks/bench_studio.py."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ import urllib.request
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 from scipy.interpolate import BSpline
@@ -32,45 +34,55 @@ def chromium() -> str:
     raise RuntimeError("chromium is not installed: run scripts/setup (apt-get install chromium)")
 
 
-def _free_port() -> int:
+def free_port() -> int:
+    """A TCP port free on 127.0.0.1 now."""
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
 
 
+def start_studio(project: Path, port: int, log: IO) -> subprocess.Popen:
+    """``sketchanim studio PROJECT --port PORT`` in a process group of its own (so that
+    ``os.killpg`` ends it with its reducer processes), its output to ``log``; returned
+    once ``/api/ready`` says it is ready (RuntimeError with its output if it exits, or
+    is not ready in 120 s)."""
+    cli = Path(sys.executable).with_name("sketchanim")
+    proc = subprocess.Popen([str(cli), "studio", str(project), "--port", str(port), "--no-browser"],
+                            cwd=project.parent, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    url = f"http://127.0.0.1:{port}/"
+    deadline = time.monotonic() + 120
+    while True:
+        try:
+            with urllib.request.urlopen(url + "api/ready", timeout=2) as r:
+                if json.load(r)["ready"]:
+                    return proc
+        except OSError:
+            pass
+        if proc.poll() is not None:
+            raise RuntimeError(f"the studio server exited: {Path(log.name).read_text()[-3000:]}")
+        if time.monotonic() > deadline:
+            proc.kill()
+            raise RuntimeError("the studio server did not get ready in 120 s")
+        time.sleep(0.2)
+
+
 @contextmanager
 def studio_server(project: Path) -> Iterator[str]:
-    """``sketchanim studio PROJECT`` in a process of its own; yields its URL."""
-    port = _free_port()
-    cli = Path(sys.executable).with_name("sketchanim")
+    """``sketchanim studio PROJECT`` in a process of its own (:func:`start_studio`);
+    yields its URL, and stops it after."""
+    port = free_port()
     log = project.with_name(project.name + ".log")
-    out = log.open("w")
-    proc = subprocess.Popen([str(cli), "studio", str(project), "--port", str(port), "--no-browser"],
-                            cwd=project.parent, stdout=out, stderr=subprocess.STDOUT, text=True)
-    url = f"http://127.0.0.1:{port}/"
-    try:
-        deadline = time.monotonic() + 120
-        while True:
-            try:
-                with urllib.request.urlopen(url + "api/ready", timeout=2) as r:
-                    if json.load(r)["ready"]:
-                        break
-            except OSError:
-                pass
-            if proc.poll() is not None:
-                raise RuntimeError(f"the studio server exited: {log.read_text()[-3000:]}")
-            if time.monotonic() > deadline:
-                raise RuntimeError("the studio server did not get ready in 120 s")
-            time.sleep(0.2)
-        yield url
-    finally:
-        proc.terminate()
+    with log.open("w") as out:
+        proc = start_studio(project, port, out)
         try:
-            proc.wait(10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-        out.close()
-        print(f"--- the studio server's output ({log}) ---\n{log.read_text()[-5000:]}")   # shown when a test fails
+            yield f"http://127.0.0.1:{port}/"
+        finally:
+            proc.terminate()
+            try:
+                proc.wait(10)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+    print(f"--- the studio server's output ({log}) ---\n{log.read_text()[-5000:]}")   # shown when a test fails
 
 
 def launch(playwright):  # noqa: ANN001, ANN201 (Playwright's own types)

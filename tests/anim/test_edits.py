@@ -8,7 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sketchanim.anim.attributes import BOOL, ORIENTATION, POSITION
-from sketchanim.anim.edits import History, moved_point, scaled, shifted, with_knot, without_knot, without_range
+from sketchanim.anim.history import History
+from sketchanim.anim.edits import moved_point, scaled, shifted, with_knot, without_knot, without_range
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack

@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 from scipy.interpolate import BSpline
 
 from sketchanim.anim.attributes import POSITION
-from sketchanim.anim.edits import History
+from sketchanim.anim.history import History
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene, SceneObject
 from sketchanim.anim.tracks import ContinuousTrack

@@ -16,14 +16,6 @@ from sketchanim.studio.app import create_app
 from sketchanim.studio.protocol import MAX_MESSAGE_BYTES
 
 
-@pytest.fixture
-def client(tmp_path):
-    app = create_app(tmp_path / "p.sketchanim", warm=False)
-    with TestClient(app) as c:
-        yield c
-    app.state.hub.session.close()
-
-
 def receive_until(ws, kind: str, limit: int = 50) -> tuple[dict, list[dict]]:
     """Messages up to the first of type ``kind``: that one and all before it."""
     seen = []
@@ -212,3 +204,69 @@ def test_only_local_host_names_are_answered_on_a_local_server(tmp_path):
     with TestClient(app, base_url="http://attacker.example") as rebound:
         assert rebound.get("/api/project").status_code == 400
     app.state.hub.session.close()
+
+
+def test_a_recorder_warning_reaches_every_page_as_a_notice_and_the_log(client, monkeypatch, caplog):
+    """The journal fails during a take: the recorder warns when the take stops, and the
+    warning goes to every page as a ``notice`` and into the server's log."""
+    import logging
+
+    from sketchanim.project.journal import Journal
+
+    def broken(self, batches):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(Journal, "__call__", broken)
+    t = np.arange(60) / 60
+    with caplog.at_level(logging.WARNING, logger="sketchanim.studio"), \
+            client.websocket_connect("/ws") as a, client.websocket_connect("/ws") as b:
+        a.receive_json(), b.receive_json()
+        a.send_json({"type": "take.begin", "take": "k", "paths": ["lamp.intensity"]})
+        receive_until(a, "take.started")
+        a.send_json({"type": "take.samples", "take": "k", "t": t.tolist(), "values": (1 + t)[:, None].tolist()})
+        import time
+        time.sleep(0.2)                                         # the journal thread tries, and fails
+        a.send_json({"type": "take.end", "take": "k"})
+        for ws in (a, b):
+            notice, _ = receive_until(ws, "notice")
+            assert set(notice) == {"type", "level", "text", "source"}
+            assert notice["level"] == "warning" and notice["source"] == "recorder"
+            assert "the journal failed" in notice["text"] and "not safe from a crash" in notice["text"]
+            receive_until(ws, "take.ended")                     # the take is kept all the same
+    assert any("the journal failed" in r.getMessage() for r in caplog.records)
+    assert [tr["path"] for tr in client.get("/api/state").json()["tracks"]] == ["lamp.intensity"]
+
+
+def test_every_page_message_type_has_a_handler():
+    from sketchanim.studio.handlers import HANDLERS
+    from sketchanim.studio.protocol import Message
+
+    inbound = {m.model_fields["type"].annotation.__args__[0] for m in Message.__origin__.__args__}
+    assert inbound == set(HANDLERS)
+
+
+def test_what_the_server_sends_is_declared_in_the_protocol(client):
+    """Every message a session of ordinary use sends validates against its model."""
+    from pydantic import TypeAdapter
+
+    from sketchanim.studio import protocol
+
+    adapter = TypeAdapter(protocol.ServerMessage)
+    t = np.arange(30) / 60
+    with client.websocket_connect("/ws") as a, client.websocket_connect("/ws") as b:
+        seen = [a.receive_json(), b.receive_json()]
+        for m in ({"type": "ping", "id": 1}, {"type": "set", "id": 2, "path": "cam.fov", "value": [30]},
+                  {"type": "preview", "key": "k", "path": "box.position", "value": [1, 2, 3]},
+                  {"type": "transport", "time": 1.0, "loop": [0, 2]},
+                  {"type": "take.begin", "take": "a", "paths": ["box.position"]},
+                  {"type": "take.samples", "take": "a", "t": t.tolist(), "values": np.c_[t, t, t].tolist()},
+                  {"type": "take.end", "id": 3, "take": "a"}, {"type": "undo"}, {"type": "object.add", "name": "c"},
+                  {"type": "export", "file": "x.glb"}, {"type": "warp"}):
+            a.send_json(m)
+        seen += receive_until(a, "exported", limit=200)[1] + [a.receive_json()]
+        seen += receive_until(b, "state", limit=200)[1]
+    assert {m["type"] for m in seen} >= {"state", "pong", "ack", "values", "history", "take.started", "tracks",
+                                         "take.ended", "exported", "error", "preview", "transport"}
+    for m in seen:
+        model = adapter.validate_python(m)
+        assert protocol.wire(model) == m or m["type"] in ("preview", "transport"), m

@@ -6,46 +6,26 @@ from __future__ import annotations
 import json
 import os
 import signal
-import socket
-import subprocess
-import sys
 import time
-from pathlib import Path
 
 import httpx
 import numpy as np
+import pytest
 from websockets.sync.client import connect
 
-REPO = Path(__file__).resolve().parents[2]
+from studio_browser import free_port, start_studio
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+@pytest.fixture
+def log(tmp_path):
+    with (tmp_path / "studio.log").open("w") as out:
+        yield out
 
 
-def start(project: Path, port: int) -> subprocess.Popen:
-    server = subprocess.Popen([str(Path(sys.executable).with_name("sketchanim")), "studio", str(project), "--no-browser",
-                               "--port", str(port)], cwd=project.parent, stdout=subprocess.PIPE,
-                              stderr=subprocess.STDOUT, start_new_session=True)
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        try:
-            if httpx.get(f"http://127.0.0.1:{port}/api/ready", timeout=1).json()["ready"]:
-                return server
-        except httpx.HTTPError:
-            pass
-        if server.poll() is not None:
-            raise AssertionError(server.stdout.read().decode())
-        time.sleep(0.2)
-    raise AssertionError("the studio did not become ready")
-
-
-def test_sigkill_mid_take_recovers_the_take(tmp_path):
+def test_sigkill_mid_take_recovers_the_take(tmp_path, log):
     project = tmp_path / "show.sketchanim"
     port = free_port()
-    server = start(project, port)
+    server = start_studio(project, port, log)
     t = np.arange(0, 1.5, 1 / 60)
     x = np.c_[np.sin(2 * t), 0.5 + 0 * t, np.cos(2 * t)]
     try:
@@ -64,7 +44,7 @@ def test_sigkill_mid_take_recovers_the_take(tmp_path):
     finally:
         if server.poll() is None:
             os.killpg(server.pid, signal.SIGKILL)
-    server = start(project, port)
+    server = start_studio(project, port, log)
     try:
         state = httpx.get(f"http://127.0.0.1:{port}/api/state").json()
         assert state["history"]["undo"] == ["recovered take"]

@@ -147,10 +147,10 @@ def test_reload_gives_the_same_state(tmp_path):
     t = np.arange(0, 2, 1 / 60)
     take(s, "a", ["box.orientation"], t, Rotation.from_rotvec(np.c_[t, 0 * t, 0 * t]).as_quat())
     s.set("lamp.color", [0.2, 0.4, 0.6], None, None)
-    state = s.state(True)
+    state = s.state()
     s.close()
     again = Session(path)
-    reloaded = again.state(True)
+    reloaded = again.state()
     again.close()
     for key in ("objects", "tracks", "span"):
         assert reloaded[key] == state[key], key
@@ -260,7 +260,7 @@ def test_an_additive_take_cut_by_a_crash_comes_back_additive(tmp_path):
     s.begin_take(OWNER, "add", ["ball.position"], "additive", 0.1, 1.0, 1.0, {"ball.position": 0.002}, None, 0.25)
     s.samples(OWNER, "add", inside, np.c_[0 * inside, 0.25 + 0 * inside, 0 * inside].tolist())
     time.sleep(0.3)                                     # committed by the journal thread; then the process "dies"
-    s._lock.close()                                     # as the system lets go of a dead process's lock
+    s.lock.handle.close()                                   # as the system lets go of a dead process's lock
     again = Session(path)                               # the next start, without s ever ending the take
     try:
         assert again.recovered == "ball.position" and again.history.labels[0][-1] == "recovered take"
@@ -270,7 +270,7 @@ def test_an_additive_take_cut_by_a_crash_comes_back_additive(tmp_path):
     finally:
         again.close()
         s.take.recorder.stop()
-        s.take = None
+        s.takes.take = None
         s.project.close()
 
 
@@ -281,3 +281,27 @@ def test_one_studio_per_project(tmp_path):
     first.close()
     Session(tmp_path / "one.sketchanim").close()            # free again once closed
     assert sorted(p.name for p in tmp_path.iterdir()) == ["one.sketchanim"]
+
+
+def test_a_reducer_process_that_died_is_a_notice_for_every_page(session, monkeypatch, caplog):
+    """The recorder warns that a reducer process died (its attributes reduced from the
+    raw take): the session says so to every page and logs it, and keeps the take."""
+    import logging
+
+    from sketchanim.anim.workers import Pool
+
+    real = Pool.results
+
+    def one_lost(self, take, n):
+        return real(self, take, n)[1:]                 # the first process's answer never comes
+
+    monkeypatch.setattr(Pool, "results", one_lost)
+    t = np.arange(0, 1, 1 / 60)
+    with caplog.at_level(logging.WARNING, logger="sketchanim.studio"):
+        out = take(session, "a", ["box.position"], t, np.c_[t, 0.5 + 0 * t, 0 * t])
+    notices = [(who, m) for who, m in out if m["type"] == "notice"]
+    assert notices == [("all", {"type": "notice", "level": "warning", "source": "recorder",
+                                "text": "a reducer process died; reducing its attributes from the raw take"})]
+    assert any("a reducer process died" in r.getMessage() for r in caplog.records)
+    track = session.player.tracks["box.position"]
+    assert within(track, t, np.c_[t, 0.5 + 0 * t, 0 * t]) <= track.tol

@@ -1,1 +1,2 @@
-"""The animation model: scene, attributes, tracks, playback (no UI, no files)."""
+"""The animation model: scene, attributes, tracks, the recorder and playback, and every
+change as an undoable command run by a history (no UI, no files)."""

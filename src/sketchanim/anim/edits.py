@@ -1,20 +1,15 @@
-"""Editing tracks, every edit undoable.
-
-Each edit is a function from a track to a new track (tracks are never changed in
-place), and :class:`History` applies edits to a player's tracks, keeping what each one
-replaced so that it can be undone and redone. Recording a take is an edit too.
+"""Editing tracks: each edit is a function from a track to a new track (tracks are
+never changed in place); :meth:`.history.History.edit` makes one an undoable step.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline, make_lsq_spline
 
-from sketchanim.anim.player import Player
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Track
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer.splice import join, snapped, split
@@ -121,122 +116,3 @@ def without_range(track: Track, t0: float, t1: float) -> Track:
     if right is not None:
         c[-1][0] = c[-2][-1]
     return _curve(track, join([BSpline(p.t, ci, p.k) for p, ci in zip(pieces, c)]))
-
-
-#: A change to the scene in a History step: (do, undo), two calls without arguments.
-SceneChange = tuple[Callable[[], object], Callable[[], object]]
-
-
-@dataclass(frozen=True)
-class Edit:
-    """One undoable step: the tracks it replaced and the ones it put (None: no track),
-    and the scene changes made with them, in order.
-
-    ``merge`` is the step's merge key: a step applied with the same key as the last one
-    joins it (three.js's updatable commands: a run of nudges, the passes of a loop
-    recording), so one undo goes back to before the first.
-    """
-
-    label: str
-    before: Mapping[str, Track | None]
-    after: Mapping[str, Track | None]
-    scene: tuple[SceneChange, ...] = ()
-    merge: str | None = None
-
-
-class History:
-    """Apply edits to a player's tracks and changes to its scene, with undo and redo.
-
-    ``on_change`` is called with the history after every step applied, undone or
-    redone (e.g. to tell clients the labels and whether undo and redo are possible).
-
-    >>> from sketchanim.anim.attributes import FLOAT
-    >>> from sketchanim.anim.scene import Scene
-    >>> scene = Scene(); obj = scene.add("a"); _ = obj.add("x", FLOAT)
-    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.c_[[0.0, 1.0]], 1)
-    >>> player = Player(scene, [ContinuousTrack("a.x", FLOAT, s, 0.01)])
-    >>> history = History(player)
-    >>> history.edit("a.x", "move point", moved_point, 1, [5.0])
-    >>> float(player.tracks["a.x"].evaluate([1.0])[0, 0]), history.undo(), float(player.tracks["a.x"].evaluate([1.0])[0, 0])
-    (5.0, 'move point', 1.0)
-    >>> history.set("a.x", [2.0], "nudge", merge="nudge"); history.set("a.x", [3.0], "nudge", merge="nudge")
-    >>> history.labels, history.undo(), scene.get("a.x").tolist()
-    ((['nudge'], []), 'nudge', [0.0])
-    """
-
-    def __init__(self, player: Player, limit: int = 1000,
-                 on_change: Callable[[History], object] | None = None) -> None:
-        self.player = player
-        self.limit = limit
-        self.on_change = on_change
-        self.done: list[Edit] = []
-        self.undone: list[Edit] = []
-
-    @property
-    def labels(self) -> tuple[list[str], list[str]]:
-        """The labels of the steps to undo (oldest first) and of those to redo (the next
-        redo last)."""
-        return [e.label for e in self.done], [e.label for e in self.undone]
-
-    def apply(self, label: str, tracks: Mapping[str, Track | None], scene: tuple[SceneChange, ...] = (),
-              merge: str | None = None) -> None:
-        """Put ``tracks`` (path -> new track, or None to remove it) and make the scene
-        changes ``scene`` (each ``(do, undo)``) as one step: removals first, then the
-        scene changes, then the tracks put (so a track can follow its object)."""
-        before = {path: self.player.tracks.get(path) for path in tracks}
-        self._put(tracks, [do for do, _ in scene])
-        step = Edit(label, before, dict(tracks), tuple(scene), merge)
-        if merge is not None and self.done and self.done[-1].merge == merge:
-            last = self.done.pop()
-            step = Edit(label, {**before, **last.before}, {**last.after, **step.after}, last.scene + step.scene, merge)
-        self.done.append(step)
-        del self.done[: -self.limit]
-        self.undone.clear()
-        self._changed()
-
-    def edit(self, path: str, label: str, change: Callable[..., Track], *args: object) -> None:
-        """Replace the track at ``path`` by ``change(track, *args)`` as one step."""
-        if path not in self.player.tracks:
-            raise ArgumentError("path", f"no track for {path!r}")
-        self.apply(label, {path: change(self.player.tracks[path], *args)})
-
-    def set(self, path: str, value: object, label: str | None = None, merge: str | None = None) -> None:
-        """Set the scene's value at ``path`` as one step (checked first: a bad value
-        raises and changes nothing)."""
-        scene = self.player.scene
-        old, new = scene.get(path), scene.type(path).check(value, path)
-        self.apply(label or f"set {path}", {}, ((lambda: scene.set(path, new), lambda: scene.set(path, old)),), merge)
-
-    def undo(self) -> str | None:
-        """Undo the last step; its label, or None if there is none."""
-        return self._move(self.done, self.undone, "before")
-
-    def redo(self) -> str | None:
-        """Redo the last undone step; its label, or None if there is none."""
-        return self._move(self.undone, self.done, "after")
-
-    def _move(self, source: list[Edit], target: list[Edit], side: str) -> str | None:
-        """Take the last step of ``source``, put its ``side`` tracks and make its scene
-        changes (undone in reverse), keep it on ``target``."""
-        if not source:
-            return None
-        step = source.pop()
-        calls = [do for do, _ in step.scene] if side == "after" else [undo for _, undo in reversed(step.scene)]
-        self._put(getattr(step, side), calls)
-        target.append(step)
-        self._changed()
-        return step.label
-
-    def _changed(self) -> None:
-        if self.on_change is not None:
-            self.on_change(self)
-
-    def _put(self, tracks: Mapping[str, Track | None], calls: list[Callable[[], object]] = ()) -> None:
-        for path, track in tracks.items():
-            if track is None and path in self.player.tracks:
-                self.player.remove(path)
-        for call in calls:
-            call()
-        for track in tracks.values():
-            if track is not None:
-                self.player.add(track)

@@ -25,7 +25,7 @@ from scipy.interpolate import BSpline
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.attributes import AttributeType
-from sketchanim.anim.tracks import Take, held_values
+from sketchanim.anim.tracks import ContinuousTrack, Take, held_values
 from sketchanim.errors import ArgumentError
 from sketchanim.motion.rotations import reduce_rotations
 from sketchanim.reducer import reduce
@@ -254,6 +254,29 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
                                     targets[::-1], angle, bound))
         pieces = pieces[:-1] + [mid, right]
     return join(pieces)
+
+
+def recorded_over(path: str, type: AttributeType, below: ContinuousTrack | None, take: Take, tol: float,
+                  order: int, streamed: tuple[BSpline, tuple[bool, bool] | None] | None = None) -> ContinuousTrack:
+    """The track at ``path`` after ``take`` is recorded over ``below`` (None: no track):
+    its curve :func:`punch_in`'s, its takes ``below``'s and ``take``, its tolerance ``tol``.
+    What the recorder makes of a take when it stops, and what a recovery makes of a take
+    found in a journal.
+
+    ``streamed`` is the curve the reducer processes made while the take was recorded:
+    with seams None, the take's own curve (nothing below), used as it is; otherwise
+    :func:`punch_in`'s ``streamed``.
+
+    >>> from sketchanim.anim.attributes import FLOAT
+    >>> t = np.linspace(0, 1, 30)
+    >>> track = recorded_over("a.x", FLOAT, None, Take(t, np.c_[t]), 0.01, 4)
+    >>> len(track.takes), bool(np.abs(track.evaluate(t) - np.c_[t]).max() <= 0.01)
+    (1, True)
+    """
+    if streamed is not None and streamed[1] is None:
+        return ContinuousTrack(path, type, streamed[0], tol, (take,))
+    spline = punch_in(type, None if below is None else below.spline, take, tol, order, streamed)
+    return ContinuousTrack(path, type, spline, tol, (() if below is None else below.takes) + (take,))
 
 
 def compose(type: AttributeType, takes: Sequence[Take], tol: float, order: int) -> BSpline:

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sketchanim.anim.attributes import AttributeType
-from sketchanim.anim.layers import punch_in
+from sketchanim.anim.layers import recorded_over
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import BLEND, MODES, ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.anim.workers import Pool, Spec, shared_pool
@@ -35,7 +35,7 @@ from sketchanim.reducer.conditioning import TIME_RANGE, VALUE_RANGE
 #: Called from the recorder's journal thread about every :data:`JOURNAL_PERIOD` seconds
 #: with the samples queued since the last call: (path, times (n,), values (n, dim) or a
 #: list of discrete values) for each attribute that got some.
-Journal = Callable[[list[tuple[str, np.ndarray, object]]], None]
+SampleSink = Callable[[list[tuple[str, np.ndarray, object]]], None]
 JOURNAL_PERIOD = 0.05
 
 
@@ -98,7 +98,7 @@ class Recorder:
         The streaming reducer's window (see :class:`sketchanim.StreamReducer`).
     journal : callable or None
         Given every sample queued, in batches, while the take goes on (see
-        :data:`Journal`), e.g. to commit them to a project file.
+        :data:`SampleSink`), e.g. to commit them to a project file.
 
     Examples
     --------
@@ -115,7 +115,7 @@ class Recorder:
     (True, True)
     """
 
-    def __init__(self, scene: Scene, *, order: int = 4, window: int = 20, journal: Journal | None = None) -> None:
+    def __init__(self, scene: Scene, *, order: int = 4, window: int = 20, journal: SampleSink | None = None) -> None:
         self.scene = scene
         self.order = order
         self.window = window
@@ -406,7 +406,4 @@ class Recorder:
             merged = sorted(keep + list(zip(times.tolist(), values)), key=lambda p: p[0])
             return DiscreteTrack(a.path, a.type, [p[0] for p in merged], [p[1] for p in merged])
         below = old if isinstance(old, ContinuousTrack) else None
-        if curve is not None and curve[1] is None:
-            return ContinuousTrack(a.path, a.type, curve[0], a.tol, (take,))
-        spline = punch_in(a.type, None if below is None else below.spline, take, a.tol, self.order, curve)
-        return ContinuousTrack(a.path, a.type, spline, a.tol, (() if below is None else below.takes) + (take,))
+        return recorded_over(a.path, a.type, below, take, a.tol, self.order, curve)

@@ -27,8 +27,8 @@ from pydantic import BaseModel
 
 from sketchanim.errors import InputError
 from sketchanim.studio import protocol
-from sketchanim.studio.commands import execute
-from sketchanim.studio.session import Out, Session
+from sketchanim.studio.handlers import handle
+from sketchanim.studio.session import Session
 
 WEB = Path(__file__).parent / "web"
 #: three.js, installed by ``npm ci`` (scripts/setup) into the repository's node_modules.
@@ -37,7 +37,9 @@ THREE = Path(__file__).resolve().parents[3] / "node_modules" / "three"
 RATE, BURST = 300.0, 600.0
 
 
-class Ready(BaseModel):
+class ReadyReply(BaseModel):
+    """``GET /api/ready``'s answer."""
+
     ready: bool
 
 
@@ -91,7 +93,6 @@ class Hub:
         self.session = session
         self.thread = ThreadPoolExecutor(1, thread_name_prefix="sketchanim-model")
         self.clients: dict[int, Client] = {}
-        self.ready = False
         self._numbers = iter(range(1, 2**62))
         self._saving: asyncio.Task | None = None
 
@@ -99,42 +100,53 @@ class Hub:
         """Run ``work(*args)`` in the model's thread, after what was queued before it."""
         return await asyncio.get_running_loop().run_in_executor(self.thread, work, *args)
 
-    def send(self, out: list[Out], sender: Client | None) -> None:
+    @property
+    def ready(self) -> bool:
+        """Whether the compiled kernels are warm (the session's ``state`` says it too)."""
+        return self.session.ready
+
+    @ready.setter
+    def ready(self, ready: bool) -> None:
+        self.session.ready = ready
+
+    def send(self, out: list[protocol.Out], sender: Client | None) -> None:
         for audience, message in out:
             for client in self.clients.values():
                 if audience == "all" or (audience == "others") != (client is sender):
                     client.put(message)
 
     async def warm(self) -> None:
-        """Warm the compiled kernels (see :func:`warm_model`, on its own scene, in its
-        own thread: the pages are served meanwhile), then tell the pages."""
-        from sketchanim.studio.warm import warm_model
+        """Warm the compiled kernels (see :func:`~sketchanim.anim.warmup.warm_recorder`,
+        on its own scene, in its own thread: the pages are served meanwhile), then tell
+        the pages."""
+        from sketchanim.anim.warmup import warm_recorder
 
-        await asyncio.to_thread(warm_model)
+        await asyncio.to_thread(warm_recorder)
         self.ready = True
-        self.send([("all", {"type": "ready"})], None)
+        self.send([("all", protocol.wire(protocol.Ready()))], None)
 
     async def handle(self, client: Client, text: str) -> None:
         """One message from ``client``: parsed, run, answered."""
         if not client.allowed():
-            client.put({"type": "error", "id": None, "ref": None, "code": "rate",
-                        "message": f"more than {RATE:.0f} messages a second; this one was dropped"})
+            client.put(protocol.wire(protocol.Error(id=None, ref=None, code="rate",
+                                                    message=f"more than {RATE:.0f} messages a second; "
+                                                            "this one was dropped")))
             return
         try:
             message = protocol.parse(text)
         except protocol.BadMessage as err:
             code = "too_large" if len(text) > protocol.MAX_MESSAGE_BYTES else "bad_message"
-            client.put({"type": "error", "id": err.id, "ref": err.type, "code": code, "message": str(err)})
+            client.put(protocol.wire(protocol.Error(id=err.id, ref=err.type, code=code, message=str(err))))
             return
         try:
-            out = await self.call(execute, self.session, message, client.number, self.ready)
+            out = await self.call(handle, self.session, message, client.number)
         except InputError as err:
             code = "busy" if message.type == "take.begin" and self.session.take is not None else "refused"
-            client.put({"type": "error", "id": message.id, "ref": message.type, "code": code, "message": str(err)})
+            client.put(protocol.wire(protocol.Error(id=message.id, ref=message.type, code=code, message=str(err))))
             return
         self.send(out, client)
         if message.id is not None:
-            client.put({"type": "ack", "id": message.id, "ref": message.type})
+            client.put(protocol.wire(protocol.Ack(id=message.id, ref=message.type)))
         self.autosave(0.0 if message.type == "take.end" else 0.5)
 
     def autosave(self, delay: float) -> None:
@@ -151,7 +163,7 @@ class Hub:
         self.clients.pop(client.number, None)
         take = self.session.take
         if take is not None and take.owner == client.number:
-            self.send(await self.call(self.session.end_take, client.number, take.id, None, self.ready), None)
+            self.send(await self.call(self.session.end_take, client.number, take.id, None), None)
             self.autosave(0.0)
 
 
@@ -214,10 +226,10 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
         app.add_middleware(TrustedHostMiddleware, allowed_hosts=hosts)
     app.state.hub = hub
 
-    @app.get("/api/ready", response_model=Ready)
-    async def ready() -> Ready:
+    @app.get("/api/ready", response_model=ReadyReply)
+    async def ready() -> ReadyReply:
         """Whether the compiled kernels are warm (the first take reduces at full speed)."""
-        return Ready(ready=hub.ready)
+        return ReadyReply(ready=hub.ready)
 
     @app.get("/api/project", response_class=Response,
              responses={200: {"content": {"application/json": {}},
@@ -229,7 +241,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     @app.get("/api/state")
     async def state() -> dict:
         """What the websocket's ``state`` message holds: objects, tracks, history."""
-        return await hub.call(hub.session.state, hub.ready)
+        return await hub.call(hub.session.state)
 
     @app.websocket("/ws")
     async def stream(socket: WebSocket) -> None:
@@ -239,7 +251,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
         await socket.accept()
         client = Client(next(hub._numbers), socket)
         hub.clients[client.number] = client
-        client.put(await hub.call(hub.session.state, hub.ready))
+        client.put(await hub.call(hub.session.state))
         pump = asyncio.get_running_loop().create_task(client.pump())
         try:
             while True:

@@ -1,16 +1,19 @@
-"""The studio's messages: one pydantic model per message, a union keyed on ``type``.
+"""The studio's messages, both directions: one pydantic model per message, a union
+keyed on ``type`` for each direction (docs/studio-protocol.md is their reference).
 
-A message from the page is validated once, at the websocket (:func:`parse`), as
-:mod:`sketchanim.project.store` validates documents; what the server sends is built by the
-session as plain dictionaries of the shapes documented here. Values are the attribute
-types' canonical forms as JSON: lists of floats (orientations scalar-last x, y, z, w; a
-field of view in degrees), or a bool / string for discrete attributes.
+A message from the page is validated once, at the websocket (:func:`parse`), as the
+project store validates documents. A message to the pages is built from its model and
+sent as :func:`wire` makes it (JSON types: tuples become lists); ``preview`` and
+``transport`` go both ways, relayed to the other pages by :func:`relay` (without the
+sender's ``id``). Values are the attribute types' canonical forms as JSON: lists of
+floats (orientations scalar-last x, y, z, w; a field of view in degrees), or a bool /
+string for discrete attributes.
 """
 
 from __future__ import annotations
 
 import json
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, StrictBool, TypeAdapter, ValidationError
 
@@ -24,7 +27,8 @@ MAX_BATCH = 10_000
 MAX_PATHS = 64
 
 Number = Annotated[float, Field(allow_inf_nan=False)]
-Path = Annotated[str, Field(min_length=3, max_length=129)]
+#: An attribute's path, ``object.attribute``.
+AttributePath = Annotated[str, Field(min_length=3, max_length=129)]
 Name = Annotated[str, Field(min_length=1, max_length=64)]
 Key = Annotated[str, Field(min_length=1, max_length=128)]
 Id = Annotated[int, Field(ge=-(2**53), le=2**53)] | Annotated[str, Field(max_length=64)]
@@ -49,7 +53,7 @@ class Set(_Message):
     """An undoable scene edit: ``path`` takes ``value``."""
 
     type: Literal["set"]
-    path: Path
+    path: AttributePath
     value: Value
     label: Annotated[str, Field(max_length=200)] | None = None
     merge: Key | None = None
@@ -60,7 +64,7 @@ class Preview(_Message):
 
     type: Literal["preview"]
     key: Key
-    path: Path
+    path: AttributePath
     value: Value
 
 
@@ -86,12 +90,12 @@ class TakeBegin(_Message):
 
     type: Literal["take.begin"]
     take: Key
-    paths: Annotated[list[Path], Field(min_length=1, max_length=MAX_PATHS)]
+    paths: Annotated[list[AttributePath], Field(min_length=1, max_length=MAX_PATHS)]
     mode: Literal[MODES] = "replace"  # type: ignore[valid-type]
     blend: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)] = BLEND
     time: Number = 0.0
     speed: Annotated[float, Field(gt=0, le=4, allow_inf_nan=False)] = 1.0
-    tol: Annotated[dict[Path, Annotated[float, Field(gt=0, allow_inf_nan=False)]], Field(max_length=MAX_PATHS)] = {}
+    tol: Annotated[dict[AttributePath, Annotated[float, Field(gt=0, allow_inf_nan=False)]], Field(max_length=MAX_PATHS)] = {}
     loop: Key | None = None
     gap: Annotated[float, Field(gt=0, le=60, allow_inf_nan=False)] = 0.25
 
@@ -147,6 +151,260 @@ Message = Annotated[
     Field(discriminator="type"),
 ]
 _ADAPTER: TypeAdapter[Message] = TypeAdapter(Message)
+
+
+# -- from the server to the pages -----------------------------------------------------------
+
+
+class _Outbound(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class TypeInfo(_Outbound):
+    """An attribute type as the page sees it."""
+
+    name: str
+    dim: int
+    tol: float
+    unit: str
+    default: list[Any]
+    choices: list[str]
+    continuous: bool
+
+
+class AttributeInfo(_Outbound):
+    name: str
+    type: TypeInfo
+    value: Any
+
+
+class ObjectInfo(_Outbound):
+    name: str
+    kind: str
+    attributes: list[AttributeInfo]
+
+
+class TakeSpan(_Outbound):
+    """One take of a curve: its span, mode and number of samples."""
+
+    start: float
+    end: float
+    mode: str
+    n: int
+
+
+class CurveInfo(_Outbound):
+    """A continuous track: a B-spline the page evaluates as the player does."""
+
+    path: str
+    kind: Literal["curve"] = "curve"
+    dim: int
+    order: int
+    rotation: bool
+    tol: float
+    knots: list[float]
+    coef: list[list[float]]
+    start: float
+    end: float
+    takes: list[TakeSpan]
+
+
+class StepsInfo(_Outbound):
+    """A discrete track: values that hold from their time to the next."""
+
+    path: str
+    kind: Literal["steps"] = "steps"
+    times: list[float]
+    values: list[Any]
+
+
+TrackInfo = Annotated[CurveInfo | StepsInfo, Field(discriminator="kind")]
+
+
+class TransportInfo(_Outbound):
+    time: float = 0.0
+    playing: bool = False
+    speed: float = 1.0
+    loop: tuple[float, float] | None = None
+
+
+class TakeInfo(_Outbound):
+    """The take being recorded, in a ``state``."""
+
+    take: str
+    paths: list[str]
+    mode: str
+    time: float
+    layout: list[tuple[str, int, int]]
+
+
+class HistoryInfo(_Outbound):
+    """The labels of the steps to undo (oldest first) and to redo (the next redo last)."""
+
+    type: Literal["history"] = "history"
+    undo: list[str]
+    redo: list[str]
+    can_undo: bool
+    can_redo: bool
+
+
+class State(_Outbound):
+    """Everything a page needs to show the project: sent on connect, on ``state``, and
+    when objects come or go."""
+
+    type: Literal["state"] = "state"
+    ready: bool
+    project: str
+    objects: list[ObjectInfo]
+    tracks: list[TrackInfo]
+    span: tuple[float, float]
+    history: HistoryInfo
+    transport: TransportInfo
+    take: TakeInfo | None
+
+
+class Values(_Outbound):
+    """Scene values that changed (path -> value)."""
+
+    type: Literal["values"] = "values"
+    values: dict[str, Any]
+
+
+class Tracks(_Outbound):
+    """Tracks that changed or went, and the player's span after."""
+
+    type: Literal["tracks"] = "tracks"
+    changed: list[TrackInfo]
+    removed: list[str]
+    span: tuple[float, float]
+
+
+class TakeStarted(_Outbound):
+    """To the page that began the take: where each path's columns are in a row."""
+
+    type: Literal["take.started"] = "take.started"
+    take: str
+    layout: list[tuple[str, int, int]]
+    width: int
+
+
+class TakePiece(_Outbound):
+    """A finished piece of a take's curve (a B-spline over part of the take)."""
+
+    type: Literal["take.piece"] = "take.piece"
+    take: str
+    path: str
+    order: int
+    rotation: bool
+    knots: list[float]
+    coef: list[list[float]]
+
+
+class TakeEnded(_Outbound):
+    """The take is over: the History step it made (``label`` None if none), the paths
+    it changed, the milliseconds the end took, and the stalls that cut it."""
+
+    type: Literal["take.ended"] = "take.ended"
+    take: str
+    label: str | None
+    paths: list[str]
+    ms: float
+    gaps: list[tuple[float, float]]
+
+
+class Pong(_Outbound):
+    type: Literal["pong"] = "pong"
+    id: Id | None
+    server_time: float
+
+
+class Ack(_Outbound):
+    """A message with an ``id`` was carried out."""
+
+    type: Literal["ack"] = "ack"
+    id: Id
+    ref: str
+
+
+#: Why a message was not carried out: it was over the rate limit, over the size limit, did
+#: not parse, began a take while one runs, or the model refused it.
+ErrorCode = Literal["rate", "too_large", "bad_message", "busy", "refused"]
+
+
+class Error(_Outbound):
+    """A message was not carried out (``ref``: its type; ``id``: its id, if readable)."""
+
+    type: Literal["error"] = "error"
+    id: Id | None
+    ref: str | None
+    code: ErrorCode
+    message: str
+
+
+class Ready(_Outbound):
+    """The compiled kernels are warm: takes reduce at full speed."""
+
+    type: Literal["ready"] = "ready"
+
+
+class Exported(_Outbound):
+    """The ``export`` was written: the file's name in the project's folder."""
+
+    type: Literal["exported"] = "exported"
+    file: str
+
+
+class Notice(_Outbound):
+    """Something the animator should know (a reducer process died, the journal failed),
+    shown on the page and kept in the server's log."""
+
+    type: Literal["notice"] = "notice"
+    level: Literal["info", "warning", "error"]
+    text: str
+    source: str
+
+
+ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece | TakeEnded | Pong | Ack | Error
+                 | Ready | Exported | Notice | Preview | Transport)
+#: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
+MESSAGES: tuple[type[BaseModel], ...] = (
+    Ping, StateRequest, Set, Preview, ObjectAdd, ObjectRemove, ObjectRename, TakeBegin, TakeSamples, TakeEnd,
+    TakeCancel, Undo, Redo, Transport, Export,
+    State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice)
+
+
+#: Who gets a message: every page, every page but the sender's, or the sender's alone.
+Audience = Literal["all", "others", "self"]
+#: A message (as :func:`wire` or :func:`relay` made it) and who gets it.
+Out = tuple[Audience, dict]
+
+
+def wire(message: _Outbound) -> dict:
+    """``message`` as it is sent: a JSON object.
+
+    >>> wire(Notice(level="warning", text="a reducer process died", source="recorder"))
+    {'type': 'notice', 'level': 'warning', 'text': 'a reducer process died', 'source': 'recorder'}
+    """
+    return message.model_dump(mode="json")
+
+
+def relay(message: Preview | Transport) -> dict:
+    """A page's ``preview`` or ``transport`` as the other pages get it (without its ``id``).
+
+    >>> relay(parse('{"type": "transport", "id": 1, "time": 2, "loop": [0, 1]}'))
+    {'type': 'transport', 'time': 2.0, 'playing': False, 'speed': 1.0, 'loop': [0.0, 1.0]}
+    """
+    return message.model_dump(mode="json", exclude={"id"})
+
+
+def message_fields(model: type[BaseModel]) -> tuple[str, frozenset[str]]:
+    """A message model's ``type`` literal and its field names (``type`` among them).
+
+    >>> kind, fields = message_fields(Ack)
+    >>> kind, sorted(fields)
+    ('ack', ['id', 'ref', 'type'])
+    """
+    return model.model_fields["type"].annotation.__args__[0], frozenset(model.model_fields)
 
 
 class BadMessage(ValueError):

@@ -1,0 +1,154 @@
+"""The project document: the scene and its tracks as versioned JSON, validated with
+pydantic when loaded (a take's samples live in the ``takes`` table, referred to by
+index).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from scipy.interpolate import BSpline
+
+from sketchanim.anim.attributes import DISCRETE, AttributeType
+from sketchanim.anim.scene import KINDS, Scene
+from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Take, Track
+from sketchanim.errors import FileFormatError, InputError
+from sketchanim.project.database import FORMAT, FORMAT_VERSION
+
+#: Bounds on what a file may hold (a hostile file cannot make a reader allocate more).
+MAX_DOCUMENT_BYTES = 256 * 2**20
+MAX_ITEMS = 10_000_000
+TYPE_NAMES = ("position", "orientation", "scale", "color", "intensity", "fov", "float", "vector") + DISCRETE
+
+_Number = Annotated[float, Field(allow_inf_nan=False)]
+_Name = Annotated[str, Field(min_length=1, max_length=64)]
+_Items = Field(max_length=MAX_ITEMS)
+
+
+class _Doc(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=False)
+
+
+class TypeDoc(_Doc):
+    name: Literal[TYPE_NAMES]  # type: ignore[valid-type]
+    dim: int = Field(ge=0, le=64)
+    tol: _Number = Field(ge=0)
+    unit: str = Field(max_length=64)
+    default: list[_Number | bool | str | None] = Field(max_length=64)
+    choices: list[_Name] = Field(default_factory=list, max_length=1024)
+
+
+class AttributeDoc(_Doc):
+    name: _Name
+    type: TypeDoc
+    value: list[_Number] | bool | str | None
+
+
+class ObjectDoc(_Doc):
+    name: _Name
+    kind: Literal[tuple(KINDS)]  # type: ignore[valid-type]
+    attributes: list[AttributeDoc] = Field(max_length=4096)
+
+
+class CurveDoc(_Doc):
+    path: str = Field(max_length=200)
+    tol: _Number = Field(gt=0)
+    order: int = Field(ge=1, le=32)
+    knots: list[_Number] = _Items
+    coef: list[list[_Number]] = _Items
+    takes: list[int] = Field(default_factory=list, max_length=100_000)
+
+
+class StepsDoc(_Doc):
+    path: str = Field(max_length=200)
+    times: list[_Number] = _Items
+    values: list[bool | str | None] = _Items
+
+
+class ProjectDoc(_Doc):
+    """The scene and its tracks (a take's samples live in the ``takes`` table and are
+    referenced by id)."""
+
+    format: Literal["sketchanim-project"] = FORMAT
+    version: Literal[1] = FORMAT_VERSION
+    objects: list[ObjectDoc] = Field(max_length=100_000)
+    curves: list[CurveDoc] = Field(max_length=100_000)
+    steps: list[StepsDoc] = Field(max_length=100_000)
+
+
+def load_document(text: str, source: str) -> ProjectDoc:
+    """Validate a project document; :class:`FileFormatError` naming the first bad field."""
+    try:
+        return ProjectDoc.model_validate_json(text)
+    except ValidationError as err:
+        first = err.errors()[0]
+        where = ".".join(str(p) for p in first["loc"])
+        raise FileFormatError(source, f"{where}: {first['msg']} ({err.error_count()} problems)") from None
+
+
+def to_document(scene: Scene, tracks: dict[str, Track]) -> tuple[ProjectDoc, list[Take]]:
+    """The document of a scene and its tracks, and the takes it refers to by index."""
+    takes: list[Take] = []
+    index: dict[int, int] = {}
+    objects = [ObjectDoc(name=o.name, kind=o.kind, attributes=[
+        AttributeDoc(name=n, type=TypeDoc(name=a.type.name, dim=a.type.dim, tol=a.type.tol, unit=a.type.unit,
+                                          default=list(a.type.default), choices=list(a.type.choices)),
+                     value=a.value.tolist() if isinstance(a.value, np.ndarray) else a.value)
+        for n, a in o.attributes.items()]) for o in scene.objects.values()]
+    curves, steps = [], []
+    for track in tracks.values():
+        if isinstance(track, DiscreteTrack):
+            steps.append(StepsDoc(path=track.path, times=track.times, values=track.values))
+            continue
+        ids = []
+        for take in track.takes:
+            ids.append(index.setdefault(id(take), len(takes)))
+            if ids[-1] == len(takes):
+                takes.append(take)
+        curves.append(CurveDoc(path=track.path, tol=track.tol, order=track.spline.k + 1,
+                               knots=np.asarray(track.spline.t).tolist(), coef=np.asarray(track.spline.c).tolist(),
+                               takes=ids))
+    return ProjectDoc(objects=objects, curves=curves, steps=steps), takes
+
+
+def from_document(doc: ProjectDoc, takes: dict[int, Take], source: str) -> tuple[Scene, dict[str, Track]]:
+    """The scene and tracks of a validated document; :class:`FileFormatError` naming
+    what does not fit (a value of the wrong type, a track for no attribute...)."""
+    scene = Scene()
+    tracks: dict[str, Track] = {}
+    try:
+        for o in doc.objects:
+            obj = scene.add(o.name, o.kind)
+            for a in o.attributes:
+                kind = AttributeType(a.type.name, a.type.dim, a.type.tol, a.type.unit, tuple(a.type.default),
+                                     tuple(a.type.choices))
+                if a.name in obj.attributes and obj.attributes[a.name].type != kind:
+                    raise FileFormatError(source, f"{o.name}.{a.name}: not the {o.kind}'s standard type")
+                if a.name not in obj.attributes:
+                    if kind.continuous and (kind.dim < 1 or kind.tol <= 0):
+                        raise FileFormatError(source, f"{o.name}.{a.name}: a continuous type needs dim >= 1, tol > 0")
+                    obj.add(a.name, kind)
+                scene.set(f"{o.name}.{a.name}", a.value)
+        for c in doc.curves:
+            kind = scene.type(c.path)
+            missing = [i for i in c.takes if i not in takes]
+            if missing:
+                raise FileFormatError(source, f"{c.path}: refers to missing takes {missing[:5]}")
+            n = len(c.knots) - c.order
+            if n < 1 or len(c.coef) != n or np.any(np.diff(c.knots) < 0):
+                raise FileFormatError(source, f"{c.path}: {len(c.knots)} sorted knots for order {c.order} need "
+                                              f"{max(n, 1)} coefficients, got {len(c.coef)}")
+            coef = np.array(c.coef, dtype=float) if all(len(r) == kind.dim for r in c.coef) else None
+            if coef is None:
+                raise FileFormatError(source, f"{c.path}: coefficients need {kind.dim} numbers each")
+            spline = BSpline(np.array(c.knots), coef, c.order - 1)
+            tracks[c.path] = ContinuousTrack(c.path, kind, spline, c.tol, tuple(takes[i] for i in c.takes))
+        for s in doc.steps:
+            tracks[s.path] = DiscreteTrack(s.path, scene.type(s.path), list(s.times), list(s.values))
+    except FileFormatError:
+        raise
+    except InputError as err:
+        raise FileFormatError(source, str(err)) from None
+    return scene, tracks

@@ -1,0 +1,120 @@
+"""The editor: a project's scene, its player and its history, every change to them an
+undoable command (:mod:`sketchanim.anim.commands`), as three.js's ``Editor.js`` is over
+its scene. It notes what changed, so that the session can tell the pages.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from sketchanim.anim.commands import AddObject, Command, RemoveObject, RenameObject, SetValue
+from sketchanim.anim.history import History
+from sketchanim.anim.player import Player
+from sketchanim.anim.scene import Scene
+from sketchanim.anim.tracks import Track
+from sketchanim.errors import ArgumentError
+from sketchanim.studio.defaults import new_object
+from sketchanim.studio.outbound import plain
+
+
+@dataclass(frozen=True)
+class Changes:
+    """What changed in the model since it was last asked.
+
+    Attributes
+    ----------
+    restructured : bool
+        Objects came, went or were renamed (the pages need the whole state).
+    values : dict
+        Scene values set (path -> value, as JSON holds it).
+    tracks : dict
+        Tracks put (path -> track) or removed (path -> None).
+    history : bool
+        The history changed (a step run, undone or redone).
+    """
+
+    restructured: bool
+    values: dict[str, object]
+    tracks: dict[str, Track | None]
+    history: bool
+
+
+class Editor:
+    """The scene, its player (with ``tracks``) and its history.
+
+    Examples
+    --------
+    >>> from sketchanim.studio.defaults import default_scene
+    >>> editor = Editor(default_scene(), [])
+    >>> editor.set("lamp.intensity", [2.0], None, None)
+    >>> changes = editor.changes()
+    >>> changes.values, changes.history, editor.history.labels
+    ({'lamp.intensity': [2.0]}, True, (['set lamp.intensity'], []))
+    """
+
+    def __init__(self, scene: Scene, tracks: Iterable[Track]) -> None:
+        self.scene = scene
+        self.player = Player(scene, tracks)
+        self._history_changed = False
+        self.history = History(self.player, on_change=lambda _: setattr(self, "_history_changed", True))
+        #: Whether the model changed since the project was last saved.
+        self.dirty = False
+        self._scene_changes: list[tuple[str, str, str | None]] = []
+        self._shown: dict[str, Track] = dict(self.player.tracks)
+        scene.watch(lambda *change: self._scene_changes.append(change))
+
+    def run(self, command: Command) -> None:
+        """Do ``command`` as one History step."""
+        self.history.run(command)
+        self.dirty = True
+
+    def set(self, path: str, value: object, label: str | None, merge: str | None) -> None:
+        """Set ``path`` to ``value`` (steps with the same ``merge`` key join)."""
+        self.run(SetValue(self.player, path, value, label, merge))
+
+    def preview(self, path: str, value: object) -> None:
+        """A live value (not a History step): the scene's current value until the next."""
+        self.scene.attribute(path).value = self.scene.type(path).check(value, path)
+
+    def add_object(self, name: str, kind: str) -> None:
+        """Add an object (with a ``shape`` if it is a plain object)."""
+        self.run(AddObject(self.player, new_object(name, kind)))
+
+    def remove_object(self, name: str) -> None:
+        """Remove an object and its tracks."""
+        self.run(RemoveObject(self.player, name))
+
+    def rename_object(self, name: str, to: str) -> None:
+        """Rename an object, its tracks with it."""
+        self.run(RenameObject(self.player, name, to))
+
+    def undo(self) -> bool:
+        """Undo the last step; whether there was one."""
+        self.dirty |= (done := self.history.undo() is not None)
+        return done
+
+    def redo(self) -> bool:
+        """Redo the last undone step; whether there was one."""
+        self.dirty |= (done := self.history.redo() is not None)
+        return done
+
+    def changes(self) -> Changes:
+        """What changed since the last call (values of attributes that still exist)."""
+        scene_changes, self._scene_changes = self._scene_changes, []
+        history, self._history_changed = self._history_changed, False
+        now = self.player.tracks
+        tracks = {p: now.get(p) for p in (*self._shown, *(p for p in now if p not in self._shown))
+                  if now.get(p) is not self._shown.get(p)}
+        self._shown = dict(now)
+        restructured = any(what != "set" for what, _, _ in scene_changes)
+        values = {} if restructured else {p: plain(self.scene.get(p))
+                                          for p in dict.fromkeys(s for _, s, _ in scene_changes) if self._exists(p)}
+        return Changes(restructured, values, tracks, history)
+
+    def _exists(self, path: str) -> bool:
+        try:
+            self.scene.attribute(path)
+        except ArgumentError:
+            return False
+        return True
