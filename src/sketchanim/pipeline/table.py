@@ -184,8 +184,7 @@ def reduce_table(source: str | os.PathLike[str], options: TableOptions, *, outpu
     """
     source = str(source)
     out = None if output is None else Path(output)
-    if out is not None and out.is_dir():
-        out = out / (Path(source).stem + ".json")
+    out = out / (Path(source).stem + ".json") if out is not None and out.is_dir() else out
     figure = None if plot is None else Path(plot)
     check_outputs(Path(source), out, figure, options.order)
     table, moved, merged_away = _read(source, options)

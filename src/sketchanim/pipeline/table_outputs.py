@@ -88,7 +88,7 @@ def check_node(table: SampleTable, parts: list[list[int]], rot: list[int], suffi
         raise ArgumentError("output", f"a {suffix} holds one animated node: a position of 2 or 3 channels (x, y[, z]) "
                                       f"and {'a quaternion' if suffix == '.glb' else 'an orientation'}; this take has "
                                       f"{chans or 'no position channels'}"
-                                      + (" and Euler rotation columns or rot_mode='euler'" if euler else "")
+                                      + (" and Euler rotation columns or rot_mode=euler" if euler else "")
                                       + " (write .json, or pick the channels with cols=COLUMNS)")
 
 
