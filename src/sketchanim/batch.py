@@ -47,7 +47,7 @@ class FolderOptions:
         return "." + self.format.lower().lstrip(".")
 
 
-def plan(folder: Path, out: Path, suffix: str) -> list[tuple[Path, Path]]:
+def plan_folder(folder: Path, out: Path, suffix: str) -> list[tuple[Path, Path]]:
     """Every clip under ``folder`` (recursively) and its output under ``out``, mirroring
     the folders, with extension ``suffix``."""
     sources = sorted(p for p in folder.rglob("*") if p.suffix.lower() in CLIP_INPUTS and p.is_file())
@@ -100,7 +100,7 @@ def reduce_folder(folder: Path, output: Path | None, options: FolderOptions, *,
     """
     if output is None:
         raise ArgumentError("output", "a folder of clips needs an output folder")
-    jobs = plan(folder, output, options.suffix)
+    jobs = plan_folder(folder, output, options.suffix)
     if not jobs:
         raise InputError(f"{folder}: no clips ({', '.join(CLIP_INPUTS)}) in it")
     on_planned(len(jobs))

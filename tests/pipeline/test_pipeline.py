@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from sketchanim.batch import FolderOptions, reduce_folder
-from sketchanim.cli.reduce_flags import KINDS
+from sketchanim.cli.reduce_flags import INPUT_KINDS
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.formats.bvh import write_bvh
 from sketchanim.motion.skeleton import Clip, Skeleton
@@ -100,8 +100,8 @@ def test_reduce_clip_file_and_a_folder(tmp_path) -> None:
 
 
 def test_flags_apply_where_the_options_have_the_field() -> None:
-    assert {"plot", "cols", "order", "tol", "rate"} <= KINDS["sample table"]
-    assert not {"world", "units", "workers", "keys"} & KINDS["sample table"]
-    assert {"world", "units", "keys", "tol", "rate", "output"} <= KINDS["clip"]
-    assert not {"plot", "order", "workers", "format"} & KINDS["clip"]
-    assert {"workers", "scheduler", "format", "world"} <= KINDS["folder of clips"]
+    assert {"plot", "cols", "order", "tol", "rate"} <= INPUT_KINDS["sample table"]
+    assert not {"world", "units", "workers", "keys"} & INPUT_KINDS["sample table"]
+    assert {"world", "units", "keys", "tol", "rate", "output"} <= INPUT_KINDS["clip"]
+    assert not {"plot", "order", "workers", "format"} & INPUT_KINDS["clip"]
+    assert {"workers", "scheduler", "format", "world"} <= INPUT_KINDS["folder of clips"]

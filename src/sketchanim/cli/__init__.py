@@ -9,7 +9,7 @@ import typer
 
 from sketchanim.cli.commands import export_command, paper_command, studio_command
 from sketchanim.cli.flags import console
-from sketchanim.cli.reduce import HELP, reduce_command
+from sketchanim.cli.reduce import REDUCE_HELP, reduce_command
 
 app = typer.Typer(
     help="Sketch 3D animations: reduce performed motion to compact B-splines within tolerance.",
@@ -33,7 +33,7 @@ def main(version: Annotated[bool, typer.Option("--version", metavar="", callback
     """sketchanim command line."""
 
 
-app.command("reduce", help=HELP)(reduce_command)
+app.command("reduce", help=REDUCE_HELP)(reduce_command)
 app.command("export")(export_command)
 app.command("paper")(paper_command)
 app.command("studio")(studio_command)

@@ -9,7 +9,7 @@ from typing import Annotated, Optional
 import typer
 from rich.table import Table
 
-from sketchanim.cli.flags import console, errors, fail, fail_to_write
+from sketchanim.cli.flags import console, stderr, fail, fail_to_write
 from sketchanim.errors import InputError
 from sketchanim.formats.gltf_frames import KEYS
 from sketchanim.limits import LIMITS, one_of
@@ -53,7 +53,7 @@ def export_command(
         fail_to_write(err, output)
     console.print(f"wrote {output}")
     if left_out:
-        errors.print(f"not in the glTF (core glTF animates only position, orientation and scale): "
+        stderr.print(f"not in the glTF (core glTF animates only position, orientation and scale): "
                      f"{', '.join(left_out)}", soft_wrap=True)
 
 

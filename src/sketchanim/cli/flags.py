@@ -12,7 +12,7 @@ from rich.console import Console
 from rich.text import Text
 
 console = Console()
-errors = Console(stderr=True)
+stderr = Console(stderr=True)
 
 #: The flag of each option field the library's messages name.
 FLAGS = {
@@ -54,7 +54,7 @@ def in_flags(message: str) -> str:
 
 def fail(message: str) -> NoReturn:
     """Print ``message`` (in flags) as an error and exit with status 2."""
-    errors.print(Text.assemble(("error: ", "red"), in_flags(message)), soft_wrap=True)
+    stderr.print(Text.assemble(("error: ", "red"), in_flags(message)), soft_wrap=True)
     raise typer.Exit(2)
 
 

@@ -14,8 +14,8 @@ from rich.progress import Progress, TextColumn
 from rich.text import Text
 
 from sketchanim.batch import FolderOptions, reduce_folder
-from sketchanim.cli.flags import console, errors, fail, fail_to_write, in_flags
-from sketchanim.cli.reduce_flags import clip_options, folder_options, kind_of, refuse_others, table_options, \
+from sketchanim.cli.flags import console, stderr, fail, fail_to_write, in_flags
+from sketchanim.cli.reduce_flags import clip_options, folder_options, input_kind, refuse_others, table_options, \
     with_parameters
 from sketchanim.cli.report import features_line, folder_table, joints_table, markers_table, summary_line, \
     summary_table, unit_line
@@ -23,7 +23,7 @@ from sketchanim.errors import InputError
 from sketchanim.mocap.markers import ReducedMarkers
 from sketchanim.pipeline import ClipOptions, TableOptions, TableReduction, reduce_clip_file, reduce_table
 
-EXAMPLES = """
+REDUCE_EXAMPLES = """
 
 Examples:
 
@@ -40,18 +40,18 @@ Examples:
   sketchanim reduce LIBRARY/ -o OUT/ --format bvh --workers 4
 """
 
-HELP = """Reduce samples to B-splines: a sample table (CSV, TSV, whitespace-separated, TUM,
+REDUCE_HELP = """Reduce samples to B-splines: a sample table (CSV, TSV, whitespace-separated, TUM,
 Wacom SVC, EuRoC, KITTI poses or JSON: print the report, write the spline as .json or an animated node as .glb
 or .usd(a/c), and plot), a motion clip (BVH, AMC: write .glb, .bvh, .usd or .json, by -o's extension; C3D markers: .glb or
 .json), or a folder of clips (write them all to -o, with a CSV report). Options marked "Tables:" apply to sample
-tables only, "Clips:" to clips and folders, "Folders:" to folders.""" + EXAMPLES
+tables only, "Clips:" to clips and folders, "Folders:" to folders.""" + REDUCE_EXAMPLES
 
 
 @with_parameters
 def reduce_command(ctx: typer.Context, input: Path, **values: Any) -> None:
     """Refuse flags that do not apply to the input's kind, build its options and reduce."""
     given = {name for name in values if ctx.get_parameter_source(name).name not in ("DEFAULT", "DEFAULT_MAP")}
-    kind = kind_of(input)
+    kind = input_kind(input)
     refuse_others(kind, given)
     try:
         if kind == "sample table":
@@ -134,10 +134,10 @@ def _folder(folder: Path, output: Path | None, options: FolderOptions) -> None:
     console.print(folder_table(result))
     for o in result.outcomes:
         if o.status == "failed":
-            errors.print(Text.assemble(("failed: ", "red"), in_flags(o.message)), soft_wrap=True)
+            stderr.print(Text.assemble(("failed: ", "red"), in_flags(o.message)), soft_wrap=True)
     total, failed, skipped = len(result.outcomes), result.count("failed"), result.count("skipped")
     console.print(f"wrote {result.report}; {total - failed} of {total} clips done"
                   + (f", {skipped} of them from an earlier run" if skipped else ""))
     if failed:
-        errors.print(f"{failed} of {total} clips failed (see {result.report})")
+        stderr.print(f"{failed} of {total} clips failed (see {result.report})")
         raise typer.Exit(1)

@@ -38,7 +38,7 @@ def _range(name: str) -> str:
 
 
 #: Every flag of ``reduce``, in --help's order.
-PARAMETERS = [
+REDUCE_PARAMETERS = [
     inspect.Parameter("ctx", inspect.Parameter.POSITIONAL_OR_KEYWORD, annotation=typer.Context),
     inspect.Parameter("input", inspect.Parameter.POSITIONAL_OR_KEYWORD, annotation=Annotated[Path, typer.Argument(
         help="Samples: a table (.csv, .tsv, .txt, .svc: time, then one column per channel) or JSON (.json, .jsonl: "
@@ -101,8 +101,8 @@ PARAMETERS = [
 
 
 def with_parameters(command: Callable[..., None]) -> Callable[..., None]:
-    """``command`` with the signature of :data:`PARAMETERS`, for typer to read."""
-    command.__signature__ = inspect.Signature(PARAMETERS)  # type: ignore[attr-defined]
+    """``command`` with the signature of :data:`REDUCE_PARAMETERS`, for typer to read."""
+    command.__signature__ = inspect.Signature(REDUCE_PARAMETERS)  # type: ignore[attr-defined]
     return command
 
 
@@ -113,7 +113,7 @@ def _arguments(function: Callable[..., object]) -> set[str]:
 
 #: Each input kind: its name, and the fields that apply to it (its options object's
 #: and its pipeline function's).
-KINDS = {
+INPUT_KINDS = {
     "sample table": {f.name for f in fields(TableOptions)} | _arguments(reduce_table),
     "clip": {f.name for f in fields(ClipOptions)} | _arguments(reduce_clip_file),
     "folder of clips": ({f.name for f in fields(FolderOptions)} - {"clip"}) | {f.name for f in fields(ClipOptions)}
@@ -121,8 +121,8 @@ KINDS = {
 }
 
 
-def kind_of(source: Path) -> str:
-    """Which input kind ``source`` is (a key of :data:`KINDS`)."""
+def input_kind(source: Path) -> str:
+    """Which input kind ``source`` is (a key of :data:`INPUT_KINDS`)."""
     if source.is_dir():
         return "folder of clips"
     return "clip" if source.suffix.lower() in CLIP_INPUTS else "sample table"
@@ -130,9 +130,9 @@ def kind_of(source: Path) -> str:
 
 def refuse_others(kind: str, given: set[str]) -> None:
     """Refuse flags given that do not apply to this input kind."""
-    wrong = [FLAGS[name] for name in FLAGS if name in given and name not in KINDS[kind]]
+    wrong = [FLAGS[name] for name in FLAGS if name in given and name not in INPUT_KINDS[kind]]
     if wrong:
-        applies = ", ".join(FLAGS[name] for name in FLAGS if name in KINDS[kind])
+        applies = ", ".join(FLAGS[name] for name in FLAGS if name in INPUT_KINDS[kind])
         fail(f"{', '.join(wrong)}: not for a {kind}; for a {kind}: {applies}")
 
 
