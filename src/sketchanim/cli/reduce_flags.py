@@ -56,14 +56,14 @@ REDUCE_PARAMETERS = [
             "the format its extension names (.png, .pdf, .svg, .jpg, ...)."),
     _option("rot_cols", Optional[str], None, "Tables: rotation columns: 4 (a quaternion, x,y,z,w unless "
             "--scalar-first) or 3 (Euler angles in degrees, --seq). TUM, EuRoC and KITTI quaternions are found."),
-    _option("rot_tol_deg", float, 0.5, f"Largest rotation error, degrees ({_range('rot_tol_deg')})."),
+    _option("rot_tol_deg", float, 0.5, f"Largest rotation error ({_range('rot_tol_deg')})."),
     _option("rot_mode", str, "quaternion", "Tables: rotation curve, quaternion or euler."),
     _option("seq", str, "ZXY", "Tables: Euler sequence (scipy's: upper case intrinsic, as BVH's ZXY)."),
     _option("scalar_first", bool, False, "Tables: quaternion columns are w,x,y,z.", "--scalar-first", metavar=""),
     _option("pauses", bool, True, "Tables: hold exactly still where the take pauses.", "--pauses/--no-pauses",
             metavar=""),
     _option("breaks", bool, True, "Tables: keep velocity breaks as corners.", "--breaks/--no-breaks", metavar=""),
-    _option("min_pause", float, 0.5, f"Tables: shortest pause, seconds ({_range('min_pause')})."),
+    _option("min_pause", float, 0.5, f"Tables: shortest pause ({_range('min_pause')})."),
     _option("units", Optional[str], None, f"Clips: the clip's unit ({', '.join(UNITS_M)}); default: the file's, "
             "else guessed from the figure's height."),
     _option("skeleton", Optional[Path], None, "Clips: the ASF skeleton of an AMC (default: found beside it)."),
@@ -72,8 +72,8 @@ REDUCE_PARAMETERS = [
             "--rot-tol-deg.", metavar=""),
     _option("shell_cm", float, 3.0, f"Clips, with --world: the shell's distance from each joint, "
             f"{_range('shell_cm')}."),
-    _option("rate", Optional[float], None, f"Clips written as BVH or USD (or .glb with --keys frames): frames per "
-            f"second, {_range('clip_rate')} (default: the source's). Tables: the time column holds frame numbers at "
+    _option("rate", Optional[float], None, f"Clips written as BVH or USD (or .glb with --keys frames): "
+            f"{_range('clip_rate')} (default: the source's). Tables: the time column holds frame numbers at "
             f"this rate (KITTI: its rate, 10 Hz by default), {_range('rate')}."),
     _option("format", Optional[str], None, f"Tables: the layout ({', '.join(FORMATS)}; default auto, by extension "
             f"and content). Folders: the output format ({', '.join(s[1:] for s in CLIP_OUTPUTS)}; default glb)."),

@@ -63,6 +63,7 @@ def unit_line(unit_m: float | None, options: ClipOptions) -> str:
 
 
 def joints_table(reduced: ReducedClip, row: ClipOutcome, options: ClipOptions) -> Table:
+    """Per joint of a reduced clip: rotation and position points and their largest errors."""
     promise = (f"every joint and {options.shell_cm:g} cm shell within {row.tol:.4g} units in the world"
                if options.world else f"tolerance {row.tol:.4g} units and {options.rot_tol_deg:g} degrees")
     table = Table(title=f"{Path(row.source).name}: {row.frames} frames, {row.joints} joints, {promise}")
@@ -75,6 +76,7 @@ def joints_table(reduced: ReducedClip, row: ClipOutcome, options: ClipOptions) -
 
 
 def markers_table(reduced: ReducedMarkers, row: ClipOutcome) -> Table:
+    """Per marker of reduced C3D markers: pieces, frames unseen, points and largest distance."""
     table = Table(title=f"{Path(row.source).name}: {row.frames} frames, {row.joints} markers, tolerance "
                         f"{row.tol:.4g} units")
     for column in ("marker", "pieces", "frames unseen", "control points", "max distance"):
