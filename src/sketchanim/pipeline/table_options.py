@@ -57,6 +57,9 @@ class TableOptions:
     duplicates, unordered
         Real-data quirks (:mod:`sketchanim.formats.quirks`).
 
+    ``cols``, ``rot_cols`` and ``groups`` also take text as the command line writes
+    them (``"x,y"``, ``"x,y:pressure"``); ``tol`` one number for every channel.
+
     Examples
     --------
     >>> TableOptions(tol=0.01).tol
