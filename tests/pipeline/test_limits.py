@@ -1,14 +1,18 @@
 """One limits table: every entry listed in docs/input-limits.md with the same range,
-shown in ``reduce --help``, and errors that name the field."""
+shown in ``reduce --help``, and errors that name the field; no library message names
+a command-line flag."""
 
 from __future__ import annotations
 
+import ast
 import math
+import re
 from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
+import sketchanim
 from sketchanim.cli import app
 from sketchanim.cli.flags import FLAGS, in_flags
 from sketchanim.errors import ArgumentError
@@ -66,3 +70,25 @@ def test_flags_are_told_only_where_a_field_is_named() -> None:
     assert in_flags("sample 3, rot_cols: Euler angle is not finite") == "sample 3, --rot-cols: Euler angle is not finite"
     for text in ("BVH format: bad", "the frame rate: 30", "gap 1.995-14.005 s", "tolerance=0.1"):
         assert in_flags(text) == text
+
+
+def _strings(tree: ast.Module) -> list[ast.Constant]:
+    """The string constants of a module that are not docstrings."""
+    docs = {id(node.body[0].value) for node in ast.walk(tree)
+            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body
+            and isinstance(node.body[0], ast.Expr) and isinstance(node.body[0].value, ast.Constant)}
+    return [node for node in ast.walk(tree)
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs]
+
+
+def test_no_library_message_names_a_flag() -> None:
+    flags = set(FLAGS.values()) - {"-o"}
+    package = Path(sketchanim.__file__).parent
+    wrong = []
+    for path in sorted(package.rglob("*.py")):
+        if "cli" in path.relative_to(package).parts:
+            continue
+        for node in _strings(ast.parse(path.read_text(encoding="utf-8"))):
+            wrong += [f"{path.relative_to(package)}:{node.lineno}: {flag}"
+                      for flag in re.findall(r"(?<![\w-])--[a-z][a-z-]*", node.value) if flag in flags]
+    assert not wrong, wrong
