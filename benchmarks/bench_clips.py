@@ -36,7 +36,7 @@ from rich.table import Table
 from sketchanim.mocap.clip_reduction import reduce_clip
 from sketchanim.mocap.markers import reduce_markers
 from sketchanim.mocap.world_reduction import reduce_clip_world
-from sketchanim.batch import outcome
+from sketchanim.pipeline.clip import clip_outcome
 from sketchanim.formats.c3d import read_c3d
 from sketchanim.formats.clip_files import read_clip
 
@@ -75,7 +75,7 @@ def main() -> None:
             reduced = (reduce_clip(clip, tol_cm * 0.01 / unit, tol_deg) if tol_deg else
                        reduce_clip_world(clip, tol_cm * 0.01 / unit, shell))
             seconds = time.perf_counter() - start
-            row = outcome(source, Path(), clip, reduced, tol_cm * 0.01 / unit, seconds)
+            row = clip_outcome(source, Path(), clip, reduced, tol_cm * 0.01 / unit, seconds)
             raw, curves = row.raw_bytes, row.reduced_bytes
             frames += len(clip.times)
             raw_total, reduced_total, seconds_total = raw_total + raw, reduced_total + curves, seconds_total + seconds

@@ -169,7 +169,7 @@ def plot_spiral_curves(results: dict[str, Reduction], path: Path) -> Path:
     return write_atomic(path, buffer.getvalue())
 
 
-def run(out: Path, data: Path | None) -> dict[str, object]:
+def run_experiments(out: Path, data: Path | None) -> dict[str, object]:
     """Run every experiment, write the PNGs into ``out`` and return the tables."""
     out.mkdir(parents=True, exist_ok=True)
     variants = spiral_variants()

@@ -378,3 +378,22 @@ def test_column_options_a_format_fixes_are_refused(tmp_path):
     np.savetxt(f, np.c_[t, x, quats(t)])
     refused(runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "--cols", "tx"]), "--cols", "tum")
     refused(runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "--time-col", "1"]), "--time-col", "tum")
+
+
+def test_library_errors_name_fields_and_the_cli_tells_them_as_flags(tmp_path):
+    t, x = motion(60)
+    f = tmp_path / "s.csv"
+    np.savetxt(f, np.c_[t, x], delimiter=",", header="t,x,y,z", comments="")
+    tum = tmp_path / "gt.txt"
+    np.savetxt(tum, np.c_[t, x, quats(t)], header="timestamp tx ty tz qx qy qz qw")
+    for source, args, words in (
+            (f, ["--groups", "x,q"], ["--groups: 'q' is not a channel"]),
+            (f, ["--groups", "x:x"], ["--groups: 'x' is in two groups"]),
+            (f, ["--tol", "0.1,0.1"], ["--tol: needs 1 or 3 values"]),
+            (f, ["--rot-cols", "x,y"], ["--rot-cols: needs 4 distinct columns"]),
+            (tum, ["--cols", "tx"], ["--cols:", "whose channels are fixed", "--cols applies to"]),
+            (tum, ["--time-col", "1"], ["--time-col:", "whose time column is fixed"]),
+            (f, ["--rate", "30", "--time-unit", "ms"], ["--rate (times are frame numbers) or --time-unit, not both"])):
+        res = runner.invoke(app, ["reduce", str(source), *(["--tol", "0.1"] if "--tol" not in args else []), *args])
+        refused(res, *words)
+        assert "cols=" not in res.output and "rate=" not in res.output

@@ -44,7 +44,7 @@ def find_asf(amc: Path) -> Path:
         return candidates[0]
     found = ", ".join(a.name for a in candidates) or "none"
     raise FileFormatError(str(amc), f"cannot tell which .asf skeleton it uses (found: {found}); give it with "
-                                    "--skeleton")
+                                    "skeleton=PATH")
 
 
 def read_clip(path: str | os.PathLike[str], *, skeleton: str | os.PathLike[str] | None = None) -> Clip | Markers:

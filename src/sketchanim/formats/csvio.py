@@ -218,11 +218,11 @@ def sniff(path: str | os.PathLike[str], delimiter: str | None | bool = True) -> 
             header = named
     if header is not None and len(header) != len(cells):
         raise FileFormatError(name, f"the header names {len(header)} columns, line {first} has {len(cells)} "
-                                    f"(--format names the layout)", line=rows[0][0])
+                                    f"(format=LAYOUT names the layout)", line=rows[0][0])
     if len(cells) < 2:
         what = "a comma, a tab or spaces" if delimiter is None else repr(delimiter)
         raise FileFormatError(name, f"needs a time column and at least one channel, separated by {what}; "
-                                    f"line {first} has one cell (--format names the layout)", line=first)
+                                    f"line {first} has one cell (format=LAYOUT names the layout)", line=first)
     return Layout(delimiter, header, first, len(cells), head[:first])
 
 
@@ -249,7 +249,7 @@ def _located(path: str | os.PathLike[str], layout: Layout, usecols: Sequence[int
             for col in usecols:
                 value = parse_number(cells[col])
                 if value is None:
-                    return FileFormatError(name, f"column {col + 1} is not a number: {cells[col]!r} (--cols "
+                    return FileFormatError(name, f"column {col + 1} is not a number: {cells[col]!r} (cols=COLUMNS "
                                                  f"picks the columns to read)", line=number)
                 if not math.isfinite(value):
                     return FileFormatError(name, f"column {col + 1} is {cells[col]!r}", line=number)
@@ -387,8 +387,8 @@ def read_samples_csv(path: str | os.PathLike[str], *, delimiter: str | None | bo
                 j = resolve_column(col, names)
                 picked.append((label.strip() or names[j], j))
     except ValueError as err:
-        raise FileFormatError(str(path), f"--cols: {err}") from None
+        raise FileFormatError(str(path), f"cols: {err}") from None
     if not picked:
-        raise FileFormatError(str(path), "--cols: no channel picked")
+        raise FileFormatError(str(path), "cols: no channel picked")
     times, values, lines = read_columns(path, layout, [t_col] + [j for _, j in picked])
     return SampleTable(times, values, [label for label, _ in picked], lines)

@@ -43,7 +43,7 @@ def ordered(table: SampleTable, how: str, name: str) -> tuple[SampleTable, int]:
     if how == "error":
         i = int(back[0])
         raise _at(table, name, i, f"time goes backwards ({t[i]:g} after {t[i - 1]:g}); {back.size} samples are out "
-                                  f"of order (--unordered drop or sort goes on)")
+                                  f"of order (unordered=drop or sort goes on)")
     if how == "drop":
         keep = np.ones(len(t), dtype=bool)
         keep[back] = False
@@ -73,7 +73,7 @@ def merged(table: SampleTable, how: str, name: str) -> tuple[SampleTable, int]:
     if how == "error":
         i = int(differ[0])
         raise _at(table, name, i, f"same time {t[i]:g} as the sample before, different values; {differ.size} such "
-                                  f"samples (--duplicates first or mean goes on)")
+                                  f"samples (duplicates=first or mean goes on)")
     starts = np.r_[0, np.flatnonzero(t[1:] != t[:-1]) + 1]
     first = table.take(starts)
     if how == "first":

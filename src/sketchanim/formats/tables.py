@@ -14,19 +14,20 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from sketchanim.errors import FileFormatError, InputError
+from sketchanim.errors import ArgumentError, FileFormatError, InputError
 from sketchanim.formats.csvio import DELIMITERS, Layout, SampleTable, head_lines, parse_number, read_columns, \
     read_samples_csv, resolve_column, sniff, split_cells
 from sketchanim.formats.jsonio import JSON_SAMPLES, read_samples_json
-from sketchanim.formats.time_units import check_rate, to_seconds
+from sketchanim.formats.time_units import to_seconds
+from sketchanim.limits import LIMITS
 
-#: Input formats ``--format`` names; ``auto`` recognises them by extension and content.
+#: Input formats ``format`` names; ``auto`` recognises them by extension and content.
 FORMATS = ("auto", "csv", "tsv", "whitespace", "tum", "svc", "euroc", "kitti", "json")
 
 #: Column names of a Wacom SVC file (SVC2004's order; time in milliseconds).
 SVC_COLUMNS = ("x", "y", "t", "button", "azimuth", "altitude", "pressure")
 
-#: KITTI poses carry no times: the rate assumed without ``--rate`` (its cameras' 10 Hz).
+#: KITTI poses carry no times: the rate assumed without ``rate`` (its cameras' 10 Hz).
 KITTI_RATE = 10.0
 
 _TUM = ("t", "tx", "ty", "tz", "qx", "qy", "qz", "qw")
@@ -106,7 +107,7 @@ def _euroc(path: str | os.PathLike[str], columns: Sequence[str] | None) -> Sampl
     times, values, lines = read_columns(path, layout, [0] + [names.index(n) for n in wanted])
     rest = [n for n in names[1:] if n not in wanted]
     return SampleTable(times, values, wanted, lines, orientation=tuple(wanted[3:]),
-                       notes=("EuRoC ground truth" + (f"; left out {', '.join(rest)} (--cols to read them)"
+                       notes=("EuRoC ground truth" + (f"; left out {', '.join(rest)} (cols=COLUMNS to read them)"
                                                       if rest else ""),))
 
 
@@ -121,10 +122,10 @@ def _kitti(path: str | os.PathLike[str], rate: float | None) -> tuple[SampleTabl
         quats = Rotation.from_matrix(pose[:, :, :3]).as_quat()
     except ValueError as err:
         raise FileFormatError(str(path), f"a pose is not a rotation and translation ({err})") from None
-    hz = KITTI_RATE if rate is None else check_rate(rate)
+    hz = KITTI_RATE if rate is None else float(LIMITS["rate"].check(rate))
     table = SampleTable(np.arange(len(pose)) / hz, np.c_[pose[:, :, 3], quats], ["tx", "ty", "tz", *_QUATERNION],
                         lines, orientation=_QUATERNION, notes=("KITTI poses",))
-    note = f"times from the line number at {hz:g} Hz" + (" (KITTI's camera rate; --rate to change)" if rate is None
+    note = f"times from the line number at {hz:g} Hz" + (" (KITTI's camera rate; rate=HZ to change)" if rate is None
                                                           else "")
     return table, note
 
@@ -159,7 +160,7 @@ def _column(path: str | os.PathLike[str], spec: str, names: Sequence[str]) -> in
     try:
         return resolve_column(spec, names)
     except ValueError as err:
-        raise FileFormatError(str(path), f"--cols: {err}") from None
+        raise FileFormatError(str(path), f"cols: {err}") from None
 
 
 def read_table(path: str | os.PathLike[str], *, format: str = "auto", time: str | None = None,
@@ -186,17 +187,17 @@ def read_table(path: str | os.PathLike[str], *, format: str = "auto", time: str 
     >>> _ = p.write_text("t\\tx\\n1700000000000\\t1\\n1700000000010\\t2\\n")
     >>> table = read_table(p)
     >>> table.channels, round(float(table.times[1] - table.times[0]), 6), table.notes
-    (['x'], 0.01, ('tab-separated table', 'time column read as milliseconds since 1970 (from its magnitude; --time-unit to change)'))
+    (['x'], 0.01, ('tab-separated table', 'time column read as milliseconds since 1970 (from its magnitude; time_unit=UNIT to change)'))
     """
     if format not in FORMATS:
-        raise InputError(f"--format: one of {', '.join(FORMATS)} for samples, got {format!r}")
+        raise ArgumentError("format", f"one of {', '.join(FORMATS)} for samples, got {format!r}")
     fmt = recognise(path) if format == "auto" else format
     if columns is not None and fmt in ("tum", "kitti", "json"):
-        raise InputError(f"--cols: {path} is {fmt}, whose channels are fixed; --cols applies to csv, tsv, whitespace, "
-                         f"svc and euroc tables")
+        raise ArgumentError("cols", f"{path} is {fmt}, whose channels are fixed; cols= applies to csv, tsv, "
+                                   f"whitespace, svc and euroc tables")
     if time is not None and fmt not in ("csv", "tsv", "whitespace"):
-        raise InputError(f"--time-col: {path} is {fmt}, whose time column is fixed; --time-col applies to csv, tsv "
-                         f"and whitespace tables")
+        raise ArgumentError("time_col", f"{path} is {fmt}, whose time column is fixed; time_col= applies to "
+                                       f"csv, tsv and whitespace tables")
     if fmt == "kitti":
         table, note = _kitti(path, rate)
         return replace(table, notes=table.notes + (note,))

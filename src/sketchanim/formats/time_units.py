@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from sketchanim.errors import ArgumentError
+from sketchanim.limits import LIMITS
 
 #: Seconds per unit of a time column.
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
@@ -18,25 +19,6 @@ _WALL_CLOCK = (("ns", 1e18), ("us", 1e15), ("ms", 1e12))
 #: of whole seconds is not how motion is sampled).
 COUNTER = 1000.0
 
-#: Highest frame rate ``--rate`` accepts, Hz.
-MAX_RATE = 1e6
-
-
-def check_rate(rate: float, what: str = "--rate") -> float:
-    """A frame rate in Hz: finite, positive and at most :data:`MAX_RATE`.
-
-    >>> check_rate(30)
-    30.0
-    >>> check_rate(0)
-    Traceback (most recent call last):
-    sketchanim.errors.ArgumentError: --rate: a rate in Hz, above 0 and at most 1000000, got 0
-    """
-    value = float(rate)
-    if not (np.isfinite(value) and 0 < value <= MAX_RATE):
-        raise ArgumentError(what, f"a rate in Hz, above 0 and at most {MAX_RATE:.0f}, got {value:g}")
-    return value
-
-
 def to_seconds(times: np.ndarray, *, unit: str | None = None, rate: float | None = None) -> tuple[np.ndarray, str]:
     """``times`` in seconds, and a note saying how they were read.
 
@@ -47,18 +29,18 @@ def to_seconds(times: np.ndarray, *, unit: str | None = None, rate: float | None
 
     >>> t, note = to_seconds(np.array([1.7e18, 1.7e18 + 1e7]))
     >>> round(float(t[1] - t[0]), 6), note
-    (0.01, 'time column read as nanoseconds since 1970 (from its magnitude; --time-unit to change)')
+    (0.01, 'time column read as nanoseconds since 1970 (from its magnitude; time_unit=UNIT to change)')
     >>> to_seconds(np.array([0.0, 1.0, 2.0, 3.0]), rate=30)[0].tolist()
     [0.0, 0.03333333333333333, 0.06666666666666667, 0.1]
     """
     if rate is not None and unit is not None:
-        raise ArgumentError("--rate", "give --rate (times are frame numbers) or --time-unit, not both")
+        raise ArgumentError("rate", "give rate= (times are frame numbers) or time_unit=, not both")
     if rate is not None:
-        rate = check_rate(rate)
+        rate = float(LIMITS["rate"].check(rate))
         return times / rate, f"time column read as frame numbers at {rate:g} Hz"
     if unit is not None:
         if unit not in TIME_UNITS:
-            raise ArgumentError("--time-unit", f"one of {', '.join(TIME_UNITS)}, got {unit!r}")
+            raise ArgumentError("time_unit", f"one of {', '.join(TIME_UNITS)}, got {unit!r}")
         return (times if unit == "s" else times * TIME_UNITS[unit]), f"time column read as {unit}"
     if not len(times):
         return times, "time column read as seconds"
@@ -68,12 +50,12 @@ def to_seconds(times: np.ndarray, *, unit: str | None = None, rate: float | None
             long_name = {"ns": "nanoseconds", "us": "microseconds", "ms": "milliseconds"}[name]
             origin = float(times[0])
             return (times - origin) * TIME_UNITS[name] + origin * TIME_UNITS[name], (f"time column read as {long_name} since 1970 (from its magnitude; "
-                                             f"--time-unit to change)")
+                                             f"time_unit=UNIT to change)")
     if len(times) >= 3 and top >= COUNTER and np.all(times == np.round(times)) and top < 2.0**53:
         steps = np.diff(times)
         step = float(np.median(steps)) if len(steps) else 0.0
         raise ArgumentError("time", f"the time column holds whole numbers ({float(times[0]):g} to "
                                     f"{float(times[-1]):g}, steps of {step:g}): frame numbers or clock ticks, not "
-                                    f"seconds? Pass --rate HZ for frame numbers, --time-unit ms|us|ns for ticks, or "
-                                    f"--time-unit s if they are seconds")
+                                    f"seconds? Pass rate=HZ for frame numbers, time_unit=ms|us|ns for ticks, or "
+                                    f"time_unit=s if they are seconds")
     return times, "time column read as seconds"

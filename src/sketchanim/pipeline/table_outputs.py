@@ -1,0 +1,195 @@
+"""What a reduced sample table is written as: spline JSON per channel group, one
+animated node (.glb through the scene writer, USD sampled at the table's times), and
+plots; the outputs checked before any work. The one place the table pipeline calls
+the glTF and USD writers."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from sketchanim.atomic import write_atomic
+from sketchanim.errors import ArgumentError, InputError
+from sketchanim.formats.csvio import SampleTable
+from sketchanim.reducer import Reduction
+
+if TYPE_CHECKING:
+    from sketchanim.pipeline.table import TableReduction
+    from sketchanim.pipeline.table_options import TableOptions
+
+#: A sample table's USD outputs (an animated Xform, sampled at the table's times).
+USD_TABLE = (".usd", ".usda", ".usdc")
+
+#: glTF stores key times as float32: takes whose clock reads past this many seconds
+#: start at zero in a .glb (float32 spacing there would be over 0.1 ms).
+GLB_CLOCK = 1000.0
+
+
+@dataclass(frozen=True)
+class Written:
+    """A file written, and what it holds ("" for a file that says it itself)."""
+
+    path: Path
+    note: str = ""
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return a.resolve() == b.resolve() or (b.exists() and a.samefile(b))
+    except OSError:
+        return False
+
+
+def check_outputs(source: Path, output: Path | None, plot: Path | None, order: int) -> None:
+    """Outputs a table can be written as, never the input itself; checked before any
+    work (an :class:`~sketchanim.errors.ArgumentError` naming ``output``, ``plot`` or
+    ``order``)."""
+    if output is not None:
+        for path in (output, output.with_name(output.stem + ".rotation.json")):
+            if _same_file(source, path):
+                raise ArgumentError("output", f"{path} is the input; choose another output")
+        suffix = output.suffix.lower()
+        if suffix not in (".json", ".glb") + USD_TABLE:
+            raise ArgumentError("output", f"a sample table is written as .json (the spline), or .glb or "
+                                          f".usd/.usda/.usdc (an animated node), not "
+                                          f"{suffix or 'a file without an extension'}")
+        if suffix in USD_TABLE:
+            from sketchanim.formats.usd import pxr_modules
+
+            try:
+                pxr_modules()
+            except InputError as err:
+                raise ArgumentError("output", str(err)) from None
+        if suffix == ".glb" and order > 4:
+            raise ArgumentError("order", f"glTF plays orders 2 to 4, got {order} (write .json for higher orders)")
+    if plot is not None:
+        from matplotlib.backend_bases import FigureCanvasBase
+
+        if _same_file(source, plot) or (output is not None and _same_file(output, plot)):
+            raise ArgumentError("plot", f"{plot} is the input or the output; choose another file")
+        kinds = FigureCanvasBase.get_supported_filetypes()
+        if plot.suffix.lower().lstrip(".") not in kinds:
+            raise ArgumentError("plot", f"the extension names the format, one of "
+                                        f"{', '.join('.' + k for k in sorted(kinds))}; got {plot.suffix or 'none'}")
+
+
+def check_node(table: SampleTable, parts: list[list[int]], rot: list[int], suffix: str, rot_mode: str) -> None:
+    """A .glb (or USD file) holds one animated node: a position of 2 or 3 channels
+    and/or an orientation (a quaternion curve in a .glb; USD takes Euler columns and
+    curves too, since it stores values at the samples). Other suffixes: no check."""
+    if suffix not in (".glb",) + USD_TABLE:
+        return
+    euler = bool(rot) and (len(rot) != 4 or rot_mode == "euler") and suffix == ".glb"
+    if len(parts) > 1 or (parts and len(parts[0]) not in (2, 3)) or euler:
+        chans = ", ".join(table.channels[j] for p in parts for j in p)
+        raise ArgumentError("output", f"a {suffix} holds one animated node: a position of 2 or 3 channels (x, y[, z]) "
+                                      f"and {'a quaternion' if suffix == '.glb' else 'an orientation'}; this take has "
+                                      f"{chans or 'no position channels'}"
+                                      + (" and Euler rotation columns or rot_mode=euler" if euler else "")
+                                      + " (write .json, or pick the channels with cols=COLUMNS)")
+
+
+def _group_path(path: Path, table: SampleTable, part: list[int], k: int) -> Path:
+    """The first group's file is ``path``; the others STEM.<channels>.SUFFIX."""
+    if k == 0:
+        return path
+    return path.with_name(f"{path.stem}.{'+'.join(table.channels[j] for j in part)}{path.suffix}")
+
+
+def _write_glb(path: Path, result: TableReduction, rot_tol_deg: float) -> Written:
+    """One animated node: the position and orientation curves, exactly (scene units as
+    the file's; a clock far from zero moved to start at zero)."""
+    from scipy.interpolate import BSpline
+
+    from sketchanim.anim.attributes import ORIENTATION, POSITION
+    from sketchanim.anim.scene import Scene
+    from sketchanim.anim.tracks import ContinuousTrack
+    from sketchanim.formats.gltf_scene import scene_glb
+
+    times = result.table.times
+    origin = float(times[0]) if abs(float(times[-1])) >= GLB_CLOCK else 0.0
+    name = "path"
+    scene = Scene()
+    scene.add(name)
+    tracks = {}
+    if result.reductions:
+        s = result.reductions[0].columns
+        c = np.asarray(s.c)
+        if c.shape[1] == 2:
+            c = np.c_[c, np.zeros(len(c))]
+        tracks[f"{name}.position"] = ContinuousTrack(f"{name}.position", POSITION, BSpline(s.t - origin, c, s.k),
+                                                     float(np.max(result.reductions[0].tol)))
+    rotation = result.rotation
+    if rotation is not None:
+        s = rotation.columns
+        c = np.asarray(s.c)[:, [1, 2, 3, 0]] if rotation.report.get("scalar_first") else s.c   # glTF: x, y, z, w
+        tracks[f"{name}.orientation"] = ContinuousTrack(f"{name}.orientation", ORIENTATION,
+                                                        BSpline(s.t - origin, c, s.k), rot_tol_deg)
+    glb, _ = scene_glb(scene, tracks, name=path.stem)
+    write_atomic(path, glb)
+    return Written(path, f"one node, {', '.join(k.split('.')[1] for k in tracks)}; the file's units written as "
+                         f"metres" + (f"; times from the first sample, at {origin:.9g} s: glTF keeps float32 times"
+                                      if origin else ""))
+
+
+def _write_usd(path: Path, result: TableReduction, rate: float | None) -> Written:
+    """One animated Xform, ``/path``: the curves' values at every sample time (USD
+    interpolates samples linearly, orientations by slerp), in double precision; time
+    codes are seconds times ``rate`` (else the median sampling rate), the clock kept."""
+    from scipy.spatial.transform import Rotation
+
+    from sketchanim.anim.tracks import held_values
+    from sketchanim.formats.usd import write_usd_path
+
+    t = result.table.times
+    positions = None
+    if result.reductions:
+        positions = held_values(result.reductions[0].columns, t, False)
+        positions = np.c_[positions, np.zeros(len(t))] if positions.shape[1] == 2 else positions
+    orientations = None
+    rotation = result.rotation
+    if rotation is not None:
+        if rotation.report.get("mode") == "euler":
+            orientations = Rotation.from_euler(rotation.report["seq"], rotation.spline(t)).as_quat()
+        else:
+            q = held_values(rotation.columns, t, True)
+            orientations = np.roll(q, -1, axis=1) if rotation.report.get("scalar_first") else q
+    fps = rate or (float(f"{1 / np.median(np.diff(t)):.6g}") if len(t) > 1 else 1.0)
+    write_usd_path(path, t, fps, positions=positions, orientations=orientations)
+    held = ", ".join(k for k, v in (("translate", positions), ("orient", orientations)) if v is not None)
+    return Written(path, f"one Xform, /path: {len(t)} samples of {held} at the source's times, {fps:g} time codes "
+                         f"per second; the file's units written as metres")
+
+
+def _write_json(path: Path, reduction: Reduction) -> Written:
+    write_atomic(path, reduction.to_json())
+    return Written(path)
+
+
+def write_outputs(result: TableReduction, output: Path | None, plot: Path | None,
+                  options: TableOptions) -> TableReduction:
+    """Write ``result`` as ``output`` (by its suffix) and its plots; ``result`` with
+    the files written."""
+    written: list[Written] = []
+    suffix = output.suffix.lower() if output is not None else ""
+    if output is not None and suffix == ".glb":
+        written.append(_write_glb(output, result, options.rot_tol_deg))
+    elif output is not None and suffix in USD_TABLE:
+        written.append(_write_usd(output, result, options.rate))
+    elif output is not None:
+        for k, (part, reduction) in enumerate(zip(result.parts, result.reductions)):
+            written.append(_write_json(_group_path(output, result.table, part, k), reduction))
+        if result.rotation is not None:
+            written.append(_write_json(output.with_name(output.stem + ".rotation.json"), result.rotation))
+    if plot is not None and result.reductions:
+        from sketchanim.plot import plot_reduction
+
+        for k, (part, reduction) in enumerate(zip(result.parts, result.reductions)):
+            path = _group_path(plot, result.table, part, k)
+            plot_reduction(result.table.times, result.table.values[:, part], reduction, path, result.names(part),
+                           title=result.source)
+            written.append(Written(path))
+    return replace(result, written=tuple(written))
