@@ -294,7 +294,7 @@ def test_a_notice_shows_styled_readable_and_dismissable(_page, studio: str) -> N
     page.evaluate("(text) => studio.receive({type: 'notice', level: 'warning', text, source: 'recorder'})", text)
     notice = page.locator("[data-testid=notice][data-level=warning]")
     notice.wait_for(state="visible")
-    assert text in notice.inner_text() and "recorder" in notice.inner_text()
+    assert text in notice.inner_text() and "recorder" in notice.inner_text().lower()
     assert "warning" in notice.get_attribute("class")
     box = notice.bounding_box()
     for other in ("[data-testid=record]", "[data-testid=curves]", "[data-testid=transport]"):
