@@ -144,3 +144,42 @@ test('playback writes the tracks but not what the performer holds', () => {
   s.transport.seek(0.25);
   assert.deepEqual(s.values.get('box.position'), [9, 9, 9]);
 });
+
+test("the studio's operations emit their signals: an attribute shown, an object added by the first free name", () => {
+  const { s, c } = studio();
+  /** @type {string[]} */
+  const heard = [];
+  s.signals.on('attribute', (a) => heard.push(`attribute ${a}`));
+  s.signals.on('selection', (name) => heard.push(`selection ${name}`));
+  s.select('box');
+  s.showAttribute('position');
+  assert.deepEqual(heard, ['selection box', 'attribute position']);
+  c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null,
+    history: { undo: [], redo: [], can_undo: false, can_redo: false },
+    transport: { time: 0, playing: false, speed: 1, loop: null },
+    objects: [{ name: 'object1', kind: 'object', attributes: [] }, { name: 'object3', kind: 'object', attributes: [] }] });
+  s.addObject();
+  assert.deepEqual(c.of('object.add').at(-1), { type: 'object.add', name: 'object2', kind: 'object' });
+});
+
+test('the loop key: on over the tracks\' span (else 0 to 4 s), off, then on again over the last range', () => {
+  const { s } = studio();
+  s.transport.toggleLoop();
+  assert.deepEqual(s.transport.clock.loop, [0, 4]);
+  s.transport.toggleLoop();
+  assert.equal(s.transport.clock.loop, null);
+  s.transport.setLoop([1, 2]);
+  s.transport.toggleLoop();
+  s.transport.toggleLoop();
+  assert.deepEqual(s.transport.clock.loop, [1, 2]);
+});
+
+test('a notice from the server is kept and emitted', () => {
+  const { s, c } = studio();
+  /** @type {string[]} */
+  const texts = [];
+  s.signals.on('notice', (m) => texts.push(`${m.level} ${m.source}: ${m.text}`));
+  c.receive({ type: 'notice', level: 'warning', text: 'the journal failed', source: 'recorder' });
+  assert.deepEqual(texts, ['warning recorder: the journal failed']);
+  assert.equal(s.notices.length, 1);
+});

@@ -18,7 +18,7 @@ const BLEND = 0.1;
  * @typedef {object} Grab   Something the performer holds.
  * @property {string[]} paths     the attributes held (playback leaves them alone)
  * @property {string} label
- * @property {boolean} changed    moved since the press
+ * @property {boolean} changed    moved since the press (a device's hold: from the start)
  * @property {boolean} dirty      moved since the last preview sent
  * @property {boolean} recordable may still start a take (false after a loop wrap without loop recording)
  * @property {TakeSampler | null} take
@@ -78,12 +78,12 @@ export class Performer {
    * mode the hold is a take of them.
    * @param {string[]} paths continuous attributes
    * @param {string} label
-   * @param {((dt: number, now: number) => void) | null} [drive]
+   * @param {((dt: number, now: number) => void) | null} [drive] a device's: moves the attributes each frame
    * @returns {Grab}
    */
   hold(paths, label, drive = null) {
     if (this.grab) this.release();
-    this.grab = { paths, label, changed: false, dirty: false, recordable: true, take: null, loopKey: null, drive };
+    this.grab = { paths, label, changed: drive !== null, dirty: false, recordable: true, take: null, loopKey: null, drive };
     return this.grab;
   }
 

@@ -336,7 +336,7 @@ export class Viewport {
     const state = { idle: 0 };
     this.pad = state;
     const paths = [`${name}.position`, `${name}.orientation`];
-    const grab = this.studio.performer.hold(paths, `steer ${name}`, (dt) => {
+    this.studio.performer.hold(paths, `steer ${name}`, (dt) => {
       const current = /** @type {Gamepad | undefined} */ ([...navigator.getGamepads()].filter(Boolean)[0]);
       const input = current ? readPad(current) : { move: [0, 0, 0], turn: [0, 0, 0] };
       state.idle = active(/** @type {any} */ (input)) ? 0 : state.idle + dt;
@@ -345,7 +345,6 @@ export class Viewport {
       this.studio.setLocal(paths[0], next.position);
       this.studio.setLocal(paths[1], next.orientation);
     });
-    grab.changed = true;
   }
 
   // -- drawing ------------------------------------------------------------------------------
