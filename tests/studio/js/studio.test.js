@@ -183,3 +183,13 @@ test('a notice from the server is kept and emitted', () => {
   assert.deepEqual(texts, ['warning recorder: the journal failed']);
   assert.equal(s.notices.length, 1);
 });
+
+test('a message field the protocol does not have is a type error (tsc, tests/studio/test_page_types.py)', () => {
+  const { s, c } = studio();
+  // @ts-expect-error: 'valu' is no field of a set message
+  s.send({ type: 'set', path: 'box.position', valu: [1, 2, 3] });
+  // @ts-expect-error: 'warn' is no notice level
+  c.receive({ type: 'notice', level: 'warn', text: 'x', source: 'recorder' });
+  assert.equal(c.sent.at(-1).type, 'set');
+  assert.equal(s.notices.length, 1);
+});
