@@ -86,7 +86,7 @@ def animated_project(path: Path, objects: int, rng: np.random.Generator) -> None
 def playback(browser, url: str, seconds: float) -> dict:  # noqa: ANN001
     """Loop the animation for ``seconds``; the page's per-frame timings."""
     page = open_page(browser, url)
-    page.evaluate("studio.setLoop([0, 5]); studio.seek(0); studio.play()")
+    page.evaluate("studio.transport.setLoop([0, 5]); studio.transport.seek(0); studio.transport.play()")
     page.wait_for_timeout(500)
     page.evaluate("for (const k of Object.keys(studioStats)) studioStats[k].length = 0")
     page.wait_for_timeout(int(seconds * 1000))

@@ -150,14 +150,14 @@ def test_drag_in_record_mode_records_the_track_at_the_pages_frame_rate(_page, st
 def test_a_layer_during_playback_changes_only_the_grabbed_span(_page, studio: str) -> None:  # noqa: ANN001
     page = _page(studio)
     for name, sweep in (("box", _sweep(90)), ("ball", _sweep(150, dx=-120, dy=40))):
-        page.evaluate("studio.seek(0)")
+        page.evaluate("studio.transport.seek(0)")
         _record_once(page, name, sweep)                      # record mode off after: the transport stops
     before = project(studio)
     box0, ball0 = curve(before, "box.position"), curve(before, "ball.position")
     # from the start, in record mode: the transport plays both tracks; grab the ball midway
-    page.evaluate("studio.seek(0)")
+    page.evaluate("studio.transport.seek(0)")
     page.click("[data-testid=record]")
-    page.wait_for_function(f"studio.time > {ball0[0].t[0] + 0.2}")
+    page.wait_for_function(f"studio.transport.time > {ball0[0].t[0] + 0.2}")
     start = page.evaluate("viewport.screenOf('ball')")
     drag(page, start, [(0, -40 * np.sin(np.pi * s)) for s in np.linspace(0, 1, 20)])
     layer = last_take(page)
@@ -233,15 +233,15 @@ def test_undo_and_redo_a_take(_page, studio: str) -> None:  # noqa: ANN001
 def test_reload_shows_the_same_state(_page, studio: str) -> None:  # noqa: ANN001
     page = _page(studio)
     _record_once(page, "box", _sweep(30))
-    page.evaluate("studio.setLoop([0.1, 0.4]); studio.seek(0.25)")
+    page.evaluate("studio.transport.setLoop([0.1, 0.4]); studio.transport.seek(0.25)")
     page.wait_for_timeout(300)
-    before = page.evaluate("({coef: studio.tracks.get('box.position').coef, time: studio.time, "
-                           "loop: studio.clock.loop, box: studio.values.get('box.position'), "
+    before = page.evaluate("({coef: studio.tracks.get('box.position').coef, time: studio.transport.time, "
+                           "loop: studio.transport.clock.loop, box: studio.values.get('box.position'), "
                            "history: studio.history.undo})")
     page.reload()
     page.wait_for_selector("body[data-ready=true]", timeout=60_000)
-    after = page.evaluate("({coef: studio.tracks.get('box.position').coef, time: studio.time, "
-                          "loop: studio.clock.loop, box: studio.values.get('box.position'), "
+    after = page.evaluate("({coef: studio.tracks.get('box.position').coef, time: studio.transport.time, "
+                          "loop: studio.transport.clock.loop, box: studio.values.get('box.position'), "
                           "history: studio.history.undo})")
     assert after["coef"] == before["coef"] and after["history"] == before["history"]
     assert after["time"] == pytest.approx(0.25) and after["loop"] == [0.1, 0.4]
@@ -277,4 +277,58 @@ def test_a_stalled_stretch_inside_a_take_is_a_gap(_page, studio: str) -> None:  
     inside = np.linspace(times[k], times[k + 1], 50, endpoint=False)
     assert np.abs(held(spline, inside) - rows[k]).max() <= 0.005, "the curve swings across the stall"
     _check_within(take, doc, "box.position")
+    assert drew_something(page) > 5 and not page.errors
+
+
+def _overlaps(a: dict, b: dict) -> bool:
+    return a["x"] < b["x"] + b["width"] and b["x"] < a["x"] + a["width"] and a["y"] < b["y"] + b["height"] \
+        and b["y"] < a["y"] + a["height"]
+
+
+def test_a_notice_shows_styled_readable_and_dismissable(_page, studio: str) -> None:  # noqa: ANN001
+    """A server notice (a recorder's warning, injected as the server would send it) shows in
+    the notice area by its level, clear of REC and the curve view, until dismissed; a refusal
+    of a message (a real one from the server) shows too."""
+    page = _page(studio)
+    text = "the journal failed (disk full): this take is not safe from a crash"
+    page.evaluate("(text) => studio.receive({type: 'notice', level: 'warning', text, source: 'recorder'})", text)
+    notice = page.locator("[data-testid=notice][data-level=warning]")
+    notice.wait_for(state="visible")
+    assert text in notice.inner_text() and "recorder" in notice.inner_text().lower()
+    assert "warning" in notice.get_attribute("class")
+    box = notice.bounding_box()
+    for other in ("[data-testid=record]", "[data-testid=curves]", "[data-testid=transport]"):
+        assert not _overlaps(box, page.locator(other).bounding_box()), f"the notice covers {other}"
+    colour = page.evaluate("getComputedStyle(document.querySelector('[data-testid=notice] .text')).color")
+    assert colour == "rgb(255, 255, 255)"
+    assert drew_something(page) > 5
+    page.evaluate("studio.send({type: 'set', path: 'nothing.here', value: [1]})")     # the server refuses it
+    refused = page.locator("[data-testid=notice][data-level=error]")
+    refused.wait_for(state="visible")
+    assert "refused" in refused.inner_text() and page.evaluate("studio.errors.length") == 1
+    notice.locator("[data-testid=notice-dismiss]").click()
+    notice.wait_for(state="detached")
+    assert page.locator("[data-testid=notice][data-level=warning]").count() == 0
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_the_keys_drive_the_transport_and_the_gizmo(_page, studio: str) -> None:  # noqa: ANN001
+    """L loops, R records, Space plays, W / E / S switch the gizmo; typed into a field, keys are the field's."""
+    page = _page(studio)
+    page.keyboard.press("l")
+    assert page.evaluate("studio.transport.clock.loop") is not None
+    page.keyboard.press("l")
+    assert page.evaluate("studio.transport.clock.loop") is None
+    page.keyboard.press("e")
+    assert page.evaluate("viewport.transform.mode") == "rotate"
+    page.keyboard.press("w")
+    assert page.evaluate("viewport.transform.mode") == "translate"
+    page.keyboard.press("r")
+    assert page.evaluate("studio.transport.record") is True
+    page.keyboard.press("r")
+    assert page.evaluate("studio.transport.record") is False
+    page.click("[data-testid=outliner] li[data-object=box]")
+    page.locator("[data-testid='edit-box.position-0']").focus()
+    page.keyboard.press("l")
+    assert page.evaluate("studio.transport.clock.loop") is None, "a key typed into a field reached the studio"
     assert drew_something(page) > 5 and not page.errors

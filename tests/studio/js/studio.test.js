@@ -4,21 +4,23 @@ import test from 'node:test';
 import assert from 'node:assert/strict';
 import { Studio } from '../../../src/sketchanim/studio/web/js/Studio.js';
 
-class FakeConnection extends EventTarget {
+class FakeConnection {
   constructor() {
-    super();
     /** @type {any[]} */
     this.sent = [];
+    this.connected = true;
+    /** @type {(m: import('../../../src/sketchanim/studio/web/js/messages.js').ServerMessage) => void} */
+    this.onMessage = () => {};
   }
+
+  /** @param {(m: any) => void} onMessage @param {(open: boolean) => void} _onStatus */
+  connect(onMessage, _onStatus) { this.onMessage = onMessage; }
 
   /** @param {any} m */
   send(m) { this.sent.push(m); }
 
-  /** @param {string} type @param {(m: any) => void} handler */
-  on(type, handler) { this.addEventListener(type, (e) => handler(/** @type {CustomEvent} */ (e).detail)); }
-
-  /** @param {any} m */
-  receive(m) { this.dispatchEvent(new CustomEvent(m.type, { detail: m })); }
+  /** @param {import('../../../src/sketchanim/studio/web/js/messages.js').ServerMessage} m */
+  receive(m) { this.onMessage(m); }
 
   /** @param {string} type */
   of(type) { return this.sent.filter((m) => m.type === type); }
@@ -28,7 +30,7 @@ const POSITION = { name: 'position', dim: 3, tol: 0.005, unit: 'scene units', de
 
 function studio() {
   const c = new FakeConnection();
-  const s = new Studio(/** @type {any} */ (c));
+  const s = new Studio(c);
   c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null,
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
     transport: { time: 0, playing: false, speed: 1, loop: null },
@@ -39,7 +41,7 @@ function studio() {
 /** Run frames every 16 ms from `from` to `to` (ms after `t0`), moving the box along x. */
 function frames(/** @type {Studio} */ s, /** @type {number} */ t0, /** @type {number} */ from, /** @type {number} */ to) {
   for (let ms = from; ms <= to; ms += 16) {
-    if (s.grab) s.setLocal('box.position', [ms / 1000, 0.5, 0]);
+    if (s.performer.grab) s.setLocal('box.position', [ms / 1000, 0.5, 0]);
     s.frame(t0 + ms);
   }
 }
@@ -47,10 +49,10 @@ function frames(/** @type {Studio} */ s, /** @type {number} */ t0, /** @type {nu
 test('a hold in record mode is a take: one sample a frame, stamped with transport time, sent in batches', () => {
   const { s, c } = studio();
   const t0 = performance.now();
-  s.setRecord(true);
-  s.hold(['box.position'], 'move box');
+  s.transport.setRecord(true);
+  s.performer.hold(['box.position'], 'move box');
   frames(s, t0, 16, 400);
-  s.release();
+  s.performer.release();
   const [begin] = c.of('take.begin');
   assert.deepEqual(begin.paths, ['box.position']);
   const t = c.of('take.samples').flatMap((m) => m.t);
@@ -62,11 +64,11 @@ test('a hold in record mode is a take: one sample a frame, stamped with transpor
 
 test('capture speed slows the transport while performing; the count-in delays the take to the punch point', () => {
   const { s, c } = studio();
-  s.captureSpeed = 0.5;
-  s.countIn = 1;
+  s.transport.setCaptureSpeed(0.5);
+  s.transport.setCountIn(1);
   const t0 = performance.now();
-  s.setRecord(true);                       // pre-roll: the transport starts 0.5 s of transport time early
-  s.hold(['box.position'], 'move box');
+  s.transport.setRecord(true);                       // pre-roll: the transport starts 0.5 s of transport time early
+  s.performer.hold(['box.position'], 'move box');
   frames(s, t0, 16, 960);
   assert.equal(c.of('take.begin').length, 0, 'a take began during the count-in');
   frames(s, t0, 976, 1400);
@@ -79,13 +81,13 @@ test('capture speed slows the transport while performing; the count-in delays th
 
 test('loop recording: each pass of the loop is a take with the same loop key', () => {
   const { s, c } = studio();
-  s.loopRecord = true;
-  s.setLoop([0, 0.2]);
+  s.performer.setLoopRecord(true);
+  s.transport.setLoop([0, 0.2]);
   const t0 = performance.now();
-  s.setRecord(true);
-  s.hold(['box.position'], 'move box');
+  s.transport.setRecord(true);
+  s.performer.hold(['box.position'], 'move box');
   frames(s, t0, 16, 700);
-  s.release();
+  s.performer.release();
   const begins = c.of('take.begin');
   assert.ok(begins.length >= 3);
   assert.ok(begins.every((b) => b.loop && b.loop === begins[0].loop));
@@ -94,10 +96,10 @@ test('loop recording: each pass of the loop is a take with the same loop key', (
 
 test("without loop recording, the loop's wrap ends the take and the hold records no more", () => {
   const { s, c } = studio();
-  s.setLoop([0, 0.2]);
+  s.transport.setLoop([0, 0.2]);
   const t0 = performance.now();
-  s.setRecord(true);
-  s.hold(['box.position'], 'move box');
+  s.transport.setRecord(true);
+  s.performer.hold(['box.position'], 'move box');
   frames(s, t0, 16, 700);
   assert.equal(c.of('take.begin').length, 1);
   assert.equal(c.of('take.end').length, 1);
@@ -106,11 +108,11 @@ test("without loop recording, the loop's wrap ends the take and the hold records
 test('a page sent to the background ends its take at the last sample', () => {
   const { s, c } = studio();
   const t0 = performance.now();
-  s.setRecord(true);
-  s.hold(['box.position'], 'move box');
+  s.transport.setRecord(true);
+  s.performer.hold(['box.position'], 'move box');
   frames(s, t0, 16, 200);
   s.hidden();
-  assert.equal(s.grab, null);
+  assert.equal(s.performer.grab, null);
   const ends = c.of('take.end');
   assert.equal(ends.length, 1);
   const last = c.of('take.samples').at(-1);
@@ -121,9 +123,9 @@ test('a page sent to the background ends its take at the last sample', () => {
 test('outside record mode a drag previews, then sends one undoable edit on release', () => {
   const { s, c } = studio();
   const t0 = performance.now();
-  s.hold(['box.position'], 'move box');
+  s.performer.hold(['box.position'], 'move box');
   frames(s, t0, 16, 100);
-  s.release();
+  s.performer.release();
   assert.equal(c.of('take.begin').length, 0);
   assert.ok(c.of('preview').length > 0);
   const sets = c.of('set');
@@ -135,10 +137,59 @@ test('playback writes the tracks but not what the performer holds', () => {
   const { s, c } = studio();
   c.receive({ type: 'tracks', span: [0, 1], removed: [], changed: [{ path: 'box.position', kind: 'curve', dim: 3, order: 2,
     rotation: false, tol: 0.005, knots: [0, 0, 1, 1], coef: [[0, 0, 0], [1, 0, 0]], start: 0, end: 1, takes: [] }] });
-  s.seek(0.5);
+  s.transport.seek(0.5);
   assert.deepEqual(s.values.get('box.position'), [0.5, 0, 0]);
-  s.hold(['box.position'], 'move box');
+  s.performer.hold(['box.position'], 'move box');
   s.setLocal('box.position', [9, 9, 9]);
-  s.seek(0.25);
+  s.transport.seek(0.25);
   assert.deepEqual(s.values.get('box.position'), [9, 9, 9]);
+});
+
+test("the studio's operations emit their signals: an attribute shown, an object added by the first free name", () => {
+  const { s, c } = studio();
+  /** @type {string[]} */
+  const heard = [];
+  s.signals.on('attribute', (a) => heard.push(`attribute ${a}`));
+  s.signals.on('selection', (name) => heard.push(`selection ${name}`));
+  s.select('box');
+  s.showAttribute('position');
+  assert.deepEqual(heard, ['selection box', 'attribute position']);
+  c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null,
+    history: { undo: [], redo: [], can_undo: false, can_redo: false },
+    transport: { time: 0, playing: false, speed: 1, loop: null },
+    objects: [{ name: 'object1', kind: 'object', attributes: [] }, { name: 'object3', kind: 'object', attributes: [] }] });
+  s.addObject();
+  assert.deepEqual(c.of('object.add').at(-1), { type: 'object.add', name: 'object2', kind: 'object' });
+});
+
+test('the loop key: on over the tracks\' span (else 0 to 4 s), off, then on again over the last range', () => {
+  const { s } = studio();
+  s.transport.toggleLoop();
+  assert.deepEqual(s.transport.clock.loop, [0, 4]);
+  s.transport.toggleLoop();
+  assert.equal(s.transport.clock.loop, null);
+  s.transport.setLoop([1, 2]);
+  s.transport.toggleLoop();
+  s.transport.toggleLoop();
+  assert.deepEqual(s.transport.clock.loop, [1, 2]);
+});
+
+test('a notice from the server is kept and emitted', () => {
+  const { s, c } = studio();
+  /** @type {string[]} */
+  const texts = [];
+  s.signals.on('notice', (m) => texts.push(`${m.level} ${m.source}: ${m.text}`));
+  c.receive({ type: 'notice', level: 'warning', text: 'the journal failed', source: 'recorder' });
+  assert.deepEqual(texts, ['warning recorder: the journal failed']);
+  assert.equal(s.notices.length, 1);
+});
+
+test('a message field the protocol does not have is a type error (tsc, tests/studio/test_page_types.py)', () => {
+  const { s, c } = studio();
+  // @ts-expect-error: 'valu' is no field of a set message
+  s.send({ type: 'set', path: 'box.position', valu: [1, 2, 3] });
+  // @ts-expect-error: 'warn' is no notice level
+  c.receive({ type: 'notice', level: 'warn', text: 'x', source: 'recorder' });
+  assert.equal(c.sent.at(-1).type, 'set');
+  assert.equal(s.notices.length, 1);
 });

@@ -1,24 +1,37 @@
 // @ts-check
 /**
- * The live stream: one websocket to the server's /ws, JSON messages both ways.
+ * The live stream: one websocket to the server's /ws, JSON messages both ways (messages.js).
  * Messages sent while the socket is (re)connecting wait in order; a dropped socket is
- * reopened with a growing delay. Every message received is dispatched as an event named
- * by its `type` (detail: the message), plus "open" and "close".
+ * reopened with a growing delay.
  */
 
-export class Connection extends EventTarget {
+/** @typedef {import('./messages.js').PageMessage} PageMessage */
+/** @typedef {import('./messages.js').ServerMessage} ServerMessage */
+
+export class Connection {
   /** @param {string} url e.g. ws://127.0.0.1:8000/ws */
   constructor(url) {
-    super();
     this.url = url;
     /** @type {WebSocket | null} */
     this.socket = null;
     /** @type {string[]} */
     this.queue = [];
     this.delay = 250;
-    this.nextId = 1;
-    /** @type {Map<number, {resolve: (m: any) => void, reject: (e: Error) => void}>} */
-    this.pending = new Map();
+    /** @type {(m: ServerMessage) => void} */
+    this.onMessage = () => {};
+    /** @type {(open: boolean) => void} */
+    this.onStatus = () => {};
+  }
+
+  /**
+   * Open the socket (and reopen it whenever it drops): every message received goes to
+   * `onMessage`, every opening and closing to `onStatus`.
+   * @param {(m: ServerMessage) => void} onMessage
+   * @param {(open: boolean) => void} onStatus
+   */
+  connect(onMessage, onStatus) {
+    this.onMessage = onMessage;
+    this.onStatus = onStatus;
     this.open();
   }
 
@@ -28,20 +41,11 @@ export class Connection extends EventTarget {
     socket.addEventListener('open', () => {
       this.delay = 250;
       for (const text of this.queue.splice(0)) socket.send(text);
-      this.dispatchEvent(new CustomEvent('open'));
+      this.onStatus(true);
     });
-    socket.addEventListener('message', (event) => {
-      const message = JSON.parse(event.data);
-      if (message.id != null && this.pending.has(message.id)) {
-        const waiter = this.pending.get(message.id);
-        this.pending.delete(message.id);
-        if (message.type === 'error') waiter?.reject(new Error(message.message));
-        else waiter?.resolve(message);
-      }
-      this.dispatchEvent(new CustomEvent(message.type, { detail: message }));
-    });
+    socket.addEventListener('message', (event) => this.onMessage(/** @type {ServerMessage} */ (JSON.parse(event.data))));
     socket.addEventListener('close', () => {
-      this.dispatchEvent(new CustomEvent('close'));
+      this.onStatus(false);
       setTimeout(() => this.open(), this.delay);
       this.delay = Math.min(this.delay * 2, 4000);
     });
@@ -54,33 +58,11 @@ export class Connection extends EventTarget {
 
   /**
    * Send a message (queued while not connected).
-   * @param {object} message
+   * @param {PageMessage} message
    */
   send(message) {
     const text = JSON.stringify(message);
     if (this.connected) this.socket?.send(text);
     else this.queue.push(text);
-  }
-
-  /**
-   * Send a message with an id; resolves with its ack, rejects with its error.
-   * @param {object} message
-   * @returns {Promise<any>}
-   */
-  request(message) {
-    const id = this.nextId++;
-    return new Promise((resolve, reject) => {
-      this.pending.set(id, { resolve, reject });
-      this.send({ ...message, id });
-    });
-  }
-
-  /**
-   * Listen to messages of one type.
-   * @param {string} type
-   * @param {(message: any) => void} handler
-   */
-  on(type, handler) {
-    this.addEventListener(type, (event) => handler(/** @type {CustomEvent} */ (event).detail));
   }
 }

@@ -6,7 +6,7 @@
  * the final curve after the release. Shares the timeline's time axis.
  */
 import { sampleCurve } from './evaluate.js';
-import { el } from './timeline.js';
+import { el } from './dom.js';
 import { fitCanvas } from './canvas.js';
 import { viewRange } from './timescale.js';
 
@@ -28,8 +28,10 @@ export class CurveView {
     /** @type {any} */
     this.cache = null;
     this.lastTitle = '';
-    for (const signal of ['selection', 'attribute', 'tracks', 'state']) studio.on(signal, () => { this.yRange = null; this.cache = null; });
-    studio.on('frame', () => this.draw());
+    for (const signal of /** @type {const} */ (['selection', 'attribute', 'tracks', 'state'])) {
+      studio.signals.on(signal, () => { this.yRange = null; this.cache = null; });
+    }
+    studio.signals.on('frame', () => this.draw());
   }
 
   get path() {
@@ -42,7 +44,8 @@ export class CurveView {
     const s = this.studio;
     const path = this.path;
     if (!path) return null;
-    if (s.grab?.take?.paths.includes(path)) return { sampler: s.grab.take, live: true };
+    const live = s.performer.grab?.take;
+    if (live?.paths.includes(path)) return { sampler: live, live: true };
     const log = [...s.takes].reverse().find((l) => l.sampler.paths.includes(path));
     return log ? { sampler: log.sampler, live: false } : null;
   }
@@ -58,7 +61,7 @@ export class CurveView {
       this.title.textContent = 'Curves: select an object';
       return;
     }
-    const [t0, t1] = viewRange(s.span, s.clock.loop, s.time);
+    const [t0, t1] = viewRange(s.span, s.transport.clock.loop, s.transport.time);
     const track = s.tracks.get(path);
     const curve = track && track.kind === 'curve' ? track : null;
     if (curve && (!this.cache || this.cache.curve !== curve || this.cache.t0 !== t0 || this.cache.t1 !== t1)) {
@@ -119,8 +122,8 @@ export class CurveView {
       }
       g.lineWidth = 1;
     }
-    g.fillStyle = s.record ? '#ff4d4d' : '#ffffff';
-    g.fillRect(Math.round(x(s.time)) - 1, 0, 2, h);
+    g.fillStyle = s.transport.record ? '#ff4d4d' : '#ffffff';
+    g.fillRect(Math.round(x(s.transport.time)) - 1, 0, 2, h);
     g.fillStyle = '#8b93a3';
     g.font = '10px system-ui, sans-serif';
     g.fillText(hi.toFixed(3), 4, 18);

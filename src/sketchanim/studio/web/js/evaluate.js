@@ -1,7 +1,7 @@
 // @ts-check
 /**
  * Track evaluation in the page: a port of anim/player.py's kernel, so the page plays
- * every track itself each frame and matches the model (to 1e-9; tests/js/evaluate.test.js
+ * every track itself each frame and matches the model (to 1e-9; tests/studio/js/evaluate.test.js
  * checks it against values dumped from Player.values).
  *
  * The continuous tracks are packed end to end once (again only when the tracks change):

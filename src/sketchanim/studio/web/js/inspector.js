@@ -7,7 +7,7 @@
  * A click on an attribute's name shows it in the curve view.
  */
 import * as THREE from 'three';
-import { el } from './timeline.js';
+import { el } from './dom.js';
 
 /** Slider ranges by attribute type. */
 const RANGES = { intensity: [0, 5, 0.01], fov: [10, 120, 0.1] };
@@ -26,11 +26,12 @@ export class Inspector {
     /** @type {Map<string, () => void>} what refreshes each row from the current values */
     this.refreshers = new Map();
     this.lastRefresh = 0;
-    for (const signal of ['state', 'selection', 'tracks', 'attribute']) studio.on(signal, () => this.show());
-    studio.on('frame', (now) => {
+    const signals = studio.signals;
+    for (const signal of /** @type {const} */ (['state', 'selection', 'tracks', 'attribute'])) signals.on(signal, () => this.show());
+    signals.on('frame', (now) => {
       if (now - this.lastRefresh > 100) this.refresh(now);
     });
-    studio.on('values', () => this.refresh(performance.now()));
+    signals.on('values', () => this.refresh(performance.now()));
   }
 
   /** @param {number} now */
@@ -54,7 +55,7 @@ export class Inspector {
   /**
    * @param {string} name
    * @param {string} attr
-   * @param {import('./Studio.js').AttrType} type
+   * @param {import('./messages.js').AttrType} type
    */
   row(name, attr, type) {
     const s = this.studio;
@@ -65,10 +66,7 @@ export class Inspector {
       `${animated ? '● ' : ''}${attr}`);
     label.classList.toggle('animated', animated);
     if (type.continuous) {
-      label.addEventListener('click', () => {
-        s.attribute = attr;
-        s.emit('attribute');
-      });
+      label.addEventListener('click', () => s.showAttribute(attr));
     }
     row.append(label);
     const editor = this.editor(path, attr, type);
@@ -79,7 +77,7 @@ export class Inspector {
   /**
    * @param {string} path
    * @param {string} attr
-   * @param {import('./Studio.js').AttrType} type
+   * @param {import('./messages.js').AttrType} type
    * @returns {HTMLElement}
    */
   editor(path, attr, type) {
@@ -107,7 +105,7 @@ export class Inspector {
   /**
    * A slider and its number: a drag is a hold (a take in record mode).
    * @param {string} path
-   * @param {import('./Studio.js').AttrType} type
+   * @param {import('./messages.js').AttrType} type
    */
   slider(path, type) {
     const s = this.studio;
@@ -117,18 +115,18 @@ export class Inspector {
     const wrap = el('div', { class: 'slider' });
     const range = /** @type {HTMLInputElement} */ (el('input', { type: 'range', min: String(lo), max: String(hi), step: String(step), 'data-testid': `slider-${path}` }));
     const readout = el('span', { class: 'num' });
-    range.addEventListener('pointerdown', () => s.hold([path], `slide ${path}`));
+    range.addEventListener('pointerdown', () => s.performer.hold([path], `slide ${path}`));
     range.addEventListener('input', () => {
-      if (!s.grab) s.hold([path], `slide ${path}`);        // the keyboard
+      if (!s.performer.grab) s.performer.hold([path], `slide ${path}`);        // the keyboard
       s.setLocal(path, [Number(range.value)]);
     });
-    const done = () => { if (s.grab?.paths[0] === path) s.release(); };
+    const done = () => { if (s.performer.grab?.paths[0] === path) s.performer.release(); };
     range.addEventListener('pointerup', done);
     range.addEventListener('change', done);
     range.addEventListener('lostpointercapture', done);
     this.refreshers.set(path, () => {
       const x = s.values.get(path)[0];
-      if (s.grab?.paths[0] !== path) range.value = String(x);
+      if (s.performer.grab?.paths[0] !== path) range.value = String(x);
       readout.textContent = `${x.toFixed(type.name === 'fov' ? 1 : 2)}${type.unit === 'degrees' ? '°' : ''}`;
     });
     this.refreshers.get(path)?.();
@@ -145,14 +143,14 @@ export class Inspector {
     const picker = /** @type {HTMLInputElement} */ (el('input', { type: 'color', 'data-testid': `color-${path}` }));
     const c = new THREE.Color();
     picker.addEventListener('input', () => {
-      if (!s.grab) s.hold([path], `colour ${path}`);
+      if (!s.performer.grab) s.performer.hold([path], `colour ${path}`);
       c.set(picker.value);
       s.setLocal(path, [c.r, c.g, c.b]);
     });
-    picker.addEventListener('change', () => { if (s.grab?.paths[0] === path) s.release(); });
+    picker.addEventListener('change', () => { if (s.performer.grab?.paths[0] === path) s.performer.release(); });
     this.refreshers.set(path, () => {
       const v = s.values.get(path);
-      if (s.grab?.paths[0] !== path) picker.value = `#${c.setRGB(v[0], v[1], v[2]).getHexString()}`;
+      if (s.performer.grab?.paths[0] !== path) picker.value = `#${c.setRGB(v[0], v[1], v[2]).getHexString()}`;
     });
     this.refreshers.get(path)?.();
     return picker;
@@ -162,7 +160,7 @@ export class Inspector {
    * Number fields (orientations as XYZ Euler degrees); an edit is one undoable step.
    * @param {string} path
    * @param {string} attr
-   * @param {import('./Studio.js').AttrType} type
+   * @param {import('./messages.js').AttrType} type
    */
   numbers(path, attr, type) {
     const s = this.studio;

@@ -1,6 +1,6 @@
 // @ts-check
 /** The outliner: the scene's objects; a click selects, a dot marks the animated ones. */
-import { el } from './timeline.js';
+import { el } from './dom.js';
 
 const ICONS = { object: '◼', light: '☀', camera: '◉' };
 
@@ -13,16 +13,11 @@ export class Outliner {
     this.studio = studio;
     this.list = el('ul', { class: 'outliner', 'data-testid': 'outliner' });
     const add = el('button', { class: 'small', 'data-testid': 'add-object', title: 'Add an object (undoable)' }, '+ object');
-    add.addEventListener('click', () => {
-      const names = new Set(studio.objects.map((o) => o.name));
-      let i = 1;
-      while (names.has(`object${i}`)) i += 1;
-      studio.connection.send({ type: 'object.add', name: `object${i}`, kind: 'object' });
-    });
+    add.addEventListener('click', () => studio.addObject());
     const head = el('div', { class: 'panel-head' }, 'Scene');
     head.append(add);
     root.append(head, this.list);
-    for (const signal of ['state', 'selection', 'tracks']) studio.on(signal, () => this.show());
+    for (const signal of /** @type {const} */ (['state', 'selection', 'tracks'])) studio.signals.on(signal, () => this.show());
   }
 
   show() {

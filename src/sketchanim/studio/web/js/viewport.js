@@ -98,10 +98,10 @@ export class Viewport {
     /** @type {{idle: number} | null} the device's hold */
     this.pad = null;
     this.drawn = 0;
-    studio.sinks.push((path, value) => this.apply(path, value));
-    studio.on('state', () => this.build());
-    studio.on('selection', () => this.showSelection());
-    studio.on('frame', () => this.poll());
+    studio.addSink((path, value) => this.apply(path, value));
+    studio.signals.on('state', () => this.build());
+    studio.signals.on('selection', () => this.showSelection());
+    studio.signals.on('frame', () => this.poll());
     this.bind();
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
@@ -231,10 +231,10 @@ export class Viewport {
       const name = this.studio.selected;
       if (!name) return;
       const attr = { translate: 'position', rotate: 'orientation', scale: 'scale' }[this.transform.mode];
-      this.studio.hold([`${name}.${attr}`], `${this.transform.mode} ${name}`);
+      this.studio.performer.hold([`${name}.${attr}`], `${this.transform.mode} ${name}`);
     });
     this.transform.addEventListener('objectChange', () => {
-      const grab = this.studio.grab;
+      const grab = this.studio.performer.grab;
       const node = this.studio.selected ? this.nodes.get(this.studio.selected) : null;
       if (!grab || !node) return;
       const r = node.root;
@@ -244,12 +244,20 @@ export class Viewport {
         if (path.endsWith('.scale')) this.studio.setLocal(path, r.scale.toArray());
       }
     });
-    this.transform.addEventListener('mouseUp', () => this.studio.release());
-    window.addEventListener('keydown', (e) => {
-      if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;
-      const mode = { w: 'translate', e: 'rotate', s: 'scale' }[e.key];
-      if (mode && !e.ctrlKey && !e.metaKey) this.transform.setMode(/** @type {'translate'|'rotate'|'scale'} */ (mode));
-    });
+    this.transform.addEventListener('mouseUp', () => this.studio.performer.release());
+  }
+
+  /**
+   * The gizmo's mode (W, E, S).
+   * @param {'translate' | 'rotate' | 'scale'} mode
+   */
+  setGizmo(mode) {
+    this.transform.setMode(mode);
+  }
+
+  /** Show or hide the scene camera's view in the corner (C). */
+  togglePreviewCamera() {
+    this.previewCamera = !this.previewCamera;
   }
 
   /** @param {PointerEvent} e */
@@ -275,7 +283,7 @@ export class Viewport {
     this.orbit.enabled = false;
     this.renderer.domElement.setPointerCapture(e.pointerId);
     if (this.studio.selected !== name) this.studio.select(name);
-    this.studio.hold([`${name}.position`], `move ${name}`);
+    this.studio.performer.hold([`${name}.position`], `move ${name}`);
     e.stopImmediatePropagation();
   }
 
@@ -291,7 +299,7 @@ export class Viewport {
     if (this.drag) {
       this.drag = null;
       this.orbit.enabled = true;
-      this.studio.release();
+      this.studio.performer.release();
     } else if (this.downAt && Math.hypot(e.clientX - this.downAt.x, e.clientY - this.downAt.y) < 4 && !this.transform.dragging && this.transform.axis === null) {
       this.studio.select(null);                         // a click on nothing
     }
@@ -321,14 +329,14 @@ export class Viewport {
     if (!pad || !name || !this.nodes.has(name)) return;
     if (this.pad && this.pad.idle >= PAD_REST) {
       this.pad = null;
-      this.studio.release();
+      this.studio.performer.release();
       return;
     }
-    if (this.pad || this.studio.grab || !active(readPad(pad))) return;
+    if (this.pad || this.studio.performer.grab || !active(readPad(pad))) return;
     const state = { idle: 0 };
     this.pad = state;
     const paths = [`${name}.position`, `${name}.orientation`];
-    const grab = this.studio.hold(paths, `steer ${name}`, (dt) => {
+    this.studio.performer.hold(paths, `steer ${name}`, (dt) => {
       const current = /** @type {Gamepad | undefined} */ ([...navigator.getGamepads()].filter(Boolean)[0]);
       const input = current ? readPad(current) : { move: [0, 0, 0], turn: [0, 0, 0] };
       state.idle = active(/** @type {any} */ (input)) ? 0 : state.idle + dt;
@@ -337,7 +345,6 @@ export class Viewport {
       this.studio.setLocal(paths[0], next.position);
       this.studio.setLocal(paths[1], next.orientation);
     });
-    grab.changed = true;
   }
 
   // -- drawing ------------------------------------------------------------------------------

@@ -1,0 +1,164 @@
+// @ts-check
+/**
+ * The transport: the clock that maps the browser's time to transport time, play / pause /
+ * stop / seek, speed, the loop range, and record mode (the transport runs at the capture
+ * speed, after the count-in's pre-roll). What it changes goes to the server (kept for a
+ * reload, relayed to the other pages) and out as the "transport" and "record" signals.
+ */
+import { Clock } from './clock.js';
+
+/** @typedef {import('./messages.js').TransportFields} TransportFields */
+
+export class Transport {
+  /** @param {import('./Studio.js').Studio} studio */
+  constructor(studio) {
+    this.studio = studio;
+    this.clock = new Clock();
+    /** Transport seconds at the last frame (or seek). */
+    this.time = 0;
+    /** Transport seconds per real second outside record mode. */
+    this.playSpeed = 1;
+    this.record = false;
+    /** Seconds of pre-roll before recording starts (0: off). */
+    this.countIn = 0;
+    /** Transport seconds per real second while recording. */
+    this.captureSpeed = 1;
+    /** Takes start only once the transport reaches this time (the count-in's end). */
+    this.punchFrom = -Infinity;
+    /** @type {[number, number] | null} the last loop range, for turning the loop on again */
+    this.lastLoop = null;
+  }
+
+  /**
+   * The server's transport (on connecting, or another page's): taken as it is; it plays
+   * only once the state is loaded.
+   * @param {TransportFields} m
+   */
+  receive(m) {
+    const now = performance.now();
+    this.clock.seek(m.time, now);
+    this.clock.loop = m.loop;
+    if (m.loop) this.lastLoop = m.loop;
+    this.playSpeed = m.speed;
+    this.clock.setSpeed(m.speed, now);
+    if (m.playing && this.studio.loaded) this.clock.play(now);
+    else this.clock.pause(now);
+    this.time = m.time;
+    this.studio.signals.emit('transport');
+  }
+
+  /** Tell the server (and the panels) the transport as it is now. */
+  send() {
+    this.studio.send({ type: 'transport', time: this.time, playing: this.clock.playing, speed: this.playSpeed,
+      loop: this.clock.loop });
+    this.studio.signals.emit('transport');
+  }
+
+  /**
+   * Advance the clock to `now` (a frame): wraps in the loop, stops at the tracks' end
+   * outside record mode.
+   * @param {number} now performance.now()
+   */
+  tick(now) {
+    const step = this.clock.tick(now, this.record ? null : this.studio.span);
+    this.time = step.time;
+    return step;
+  }
+
+  play() {
+    const now = performance.now();
+    const span = this.studio.span;
+    if (!this.record && span[1] > span[0] && !this.clock.loop && this.playSpeed > 0 && this.time >= span[1]) {
+      this.clock.seek(span[0], now);                          // play again from the start
+    }
+    this.clock.play(now);
+    this.send();
+  }
+
+  pause() {
+    this.clock.pause(performance.now());
+    this.time = this.clock.time0;
+    this.send();
+  }
+
+  togglePlay() {
+    if (this.clock.playing) this.pause();
+    else this.play();
+  }
+
+  /** Pause and go back to the loop's start (or the start). */
+  stop() {
+    if (this.record) this.setRecord(false);
+    this.pause();
+    this.seek(this.clock.loop ? this.clock.loop[0] : Math.min(0, this.studio.span[0]));
+  }
+
+  /** @param {number} time */
+  seek(time) {
+    this.clock.seek(time, performance.now());
+    this.time = time;
+    this.studio.writeTracks(time);
+    this.send();
+  }
+
+  /** @param {number} speed */
+  setSpeed(speed) {
+    this.playSpeed = speed;
+    if (!this.record) this.clock.setSpeed(speed, performance.now());
+    this.send();
+  }
+
+  /** @param {[number, number] | null} loop */
+  setLoop(loop) {
+    this.clock.loop = loop && loop[1] > loop[0] ? loop : null;
+    if (this.clock.loop) this.lastLoop = this.clock.loop;
+    this.send();
+  }
+
+  /** Loop off, or on over the last loop range (else the tracks' span, else 0 to 4 s). */
+  toggleLoop() {
+    const [a, b] = this.studio.span;
+    this.setLoop(this.clock.loop ? null : this.lastLoop ?? (b > a ? [a, b] : [0, 4]));
+  }
+
+  /**
+   * Record mode: the transport runs (at the capture speed, after the count-in's pre-roll)
+   * and every grab is a take; off, the take in progress ends and the transport pauses.
+   * @param {boolean} on
+   */
+  setRecord(on) {
+    const now = performance.now();
+    if (on === this.record) return;
+    this.record = on;
+    if (on) {
+      const time = this.clock.raw(now);
+      this.punchFrom = time;
+      if (this.countIn > 0) this.clock.seek(time - this.countIn * this.captureSpeed, now);
+      this.clock.setSpeed(this.captureSpeed, now);
+      this.clock.play(now);
+    } else {
+      this.clock.setSpeed(this.playSpeed, now);
+      this.clock.pause(now);
+      this.time = this.clock.time0;
+    }
+    this.studio.signals.emit('record', on);
+    this.send();
+  }
+
+  /** @param {number} seconds the count-in's pre-roll (0: off) */
+  setCountIn(seconds) {
+    this.countIn = seconds;
+    this.studio.signals.emit('settings');
+  }
+
+  /** @param {number} speed transport seconds per real second while recording */
+  setCaptureSpeed(speed) {
+    this.captureSpeed = speed;
+    this.studio.signals.emit('settings');
+  }
+
+  /** Seconds left of the count-in (0 when none is running). */
+  get countingIn() {
+    return this.record && this.time < this.punchFrom ? this.punchFrom - this.time : 0;
+  }
+}

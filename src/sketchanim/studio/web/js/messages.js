@@ -1,0 +1,339 @@
+// @ts-check
+/**
+ * Every message on the studio's websocket, both ways, as JSDoc types (nothing runs here).
+ * Page to server: the pydantic models of sketchanim/studio/protocol.py (each may carry an
+ * `id`, answered by an `ack` or an `error` with the same id); server to page: what the
+ * server's session and hub send. tests/studio/test_protocol_typedefs.py checks that the
+ * types and their fields are the protocol's; tsc checks that the page sends and reads only
+ * these fields (tests/studio/test_page_types.py).
+ *
+ * One block per message, keyed by its `type`; `preview` and `transport` go both ways (a
+ * page's is relayed to the other pages) and have one block each. After the messages: the
+ * shapes they carry (a scene object, a track, ...).
+ */
+
+// -- page to server ---------------------------------------------------------------------------
+
+/**
+ * @typedef {object} Ping
+ * @property {'ping'} type
+ * @property {number | string | null} [id]
+ */
+
+/**
+ * Ask for the whole state again (answered by a `state` message).
+ * @typedef {object} StateRequest
+ * @property {'state'} type
+ * @property {number | string | null} [id]
+ */
+
+/**
+ * An undoable scene edit: `path` takes `value` (merged into the last History entry when
+ * its `merge` key is the same).
+ * @typedef {object} SetValue
+ * @property {'set'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ * @property {Value} value
+ * @property {string | null} [label]
+ * @property {string | null} [merge]
+ */
+
+/**
+ * A live value while the performer drags (not in History); the server relays it to the
+ * other pages.
+ * @typedef {object} PreviewValue
+ * @property {'preview'} type
+ * @property {number | string | null} [id]
+ * @property {string} key
+ * @property {string} path
+ * @property {Value} value
+ */
+
+/**
+ * @typedef {object} ObjectAdd
+ * @property {'object.add'} type
+ * @property {number | string | null} [id]
+ * @property {string} name
+ * @property {ObjectKind} [kind]
+ */
+
+/**
+ * @typedef {object} ObjectRemove
+ * @property {'object.remove'} type
+ * @property {number | string | null} [id]
+ * @property {string} name
+ */
+
+/**
+ * @typedef {object} ObjectRename
+ * @property {'object.rename'} type
+ * @property {number | string | null} [id]
+ * @property {string} name
+ * @property {string} to
+ */
+
+/**
+ * Start a take of `paths` at transport time `time` (at `speed` transport seconds per real
+ * second; a step of more than `gap` real seconds between samples is a stall).
+ * @typedef {object} TakeBegin
+ * @property {'take.begin'} type
+ * @property {number | string | null} [id]
+ * @property {string} take
+ * @property {string[]} paths
+ * @property {LayerMode} [mode]
+ * @property {number} [blend]
+ * @property {number} [time]
+ * @property {number} [speed]
+ * @property {Record<string, number>} [tol]
+ * @property {string | null} [loop]
+ * @property {number} [gap]
+ */
+
+/**
+ * Samples of the running take: transport times and rows of its layout.
+ * @typedef {object} TakeSamples
+ * @property {'take.samples'} type
+ * @property {number | string | null} [id]
+ * @property {string} take
+ * @property {number[]} t
+ * @property {number[][]} values
+ */
+
+/**
+ * @typedef {object} TakeEnd
+ * @property {'take.end'} type
+ * @property {number | string | null} [id]
+ * @property {string} take
+ * @property {string | null} [label]
+ */
+
+/**
+ * @typedef {object} TakeCancel
+ * @property {'take.cancel'} type
+ * @property {number | string | null} [id]
+ * @property {string} take
+ */
+
+/**
+ * @typedef {object} Undo
+ * @property {'undo'} type
+ * @property {number | string | null} [id]
+ */
+
+/**
+ * @typedef {object} Redo
+ * @property {'redo'} type
+ * @property {number | string | null} [id]
+ */
+
+/**
+ * Write the scene (.glb) or the project (.json) into the project's folder.
+ * @typedef {object} Export
+ * @property {'export'} type
+ * @property {number | string | null} [id]
+ * @property {string} file
+ */
+
+// -- both ways ----------------------------------------------------------------------------------
+
+/**
+ * The transport: a page's (kept for a reload), relayed to the other pages.
+ * @typedef {object} TransportState
+ * @property {'transport'} type
+ * @property {number | string | null} [id]
+ * @property {number} time
+ * @property {boolean} playing
+ * @property {number} speed
+ * @property {[number, number] | null} loop
+ */
+
+// -- server to page -----------------------------------------------------------------------------
+
+/**
+ * Everything a page shows: the scene, the tracks, the history, the transport, the take in
+ * progress (sent on connecting, and when objects come or go).
+ * @typedef {object} StateSnapshot
+ * @property {'state'} type
+ * @property {boolean} ready
+ * @property {string} project
+ * @property {SceneObject[]} objects
+ * @property {Track[]} tracks
+ * @property {[number, number]} span
+ * @property {HistoryLabels} history
+ * @property {TransportFields} transport
+ * @property {TakeInProgress | null} take
+ */
+
+/**
+ * The server's compiled kernels are warm: takes can be recorded.
+ * @typedef {object} Ready
+ * @property {'ready'} type
+ */
+
+/**
+ * Scene values that changed, by path.
+ * @typedef {object} Values
+ * @property {'values'} type
+ * @property {Record<string, Value>} values
+ */
+
+/**
+ * Tracks that changed or went, and the tracks' span after.
+ * @typedef {object} Tracks
+ * @property {'tracks'} type
+ * @property {Track[]} changed
+ * @property {string[]} removed
+ * @property {[number, number]} span
+ */
+
+/**
+ * The History's labels (oldest first).
+ * @typedef {object} History
+ * @property {'history'} type
+ * @property {string[]} undo
+ * @property {string[]} redo
+ * @property {boolean} can_undo
+ * @property {boolean} can_redo
+ */
+
+/**
+ * The take this page began is being recorded: the layout of its rows.
+ * @typedef {object} TakeStarted
+ * @property {'take.started'} type
+ * @property {string} take
+ * @property {[string, number, number][]} layout  path, first and last + 1 column of each attribute
+ * @property {number} width
+ */
+
+/**
+ * A piece of the take's curve, reduced as the server finished a window.
+ * @typedef {object} TakePiece
+ * @property {'take.piece'} type
+ * @property {string} take
+ * @property {string} path
+ * @property {number} order
+ * @property {boolean} rotation
+ * @property {number[]} knots
+ * @property {number[][]} coef
+ */
+
+/**
+ * A take ended: its History label (null: nothing made, or cancelled), the paths it made,
+ * the server's milliseconds from the end's message to the final curve, its stalls.
+ * @typedef {object} TakeEnded
+ * @property {'take.ended'} type
+ * @property {string} take
+ * @property {string | null} label
+ * @property {string[]} paths
+ * @property {number} ms
+ * @property {[number, number][]} gaps
+ */
+
+/**
+ * @typedef {object} Pong
+ * @property {'pong'} type
+ * @property {number | string | null} id
+ * @property {number} server_time
+ */
+
+/**
+ * A message with an id was done.
+ * @typedef {object} Ack
+ * @property {'ack'} type
+ * @property {number | string | null} id
+ * @property {string | null} ref
+ */
+
+/**
+ * A message was refused: `ref` is its type, `code` one of "rate", "too_large",
+ * "bad_message", "busy", "refused".
+ * @typedef {object} ErrorReply
+ * @property {'error'} type
+ * @property {number | string | null} id
+ * @property {string | null} ref
+ * @property {string} code
+ * @property {string} message
+ */
+
+/**
+ * A file was exported into the project's folder.
+ * @typedef {object} Exported
+ * @property {'exported'} type
+ * @property {string} file
+ */
+
+/**
+ * Something the animator should know that no request asked for (a recorder's warning: a
+ * reducer process died, the journal failed), also in the server's log.
+ * @typedef {object} Notice
+ * @property {'notice'} type
+ * @property {NoticeLevel} level
+ * @property {string} text
+ * @property {string} source
+ */
+
+// -- the unions -----------------------------------------------------------------------------
+
+/**
+ * What the page sends.
+ * @typedef {Ping | StateRequest | SetValue | PreviewValue | ObjectAdd | ObjectRemove | ObjectRename | TakeBegin
+ *   | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | TransportState | Export} PageMessage
+ */
+
+/**
+ * What the server sends.
+ * @typedef {StateSnapshot | Ready | Values | Tracks | History | PreviewValue | TransportState | TakeStarted
+ *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice} ServerMessage
+ */
+
+/**
+ * The server's message of one type.
+ * @template {ServerMessage['type']} T
+ * @typedef {Extract<ServerMessage, {type: T}>} ServerMessageOf
+ */
+
+// -- what the messages carry ----------------------------------------------------------------
+
+/**
+ * An attribute's value as JSON: a list of numbers (orientations scalar-last x, y, z, w; a
+ * field of view in degrees), or a bool / string for discrete attributes.
+ * @typedef {number[] | boolean | string | null} Value
+ */
+
+/** @typedef {'object' | 'light' | 'camera'} ObjectKind */
+/** @typedef {'replace' | 'additive'} LayerMode */
+/** @typedef {'info' | 'warning' | 'error'} NoticeLevel */
+
+/**
+ * An attribute's type.
+ * @typedef {{name: string, dim: number, tol: number, unit: string, default: any[], choices: string[], continuous: boolean}} AttrType
+ */
+
+/**
+ * A scene object and its attributes.
+ * @typedef {{name: string, kind: ObjectKind, attributes: {name: string, value: any, type: AttrType}[]}} SceneObject
+ */
+
+/**
+ * A continuous track (a B-spline), as the page evaluates it, with the takes it was made of.
+ * @typedef {{path: string, kind: 'curve', dim: number, order: number, rotation: boolean, tol: number, knots: number[],
+ *   coef: number[][], start: number, end: number, takes: {start: number, end: number, mode: string, n: number}[]}} CurveTrack
+ */
+
+/**
+ * A discrete track: values holding from their time on.
+ * @typedef {{path: string, kind: 'steps', times: number[], values: any[]}} StepsTrack
+ */
+
+/** @typedef {CurveTrack | StepsTrack} Track */
+
+/** @typedef {Omit<History, 'type'>} HistoryLabels */
+
+/** @typedef {Omit<TransportState, 'type' | 'id'>} TransportFields */
+
+/**
+ * @typedef {{take: string, paths: string[], mode: LayerMode, time: number, layout: [string, number, number][]}} TakeInProgress
+ */
+
+export {};

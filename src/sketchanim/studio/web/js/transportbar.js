@@ -1,0 +1,98 @@
+// @ts-check
+/**
+ * The transport bar: record, punch-in or additive, count-in, capture speed, loop recording;
+ * stop, play / pause, the time, speed, loop; what is being recorded; undo and redo.
+ */
+import { choice, el } from './dom.js';
+import { formatTime } from './timescale.js';
+
+export class TransportBar {
+  /**
+   * @param {import('./Studio.js').Studio} studio
+   * @param {HTMLElement} bar
+   */
+  constructor(studio, bar) {
+    this.studio = studio;
+    const t = studio.transport;
+    const p = studio.performer;
+    this.recordButton = el('button', { class: 'record', 'data-testid': 'record', title: 'Record mode (R): every grab is a take' });
+    this.recordButton.innerHTML = '<span class="dot"></span><span class="label">REC</span>';
+    this.recordButton.addEventListener('click', () => t.setRecord(!t.record));
+    const stopButton = el('button', { 'data-testid': 'stop', title: 'Stop (Enter): back to the start' }, '■');
+    stopButton.addEventListener('click', () => t.stop());
+    this.playButton = el('button', { class: 'play', 'data-testid': 'play', title: 'Play / pause (Space)' }, '▶');
+    this.playButton.addEventListener('click', () => t.togglePlay());
+    this.clockText = el('span', { class: 'clock', 'data-testid': 'time' }, '0:00.00');
+    this.loopButton = el('button', { class: 'toggle', 'data-testid': 'loop', title: 'Loop the range (L); shift-drag on the timeline sets it' }, '⟲ loop');
+    this.loopButton.addEventListener('click', () => t.toggleLoop());
+    const speed = choice('speed', [['0.25', '¼×'], ['0.5', '½×'], ['1', '1×'], ['2', '2×'], ['-1', '−1×']], '1',
+      (v) => t.setSpeed(Number(v)), 'speed');
+    const mode = choice('layer', [['replace', 'punch-in'], ['additive', 'additive']], p.mode,
+      (v) => p.setMode(/** @type {import('./messages.js').LayerMode} */ (v)), 'mode');
+    this.mode = mode.select;
+    const countIn = choice('count-in', [['0', 'off'], ['1', '1 s'], ['2', '2 s'], ['4', '4 s']], '0',
+      (v) => t.setCountIn(Number(v)), 'count-in');
+    this.countIn = countIn.select;
+    const capture = choice('capture', [['1', '1×'], ['0.5', '½×'], ['0.25', '¼×']], '1',
+      (v) => t.setCaptureSpeed(Number(v)), 'capture-speed');
+    capture.wrap.title = 'Perform with the transport at a fraction of real time; the motion plays at full speed';
+    this.capture = capture.select;
+    const loopRec = el('label', { class: 'field check', title: 'While looping, each pass is a take; the last one is kept' });
+    this.loopRecord = el('input', { type: 'checkbox', 'data-testid': 'loop-record' });
+    this.loopRecord.addEventListener('change', () => p.setLoopRecord(this.loopRecord.checked));
+    loopRec.append(this.loopRecord, 'loop rec');
+    this.undoButton = el('button', { 'data-testid': 'undo', title: 'Undo (Ctrl+Z)' }, '↶ undo');
+    this.undoButton.addEventListener('click', () => studio.undo());
+    this.redoButton = el('button', { 'data-testid': 'redo', title: 'Redo (Ctrl+Shift+Z)' }, '↷ redo');
+    this.redoButton.addEventListener('click', () => studio.redo());
+    this.status = el('span', { class: 'take-status', 'data-testid': 'take-status' });
+    const group = (/** @type {HTMLElement[]} */ ...items) => { const g = el('div', { class: 'group' }); g.append(...items); return g; };
+    bar.append(group(this.recordButton, mode.wrap, countIn.wrap, capture.wrap, loopRec),
+      group(stopButton, this.playButton, this.clockText, speed.wrap, this.loopButton),
+      this.status, group(this.undoButton, this.redoButton));
+    const signals = studio.signals;
+    signals.on('history', () => this.showHistory());
+    signals.on('state', () => this.showHistory());
+    signals.on('record', () => this.showTransport());
+    signals.on('transport', () => this.showTransport());
+    signals.on('settings', () => this.showSettings());
+    signals.on('frame', () => this.showTime());
+  }
+
+  showHistory() {
+    const h = this.studio.history;
+    this.undoButton.disabled = !h.can_undo;
+    this.redoButton.disabled = !h.can_redo;
+    this.undoButton.title = h.can_undo ? `Undo ${h.undo[h.undo.length - 1]} (Ctrl+Z)` : 'Nothing to undo';
+    this.redoButton.title = h.can_redo ? `Redo ${h.redo[h.redo.length - 1]} (Ctrl+Shift+Z)` : 'Nothing to redo';
+  }
+
+  showTransport() {
+    const t = this.studio.transport;
+    this.recordButton.classList.toggle('on', t.record);
+    this.recordButton.setAttribute('aria-pressed', String(t.record));
+    document.body.classList.toggle('recording', t.record);
+    this.playButton.textContent = t.clock.playing ? '❚❚' : '▶';
+    this.loopButton.classList.toggle('on', !!t.clock.loop);
+  }
+
+  showSettings() {
+    const { transport: t, performer: p } = this.studio;
+    this.mode.value = p.mode;
+    this.countIn.value = String(t.countIn);
+    this.capture.value = String(t.captureSpeed);
+    this.loopRecord.checked = p.loopRecord;
+  }
+
+  /** Each frame: the time, and what is being recorded. */
+  showTime() {
+    const { transport: t, performer: p } = this.studio;
+    this.clockText.textContent = formatTime(t.time);
+    const counting = t.countingIn;
+    const take = p.grab?.take;
+    this.status.textContent = counting > 0 ? `count-in ${counting.toFixed(1)} s`
+      : take ? `● recording ${take.paths.join(', ')} · ${take.times.length} samples`
+        : t.record ? 'record mode: grab something to record it' : '';
+    this.status.classList.toggle('live', !!take);
+  }
+}
