@@ -85,6 +85,24 @@ def test_bad_samples_are_named_and_lose_nothing() -> None:
     assert sum(n for path, n in batches if path == "box.position") == 101
 
 
+def test_an_attribute_with_one_sample_is_left_as_it_was_without_a_warning() -> None:
+    """One sample is no curve: the reducer process skips it (no failure, no warning), the
+    recorder leaves that attribute as it was and makes the others' tracks."""
+    import warnings
+
+    rec = Recorder(scene())
+    rec.arm("box.position")
+    rec.arm("lamp.color")
+    rec.start()
+    for i in range(30):
+        rec.push("box.position", i / 30, [i / 30, 0, 0])
+    rec.push("lamp.color", 0.5, [1.0, 0.5, 0.5])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tracks = rec.stop()
+    assert set(tracks) == {"box.position"}
+
+
 def test_recording_over_playback_punches_in_and_leaves_other_tracks_alone() -> None:
     sc = scene()
     rec = Recorder(sc)

@@ -332,3 +332,61 @@ def test_the_keys_drive_the_transport_and_the_gizmo(_page, studio: str) -> None:
     page.keyboard.press("l")
     assert page.evaluate("studio.transport.clock.loop") is None, "a key typed into a field reached the studio"
     assert drew_something(page) > 5 and not page.errors
+
+
+def _reducer_processes(project: Path) -> list[int]:
+    """The studio server's reducer processes: forked from the server (same command line,
+    naming ``project``), so their parent is a process of that command line too."""
+    def cmdline(pid: str) -> str:
+        try:
+            return Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode()
+        except OSError:
+            return ""
+
+    def parent(pid: str) -> str:
+        try:
+            return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[1]
+        except (OSError, IndexError):
+            return ""
+
+    ours = {pid for pid in (p.name for p in Path("/proc").iterdir() if p.name.isdigit())
+            if str(project) in cmdline(pid) and " studio " in cmdline(pid)}
+    return [int(pid) for pid in ours if parent(pid) in ours]
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="finds the server's processes through /proc")
+def test_a_reducer_process_killed_mid_take_shows_a_warning_notice_and_the_take_lands(_page, tmp_path: Path) -> None:  # noqa: ANN001
+    """A real recorder warning, end to end: the server's reducer processes are killed while a
+    take is held; at the release the recorder reduces from the raw take and warns, and the
+    page shows that warning as a notice (not only the server's log), the take still laid."""
+    import os
+    import signal
+
+    path = tmp_path / "studio.sketchanim"
+    with studio_server(path) as url:
+        page = _page(url)
+        page.click("[data-testid=record]")
+        page.wait_for_timeout(100)
+        start = page.evaluate("viewport.screenOf('box')")
+        page.mouse.move(start["x"], start["y"])
+        page.mouse.down()
+        for dx, dy in _sweep(20):
+            page.wait_for_timeout(16)
+            page.mouse.move(start["x"] + dx, start["y"] + dy)
+        workers = _reducer_processes(path)
+        assert workers, "no reducer process found under the studio server"
+        for pid in workers:
+            os.kill(pid, signal.SIGKILL)
+        for dx, dy in _sweep(20, dx=-80, dy=40):
+            page.wait_for_timeout(16)
+            page.mouse.move(start["x"] + 160 + dx, start["y"] + dy)
+        page.mouse.up()
+        take = last_take(page, timeout=60_000)
+        died = page.locator("[data-testid=notice][data-level=warning]", has_text="a reducer process died")
+        died.wait_for(state="visible", timeout=30_000)
+        assert "raw take" in died.inner_text() and "Traceback" not in died.inner_text()
+        assert take["paths"] == ["box.position"]
+        doc = page.evaluate("fetch('/api/project').then(r => r.json())")
+        assert curve(doc, "box.position") is not None, "the take was not laid on its track"
+        assert drew_something(page) > 5
+    assert "reducer process" in path.with_name(path.name + ".log").read_text(), "the warning is not in the server's log"

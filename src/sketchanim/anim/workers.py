@@ -180,7 +180,8 @@ class _Shard:
             self.fed.add(path)
 
     def finish(self) -> Result:
-        """Feed what is pending and finish every stream that got samples."""
+        """Feed what is pending and finish every stream that got two samples or more (one
+        sample is no curve: the recorder leaves that attribute as it was)."""
         self.feed()
 
         def finish_all() -> None:
@@ -190,6 +191,8 @@ class _Shard:
                     t, x = over.close()
                     if len(t):
                         self.streams[path].extend(t, x)
+                if self.streams[path].taken < 2:
+                    continue
                 self.result.curves[path] = (self.streams[path].finish().columns,
                                              None if over is None else over.seams)
 

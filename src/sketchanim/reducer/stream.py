@@ -569,6 +569,11 @@ class StreamReducer:
         return self._pushed
 
     @property
+    def taken(self) -> int:
+        """Distinct samples taken so far (:meth:`finish` needs two)."""
+        return self._taken
+
+    @property
     def buffered(self) -> int:
         """Raw samples held now (at most :attr:`buffer_bound`)."""
         return self._bn
