@@ -92,11 +92,13 @@ def test_an_attribute_with_one_sample_is_left_as_it_was_without_a_warning() -> N
 
     rec = Recorder(scene())
     rec.arm("box.position")
+    rec.arm("box.orientation")
     rec.arm("lamp.color")
     rec.start()
     for i in range(30):
         rec.push("box.position", i / 30, [i / 30, 0, 0])
     rec.push("lamp.color", 0.5, [1.0, 0.5, 0.5])
+    rec.push("box.orientation", 0.5, [0.0, 0.0, 0.0, 1.0])
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         tracks = rec.stop()

@@ -62,7 +62,7 @@ def test_rotation_angle_matches_scipy_and_the_kernel(seed: int) -> None:
     theirs = (Rotation.from_quat(p).inv() * Rotation.from_quat(q)).magnitude()
     np.testing.assert_allclose(ours, theirs, atol=1e-9)
     one, zero = np.ones(4), np.zeros(4)
-    kernel = [window_kernel.rotation_angle(p[i], q[i], one, zero) for i in range(50)]
+    kernel = [window_kernel.scaled_rotation_angle(p[i], q[i], one, zero) for i in range(50)]
     np.testing.assert_allclose(kernel, ours, atol=1e-12)
 
 

@@ -285,6 +285,11 @@ class RotationStream:
         if len(values):
             self._last = values[-1].copy()
 
+    @property
+    def taken(self) -> int:
+        """Distinct samples taken so far (:meth:`finish` needs two)."""
+        return self.stream.taken
+
     def close(self) -> StreamStats:
         """End the stream (see :meth:`StreamReducer.close`)."""
         return self.stream.close()
