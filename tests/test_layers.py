@@ -10,8 +10,8 @@ import sketchanim
 
 PACKAGE = Path(sketchanim.__file__).parent
 #: Bottom to top.
-LAYERS = ["errors", "atomic", "spline", "reducer", "motion", "anim", "mocap", "formats", "project", "batch",
-          "plot", "paper", "studio", "cli"]
+LAYERS = ["errors", "atomic", "float32", "spline", "reducer", "motion", "anim", "mocap", "formats", "export",
+          "project", "batch", "plot", "paper", "studio", "cli"]
 
 
 def layer(module: str) -> int:
