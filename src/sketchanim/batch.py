@@ -20,7 +20,8 @@ from sketchanim.motion.skeleton import UNITS_M, Clip
 from sketchanim.mocap.world_reduction import reduce_clip_world
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.atomic import write_atomic
-from sketchanim.formats.clip_files import CLIP_INPUTS, read_clip, write_reduced
+from sketchanim.export.files import write_reduced
+from sketchanim.formats.clip_files import CLIP_INPUTS, read_clip
 
 REPORT = "report.csv"
 

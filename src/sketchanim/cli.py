@@ -22,7 +22,8 @@ from sketchanim.motion.skeleton import UNITS_M
 from sketchanim.errors import InputError, SampleError
 from sketchanim.atomic import write_atomic
 from sketchanim.batch import REPORT, Options, Outcome, outcome, plan, previous_report, reduce_file, run, write_report
-from sketchanim.formats.clip_files import CLIP_INPUTS, CLIP_OUTPUTS, write_reduced
+from sketchanim.export.files import CLIP_OUTPUTS, write_reduced
+from sketchanim.formats.clip_files import CLIP_INPUTS
 from sketchanim.formats.csvio import SampleTable
 from sketchanim.formats.gltf_frames import KEYS
 from sketchanim.formats.quirks import DUPLICATES, UNORDERED, merged, ordered
@@ -502,33 +503,13 @@ def _write_glb(path: Path, table: SampleTable, parts: list[list[int]], reduction
                rotation: Reduction | None, rot_tol_deg: float) -> None:
     """One animated node: the position and orientation curves, exactly (scene units as
     the file's; a clock far from zero moved to start at zero)."""
-    from scipy.interpolate import BSpline
-
-    from sketchanim.anim.attributes import ORIENTATION, POSITION
-    from sketchanim.anim.scene import Scene
-    from sketchanim.anim.tracks import ContinuousTrack
-    from sketchanim.formats.gltf_scene import scene_glb
+    from sketchanim.export.table import table_glb, table_tracks
 
     origin = float(table.times[0]) if abs(float(table.times[-1])) >= GLB_CLOCK else 0.0
-    name = "path"
-    scene = Scene()
-    scene.add(name)
-    tracks = {}
-    if reductions:
-        s = reductions[0].columns
-        c = np.asarray(s.c)
-        if c.shape[1] == 2:
-            c = np.c_[c, np.zeros(len(c))]
-        tracks[f"{name}.position"] = ContinuousTrack(f"{name}.position", POSITION, BSpline(s.t - origin, c, s.k),
-                                                     float(np.max(reductions[0].tol)))
-    if rotation is not None:
-        s = rotation.columns
-        c = np.asarray(s.c)[:, [1, 2, 3, 0]] if rotation.report.get("scalar_first") else s.c   # glTF: x, y, z, w
-        tracks[f"{name}.orientation"] = ContinuousTrack(f"{name}.orientation", ORIENTATION,
-                                                        BSpline(s.t - origin, c, s.k), rot_tol_deg)
-    glb, _ = scene_glb(scene, tracks, name=path.stem)
+    tracks = table_tracks(reductions[0] if reductions else None, rotation, rot_tol_deg, origin=origin)
+    glb = table_glb(tracks, name=path.stem)
     write_atomic(path, glb)
-    console.print(f"wrote {path} (one node, {', '.join(k.split('.')[1] for k in tracks)}; the file's units "
+    console.print(f"wrote {path} (one node, {', '.join(t.path.split('.')[1] for t in tracks)}; the file's units "
                   f"written as metres" + (f"; times from the first sample, at {origin:.9g} s: glTF keeps float32 "
                                          f"times" if origin else "") + ")", soft_wrap=True)
 
@@ -713,7 +694,7 @@ def export_command(
     position, orientation and scale tracks), or everything as JSON.
 
     Examples: sketchanim export show.sketchanim -o show.glb; sketchanim export show.sketchanim -o show.json"""
-    from sketchanim.formats.gltf_scene import scene_glb
+    from sketchanim.export.scene import scene_glb
     from sketchanim.project.store import Project
 
     suffix = output.suffix.lower()
