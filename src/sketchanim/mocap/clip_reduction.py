@@ -23,7 +23,8 @@ from sketchanim.errors import ArgumentError, InputError
 from sketchanim.float32 import position_budget, rotation_budget
 from sketchanim.mocap.tracks import FLOAT32, ReducedTrack, curve_bytes, split_path, track_path
 from sketchanim.motion import reduce_rotations
-from sketchanim.motion.skeleton import Clip, Skeleton, world_pose
+from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer import Reduction, reduce
 from sketchanim.reducer.result import load_versioned
 
@@ -160,7 +161,7 @@ class ReducedClip:
         """Per frame and joint (n, J), at ``clip``'s times: how far these curves put the
         joint from ``clip``'s in the world, plus the most a point ``shell`` from the joint
         moves by the difference of their world rotations (``2 shell sin(angle / 2)``).
-        ``source``: ``clip``'s :func:`~sketchanim.motion.skeleton.world_pose`, where the
+        ``source``: ``clip``'s :func:`~sketchanim.motion.kinematics.world_pose`, where the
         caller has it already.
 
         >>> s = Skeleton(("a",), (-1,), np.zeros((1, 3)))

@@ -21,7 +21,8 @@ from __future__ import annotations
 import numpy as np
 
 from sketchanim.mocap.clip_reduction import ReducedClip, clip_tracks, joint_position, joint_rotation
-from sketchanim.motion.skeleton import Clip, world_pose
+from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.skeleton import Clip
 from sketchanim.errors import ArgumentError
 
 #: Of the distance, what the translating joints' curves may use (shared among the moving
