@@ -8,10 +8,13 @@ a local transform ``T(translation) R(rotation)``, quaternions scalar-last.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from sketchanim.motion.skeleton import Skeleton
+if TYPE_CHECKING:                       # the skeleton's clips use these kinematics
+    from sketchanim.motion.skeleton import Skeleton
 
 
 def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> tuple[list[Rotation], np.ndarray]:
@@ -19,6 +22,7 @@ def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarr
     world position (n, J, 3), from local rotations (n, J, 4, scalar-last) and
     translations (n, J, 3).
 
+    >>> from sketchanim.motion.skeleton import Skeleton
     >>> s = Skeleton(("a", "b"), (-1, 0), np.array([[0.0, 0, 0], [1.0, 0, 0]]))
     >>> q = np.array([[[0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)], [0, 0, 0, 1.0]]])
     >>> turns, positions = world_pose(s, q, np.array([[[0.0, 0, 0], [1.0, 0, 0]]]))

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sketchanim.errors import ArgumentError
+from sketchanim.motion.kinematics import world_pose
 
 #: Figure heights (metres) the unit guess accepts: a person standing, within reason.
 FIGURE_HEIGHT_M = (0.9, 2.6)
