@@ -77,7 +77,8 @@ def marker_export_tracks(markers: ReducedMarkers) -> list[ExportTrack]:
 
     >>> from sketchanim.mocap.markers import Markers, reduce_markers
     >>> t = np.arange(10) / 100
-    >>> [(x.path, len(x.pieces)) for x in marker_export_tracks(reduce_markers(Markers(("a",), t, np.ones((10, 1, 3))), 0.5))]
+    >>> reduced = reduce_markers(Markers(("a",), t, np.ones((10, 1, 3))), 0.5)
+    >>> [(x.path, len(x.pieces)) for x in marker_export_tracks(reduced)]
     [('a.position', 1)]
     """
     out = []

@@ -166,8 +166,9 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
               rate: float | None = None) -> tuple[bytes, list[str]]:
     """The scene as a .glb: one node per object (its current position, orientation and
     scale at rest), a perspective camera for each camera, a spot light for each light,
-    and one animation of every position, orientation and scale track (its curve, written by :func:`written_curve` to play in float32 within the
-    tolerance of its take; or with ``keys="frames"``, LINEAR keys at
+    and one animation of every position, orientation and scale track
+    (:func:`export_track`: its curve, written by :func:`written_curve` to play in
+    float32 within the tolerance of its take; or with ``keys="frames"``, LINEAR keys at
     :func:`track_times`, dropping those within :func:`frame_allowance`). Also returns
     the paths of the tracks glTF cannot animate, which are left out.
 
