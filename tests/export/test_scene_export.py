@@ -21,7 +21,7 @@ from sketchanim.anim.layers import reduce_samples
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.cli import app
-from sketchanim.export.scene import scene_glb
+from sketchanim.export.scene_gltf import scene_glb
 from sketchanim.project.store import Project
 from sketchanim.formats.recordings import read_tum
 from sketchanim.reducer.metric import rotation_angle

@@ -22,7 +22,7 @@ from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Take, held_values
 from sketchanim.export.files import write_reduced
 from sketchanim.formats.clip_files import read_clip
-from sketchanim.export.scene import scene_glb, written_curve
+from sketchanim.export.scene_gltf import scene_glb, written_curve
 from sketchanim.reducer.metric import rotation_angle
 
 
@@ -111,7 +111,7 @@ def test_layered_take_scene_in_every_client(tmp_path: Path) -> None:
     three.js and Blender's importer (frames) are within each track's tolerance of what
     its takes asked for."""
     import layered
-    from sketchanim.export.scene import KEY_SHARE
+    from sketchanim.export.scene_gltf import KEY_SHARE
 
     ex = layered.exported(tmp_path)
     addon = layered.client("addon", ex.curves, ex.tracks, ex.times)

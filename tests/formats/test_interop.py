@@ -27,7 +27,7 @@ from sketchanim.formats.amc import read_amc, read_asf
 from sketchanim.formats.bvh import read_bvh, write_bvh
 from sketchanim.export.files import write_reduced
 from sketchanim.formats.clip_files import read_clip
-from sketchanim.export.mocap import clip_glb
+from sketchanim.export.mocap_gltf import clip_glb
 from sketchanim.reducer.metric import rotation_angle
 
 TOL, ROT_TOL = 0.5, 0.5

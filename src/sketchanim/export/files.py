@@ -28,7 +28,7 @@ def write_reduced(path: str | os.PathLike[str], clip: ReducedClip | ReducedMarke
     target = Path(path)
     suffix = target.suffix.lower()
     if suffix == ".glb":
-        from sketchanim.export.mocap import clip_glb, markers_glb     # pygltflib only when needed
+        from sketchanim.export.mocap_gltf import clip_glb, markers_glb     # pygltflib only when needed
 
         return write_atomic(target, markers_glb(clip, name=target.stem, keys=keys) if isinstance(clip, ReducedMarkers)
                             else clip_glb(clip, name=target.stem, keys=keys, rate=rate))

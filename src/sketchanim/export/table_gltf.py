@@ -8,7 +8,7 @@ from scipy.interpolate import BSpline
 
 from sketchanim.anim.attributes import ORIENTATION, POSITION, SCALE
 from sketchanim.anim.tracks import ContinuousTrack
-from sketchanim.export.scene import OBJECT_RADIUS, export_track
+from sketchanim.export.scene_gltf import OBJECT_RADIUS, export_track
 from sketchanim.formats.gltf import Node, octahedron
 from sketchanim.formats.gltf_tracks import tracks_glb
 from sketchanim.reducer import Reduction
@@ -47,7 +47,7 @@ def table_tracks(position: Reduction | None, orientation: Reduction | None, rot_
 def table_glb(tracks: list[ContinuousTrack], *, name: str = "path") -> bytes:
     """:func:`table_tracks` as a .glb: the node at rest at the origin with a small
     octahedron, one animation ``name`` of its curves in path order (written as scenes'
-    are, :func:`~sketchanim.export.scene.export_track`).
+    are, :func:`~sketchanim.export.scene_gltf.export_track`).
 
     >>> from sketchanim.reducer import reduce
     >>> t = np.linspace(0, 1, 20)
