@@ -503,7 +503,7 @@ def _write_glb(path: Path, table: SampleTable, parts: list[list[int]], reduction
                rotation: Reduction | None, rot_tol_deg: float) -> None:
     """One animated node: the position and orientation curves, exactly (scene units as
     the file's; a clock far from zero moved to start at zero)."""
-    from sketchanim.export.table import table_glb, table_tracks
+    from sketchanim.export.table_gltf import table_glb, table_tracks
 
     origin = float(table.times[0]) if abs(float(table.times[-1])) >= GLB_CLOCK else 0.0
     tracks = table_tracks(reductions[0] if reductions else None, rotation, rot_tol_deg, origin=origin)
@@ -694,7 +694,7 @@ def export_command(
     position, orientation and scale tracks), or everything as JSON.
 
     Examples: sketchanim export show.sketchanim -o show.glb; sketchanim export show.sketchanim -o show.json"""
-    from sketchanim.export.scene import scene_glb
+    from sketchanim.export.scene_gltf import scene_glb
     from sketchanim.project.store import Project
 
     suffix = output.suffix.lower()

@@ -16,7 +16,7 @@ from typer.testing import CliRunner
 from clips import played, validate
 from tolerance import within
 from sketchanim.cli import app
-from sketchanim.export.scene import KEY_SHARE
+from sketchanim.export.scene_gltf import KEY_SHARE
 from sketchanim.reducer import Reduction
 from sketchanim.reducer.metric import rotation_angle
 
