@@ -41,7 +41,8 @@ from threejs_client import three_play  # noqa: E402
 
 from sketchanim.mocap.clip_reduction import reduce_clip  # noqa: E402
 from sketchanim.motion.skeleton import Clip  # noqa: E402
-from sketchanim.formats.clip_files import read_clip, write_reduced  # noqa: E402
+from sketchanim.export.files import write_reduced
+from sketchanim.formats.clip_files import read_clip  # noqa: E402
 
 TOL_CM, ROT_TOL = 0.5, 0.5
 

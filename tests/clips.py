@@ -164,11 +164,20 @@ def linear_play32(times: np.ndarray, keys: np.ndarray, t: np.ndarray, rotation: 
     return out / np.linalg.norm(out, axis=1, keepdims=True)
 
 
+def played(path: Path, node: str, channel: str, times: np.ndarray) -> np.ndarray:
+    """A glTF channel played at ``times`` as a float32 viewer plays it (the spec's
+    Hermite rule in float32 on the float32 keys; rotations normalised)."""
+    kind, keys_t, keys = samplers(path)[(node, channel)]
+    assert kind == "CUBICSPLINE"
+    out = play32(keys_t, keys, times).astype(float)
+    return out / np.linalg.norm(out, axis=1, keepdims=True) if channel == "rotation" else out
+
+
 def float32_shares(clip: Clip, tol: float, rot_tol_deg: float) -> tuple[float, float]:
     """The largest share of the tolerances that reduce_clip leaves to float32 over the
     clip's joints (rotation degrees, distance): how far a float32 client may play from
     our float64 curves."""
-    from sketchanim.mocap.clip_reduction import position_budget, rotation_budget
+    from sketchanim.float32 import position_budget, rotation_budget
 
     angle = max(rot_tol_deg - rotation_budget(clip.times, clip.rotations[:, j], rot_tol_deg)
                 for j in np.flatnonzero(clip.rotating))

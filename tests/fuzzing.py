@@ -143,14 +143,16 @@ def _reduce_clip(clip: Clip) -> None:
         reduced = reduce_clip(clip, tol, deg)
     except InputError as err:
         raise NotKept("refused_valid", f"read, then: {err}") from None
-    for i, r in reduced.rotations.items():
+    rotations = {i: reduced.joint_track(i, "orientation") for i in np.flatnonzero(clip.rotating)}
+    translations = {i: reduced.joint_track(i, "position") for i in np.flatnonzero(clip.translating)}
+    for i, r in rotations.items():
         q = np.asarray(r.spline(clip.times))
         q = q / np.linalg.norm(q, axis=1, keepdims=True)
         dot = np.minimum(np.abs(np.sum(q * clip.rotations[:, i], axis=1)), 1.0)
         worst = float(np.degrees(2 * np.arccos(dot)).max())
         if not worst <= deg * (1 + 1e-6):
             raise NotKept("beyond_tolerance", f"joint {i}: rotation misses by {worst} degrees")
-    for i, r in reduced.translations.items():
+    for i, r in translations.items():
         worst = float(np.linalg.norm(r.spline(clip.times) - clip.translations[:, i], axis=1).max())
         if not worst <= tol * (1 + 1e-9):
             raise NotKept("beyond_tolerance", f"joint {i}: position misses by {worst}")

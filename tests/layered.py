@@ -13,7 +13,7 @@ import numpy as np
 
 from blender_client import blender_play, object_pose
 from sketchanim.anim.tracks import ContinuousTrack
-from sketchanim.formats.gltf_scene import scene_glb
+from sketchanim.export.scene_gltf import scene_glb
 from threejs_client import three_play
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -10,8 +10,8 @@ import sketchanim
 
 PACKAGE = Path(sketchanim.__file__).parent
 #: Bottom to top.
-LAYERS = ["errors", "limits", "atomic", "spline", "reducer", "motion", "anim", "mocap", "formats", "project",
-          "plot", "pipeline", "batch", "paper", "studio", "cli"]
+LAYERS = ["errors", "limits", "atomic", "float32", "spline", "reducer", "motion", "anim", "mocap", "formats",
+          "export", "project", "plot", "pipeline", "batch", "paper", "studio", "cli"]
 
 
 def layer(module: str) -> int:

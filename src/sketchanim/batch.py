@@ -13,7 +13,8 @@ from pathlib import Path
 
 from sketchanim.atomic import write_atomic
 from sketchanim.errors import ArgumentError, InputError
-from sketchanim.formats.clip_files import CLIP_INPUTS, CLIP_OUTPUTS
+from sketchanim.export.files import CLIP_OUTPUTS
+from sketchanim.formats.clip_files import CLIP_INPUTS
 from sketchanim.limits import LIMITS, one_of
 from sketchanim.pipeline.clip import ClipOutcome, convert_clip
 from sketchanim.pipeline.clip_options import ClipOptions

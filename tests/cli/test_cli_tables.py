@@ -13,12 +13,12 @@ import pytest
 from scipy.spatial.transform import Rotation
 from typer.testing import CliRunner
 
-from clips import validate
+from clips import played, validate
+from tolerance import within
 from sketchanim.cli import app
-from sketchanim.formats.gltf_scene import KEY_SHARE
+from sketchanim.export.scene_gltf import KEY_SHARE
 from sketchanim.reducer import Reduction
 from sketchanim.reducer.metric import rotation_angle
-from tests.formats.test_gltf_scene import played
 
 runner = CliRunner()
 
@@ -39,9 +39,9 @@ def refused(res, *words: str) -> None:
         assert w in res.output, res.output
 
 
-def within(out: Path, t: np.ndarray, x: np.ndarray, tol: float) -> None:
-    r = Reduction.from_json(out.read_text())
-    assert np.all(np.abs(r.spline(t) - x) <= tol * (1 + 1e-9))
+def reduced_at(out: Path, t: np.ndarray) -> np.ndarray:
+    """The curve a reduce command wrote to ``out``, at ``t``."""
+    return Reduction.from_json(out.read_text()).spline(t)
 
 
 def test_whitespace_and_tab_tables(tmp_path):
@@ -52,7 +52,7 @@ def test_whitespace_and_tab_tables(tmp_path):
         out = tmp_path / (name + ".json")
         res = runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "-o", str(out)])
         assert res.exit_code == 0, res.output
-        within(out, t, x, 0.01)
+        assert within(reduced_at(out, t), x, 0.01, slack=1e-9)
 
 
 def test_bom_headerless_keeps_its_first_sample(tmp_path):
@@ -118,7 +118,7 @@ def test_svc_and_kitti(tmp_path):
     res = runner.invoke(app, ["reduce", str(kitti), "--tol", "0.01", "-o", str(out)])
     assert res.exit_code == 0, res.output
     assert "KITTI" in res.output and "10 Hz" in res.output
-    within(out, np.arange(len(t)) / 10.0, x, 0.01)
+    assert within(reduced_at(out, np.arange(len(t)) / 10.0), x, 0.01, slack=1e-9)
     assert (tmp_path / "k.rotation.json").exists()
 
 
@@ -184,8 +184,8 @@ def test_text_column_named_and_cols_and_groups(tmp_path):
     res = runner.invoke(app, ["reduce", str(f), "--tol", "0.01,0.01,0.001", "--cols", "x,y,p=pressure",
                               "--groups", "x,y:p", "-o", str(out)])
     assert res.exit_code == 0, res.output
-    within(out, t, x[:, :2], 0.01)
-    within(tmp_path / "o.p.json", t, (x[:, 2] + 0.01 * np.sin(90 * t))[:, None], 0.001)
+    assert within(reduced_at(out, t), x[:, :2], 0.01, slack=1e-9)
+    assert within(reduced_at(tmp_path / "o.p.json", t), (x[:, 2] + 0.01 * np.sin(90 * t))[:, None], 0.001, slack=1e-9)
     ours = Reduction.from_json(out.read_text()).n_coefficients
     together = tmp_path / "t.json"
     assert runner.invoke(app, ["reduce", str(f), "--tol", "0.01,0.01,0.001", "--cols", "x,y,pressure",
@@ -254,7 +254,7 @@ def test_output_folder_for_one_input(tmp_path):
     folder.mkdir()
     res = runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "-o", str(folder)])
     assert res.exit_code == 0, res.output
-    within(folder / "take.json", t, x, 0.01)
+    assert within(reduced_at(folder / "take.json", t), x, 0.01, slack=1e-9)
 
 
 def test_version():

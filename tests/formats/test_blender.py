@@ -20,14 +20,15 @@ from sketchanim.mocap.clip_reduction import reduce_clip
 from sketchanim.anim.layers import reduce_samples
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Take, held_values
-from sketchanim.formats.clip_files import read_clip, write_reduced
-from sketchanim.formats.gltf_scene import scene_glb, written_curve
+from sketchanim.export.files import write_reduced
+from sketchanim.formats.clip_files import read_clip
+from sketchanim.export.scene_gltf import scene_glb, written_curve
 from sketchanim.reducer.metric import rotation_angle
 
 
 @pytest.mark.realdata
-def test_real_clips_in_blender(data_dir: Path, tmp_path: Path) -> None:
-    for source in [*sorted((data_dir / "bvh").glob("*.bvh")), data_dir / "amc" / "cmu_11_01.amc"]:
+def test_real_clips_in_blender(real_clips: list[Path], tmp_path: Path) -> None:
+    for source in real_clips:
         clip = read_clip(source)
         tol = 0.005 / clip.guess_unit_m()
         reduced = reduce_clip(clip, tol, 0.5)
@@ -110,7 +111,7 @@ def test_layered_take_scene_in_every_client(tmp_path: Path) -> None:
     three.js and Blender's importer (frames) are within each track's tolerance of what
     its takes asked for."""
     import layered
-    from sketchanim.formats.gltf_scene import KEY_SHARE
+    from sketchanim.export.scene_gltf import KEY_SHARE
 
     ex = layered.exported(tmp_path)
     addon = layered.client("addon", ex.curves, ex.tracks, ex.times)

@@ -19,7 +19,8 @@ from sketchanim.mocap.clip_reduction import reduce_clip
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.cli import app
 from sketchanim.formats.bvh import write_bvh
-from sketchanim.formats.clip_files import read_clip, write_reduced
+from sketchanim.export.files import write_reduced
+from sketchanim.formats.clip_files import read_clip
 from sketchanim.formats.gltf_frames import thin_keys
 from sketchanim.reducer.metric import rotation_angle
 
@@ -96,8 +97,8 @@ def test_a_still_joint_gets_two_keys_and_cli_writes_frames(tmp_path: Path) -> No
 
 
 @pytest.mark.realdata
-def test_real_clips_as_frames_within_tolerance(data_dir: Path, tmp_path: Path) -> None:
-    for source in [*sorted((data_dir / "bvh").glob("*.bvh")), data_dir / "amc" / "cmu_11_01.amc"]:
+def test_real_clips_as_frames_within_tolerance(real_clips: list[Path], tmp_path: Path) -> None:
+    for source in real_clips:
         clip = read_clip(source)
         tol = 0.005 / clip.guess_unit_m()
         path = write_reduced(tmp_path / f"{source.stem}.glb", reduce_clip(clip, tol, 0.5), keys="frames")

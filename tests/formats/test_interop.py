@@ -25,8 +25,9 @@ from sketchanim.cli import app
 from sketchanim.errors import FileFormatError, InputError
 from sketchanim.formats.amc import read_amc, read_asf
 from sketchanim.formats.bvh import read_bvh, write_bvh
-from sketchanim.formats.clip_files import read_clip, write_reduced
-from sketchanim.formats.gltf_motion import clip_glb
+from sketchanim.export.files import write_reduced
+from sketchanim.formats.clip_files import read_clip
+from sketchanim.export.mocap_gltf import clip_glb
 from sketchanim.reducer.metric import rotation_angle
 
 TOL, ROT_TOL = 0.5, 0.5
@@ -44,9 +45,9 @@ def _round_trip(clip: Clip, folder: Path, tol: float = TOL, rot_tol: float = ROT
 def _glb_matches_splines(path: Path, reduced: ReducedClip) -> None:
     """The .glb's samplers, evaluated by the spec's formula, are our curves (1e-6)."""
     channels = hermite_channels(path)
-    names = reduced.skeleton.names
-    curves = [(names[i], "rotation", r) for i, r in reduced.rotations.items()]
-    curves += [(names[i], "translation", r) for i, r in reduced.translations.items()]
+    gltf = {"orientation": "rotation", "position": "translation"}
+    curves = [(name, gltf[attribute], r.reduction) for path, r in reduced.tracks.items()
+              for name, attribute in [path.rsplit(".", 1)]]
     assert len(channels) == len(curves)
     u = np.linspace(0, 1, 7)
     for name, kind, r in curves:
@@ -101,7 +102,8 @@ def test_rotation_keys_are_unit_quaternions_and_every_frame_holds() -> None:
 
     clip = find(clips(), lambda c: len(c.times) > 100)
     reduced = reduce_clip(clip, TOL, ROT_TOL)
-    for j, r in reduced.rotations.items():
+    for j in np.flatnonzero(clip.rotating):
+        r = reduced.joint_track(j, "orientation").reduction
         keys = r.spline(np.unique(r.spline.t))
         assert np.allclose(np.linalg.norm(keys, axis=1), 1.0, atol=1e-12)
         assert np.degrees(rotation_angle(r.spline(clip.times), clip.rotations[:, j]).max()) <= ROT_TOL
@@ -313,10 +315,9 @@ def test_batch_on_a_dask_cluster(tmp_path: Path) -> None:
 # ---- real recordings -----------------------------------------------------------------
 
 @pytest.mark.realdata
-def test_real_clips_round_trip_and_validate(data_dir: Path, tmp_path: Path) -> None:
-    sources = sorted((data_dir / "bvh").glob("*.bvh")) + [data_dir / "amc" / "cmu_11_01.amc"]
+def test_real_clips_round_trip_and_validate(real_clips: list[Path], tmp_path: Path) -> None:
     glbs = []
-    for source in sources:
+    for source in real_clips:
         clip = read_clip(source)
         unit = clip.guess_unit_m()
         assert unit is not None, source.name
@@ -331,8 +332,8 @@ def test_real_clips_round_trip_and_validate(data_dir: Path, tmp_path: Path) -> N
 
 
 @pytest.mark.realdata
-def test_real_bvh_text_round_trip_is_lossless(data_dir: Path, tmp_path: Path) -> None:
-    for source in sorted((data_dir / "bvh").glob("*.bvh")):
+def test_real_bvh_text_round_trip_is_lossless(real_bvh: list[Path], tmp_path: Path) -> None:
+    for source in real_bvh:
         clip = read_bvh(source)
         back = read_bvh(write_bvh(tmp_path / source.name, clip))
         assert_within(back, clip, 1e-6, 1e-6, slack=1e-6)

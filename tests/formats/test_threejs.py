@@ -15,7 +15,8 @@ from sketchanim.mocap.clip_reduction import reduce_clip
 from sketchanim.motion.skeleton import Clip
 from sketchanim.formats.c3d import read_c3d
 from sketchanim.mocap.markers import reduce_markers
-from sketchanim.formats.clip_files import read_clip, write_reduced
+from sketchanim.export.files import write_reduced
+from sketchanim.formats.clip_files import read_clip
 from sketchanim.reducer.metric import rotation_angle
 from threejs_client import three_play
 
@@ -46,15 +47,15 @@ def test_threejs_plays_a_clip(tmp_path: Path) -> None:
 
 
 @pytest.mark.realdata
-def test_threejs_plays_the_real_clips(data_dir: Path, tmp_path: Path) -> None:
-    for source in [*sorted((data_dir / "bvh").glob("*.bvh")), data_dir / "amc" / "cmu_11_01.amc"]:
+def test_threejs_plays_the_real_clips(real_clips: list[Path], tmp_path: Path) -> None:
+    for source in real_clips:
         clip = read_clip(source)
         _check_clip(clip, 0.005 / clip.guess_unit_m(), tmp_path)
 
 
 @pytest.mark.realdata
-def test_threejs_plays_the_real_markers(data_dir: Path, tmp_path: Path) -> None:
-    for source in sorted((data_dir / "c3d").glob("*.c3d")):
+def test_threejs_plays_the_real_markers(real_c3d: list[Path], tmp_path: Path) -> None:
+    for source in real_c3d:
         markers = read_c3d(source)
         tol = 0.005 / (markers.unit_m or 0.001)
         reduced = reduce_markers(markers, tol)

@@ -21,7 +21,7 @@ from sketchanim.mocap.markers import Markers, ReducedMarkers, reduce_markers
 from sketchanim.cli import app
 from sketchanim.errors import FileFormatError
 from sketchanim.formats.c3d import read_c3d
-from sketchanim.formats.clip_files import write_reduced
+from sketchanim.export.files import write_reduced
 
 
 def write_c3d(path: Path, positions: np.ndarray, seen: np.ndarray, rate: float, labels: list[str],
@@ -74,8 +74,8 @@ def _check_reduced(reduced: ReducedMarkers, markers: Markers, tol: float) -> Non
     assert np.array_equal(np.isnan(got[..., 0]), gaps)
     distance = np.linalg.norm(got - markers.positions, axis=2)[~gaps]
     assert distance.size == 0 or distance.max() <= tol * (1 + 1e-9)
-    for m in range(len(markers.names)):
-        assert len(reduced.pieces[m]) == len(markers.runs(m))
+    for m, name in enumerate(markers.names):
+        assert len(reduced.tracks[f"{name}.position"].pieces) == len(markers.runs(m))
 
 
 def _check_glb(path: Path, reduced: ReducedMarkers, markers: Markers) -> None:
@@ -85,7 +85,7 @@ def _check_glb(path: Path, reduced: ReducedMarkers, markers: Markers) -> None:
     gaps = np.isnan(markers.positions[..., 0])
     ours = reduced.evaluate(markers.times)
     for m, name in enumerate(markers.names):
-        if not reduced.pieces[m]:
+        if not reduced.tracks[f"{name}.position"].pieces:
             assert (name, "translation") not in channels
             continue
         _, times, keys = channels[(name, "translation")]
@@ -230,7 +230,7 @@ def test_real_c3d_keeps_its_gaps_and_tolerance(data_dir: Path, tmp_path: Path) -
     tol = 5.0                                                    # 0.5 cm, in mm
     reduced = reduce_markers(markers, tol)
     _check_reduced(reduced, markers, tol)
-    assert any(len(p) > 1 for p in reduced.pieces)               # gaps split pieces
+    assert any(len(t.pieces) > 1 for t in reduced.tracks.values())               # gaps split pieces
     path = write_reduced(tmp_path / "real.glb", reduced)
     _check_glb(path, reduced, markers)
     assert validate(path)[0]["numErrors"] == 0

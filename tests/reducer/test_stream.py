@@ -15,10 +15,7 @@ from sketchanim.paper import spiral
 from sketchanim.reducer import window_kernel
 from sketchanim.reducer.stream import CONSTRAINTS
 from signals import signals
-
-
-def within(spline: BSpline, t: np.ndarray, x: np.ndarray, tol: np.ndarray) -> bool:
-    return bool(np.all(np.abs(spline(t).reshape(len(t), -1) - x.reshape(len(t), -1)) <= tol))
+from tolerance import within
 
 
 # -- the kernel against scipy ---------------------------------------------------------
@@ -67,7 +64,7 @@ def test_every_sample_within_tolerance(sig, order: int, window: int, constraints
                                   constraints=constraints)
     sr.extend(sig.times, sig.values)
     r = sr.finish()
-    assert within(r.spline, sig.times, sig.values, sig.tol)
+    assert within(r.spline(sig.times), sig.values, sig.tol)
     assert np.all(r.max_error <= sig.tol)
     # Each restart (a C0 join, see StreamReducer._restart) adds order - 2 knots.
     assert r.n_coefficients <= max(len(sig.times), order) + (order - 2) * r.report["start_misses"]
@@ -77,7 +74,7 @@ def test_spiral_within_tolerance_and_close_to_global() -> None:
     t, x = spiral()
     inc = sketchanim.reduce(t, x, 0.1, method="incremental", window=20)
     glob = sketchanim.reduce(t, x, 0.1)
-    assert within(inc.spline, t, x, np.array([0.1, 0.1]))
+    assert within(inc.spline(t), x, np.array([0.1, 0.1]))
     assert inc.report.get("note") is None                    # no fallback to the interpolant
     assert inc.n_coefficients <= 1.4 * glob.n_coefficients
 
@@ -193,7 +190,7 @@ def test_bad_sample_mid_stream_is_named_and_everything_before_it_kept() -> None:
     sr.extend(t[217:], x[217:])                                 # the stream goes on
     r = sr.finish()
     assert r.n_samples == 400
-    assert within(r.spline, t, x, np.array([0.1, 0.1]))
+    assert within(r.spline(t), x, np.array([0.1, 0.1]))
     expected = sketchanim.reduce(t, x, 0.1, method="incremental", window=10)
     np.testing.assert_array_equal(r.spline.t, expected.spline.t)
 
@@ -226,4 +223,4 @@ def test_short_takes(n: int) -> None:
     sr = sketchanim.StreamReducer(2, 1e-6, window=5)
     sr.extend(t, x)
     r = sr.finish()
-    assert within(r.spline, t, x, np.array([1e-6, 1e-6]))
+    assert within(r.spline(t), x, np.array([1e-6, 1e-6]))

@@ -11,8 +11,8 @@ from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.tracks import ContinuousTrack
 from sketchanim.formats.recordings import read_tum
-from sketchanim.reducer.metric import rotation_angle
 from sketchanim.studio.session import Session
+import tolerance
 
 OWNER = 1
 
@@ -25,12 +25,9 @@ def take(session, name, paths, t, rows, *, batch=6, mode="replace", loop=None, s
     return session.end_take(OWNER, name, label)
 
 
-def within(track: ContinuousTrack, t, x) -> float:
-    """The largest error of ``track`` at the samples, in its tolerance's units."""
-    got = track.evaluate(t)
-    if track.type.is_rotation:
-        return float(np.degrees(rotation_angle(got, x)).max())
-    return float(np.abs(got - x).max())
+def track_within(track: ContinuousTrack, t, x) -> bool:
+    """``track`` within its tolerance at the samples (:func:`tolerance.within`)."""
+    return tolerance.within(track.evaluate(t), x, track.tol, rotation=track.type.is_rotation)
 
 
 def motion(seed: int, n: int, rate: float):
@@ -58,7 +55,7 @@ def test_take_from_batches_keeps_every_sample_and_its_time(tmp_path_factory, see
         out = take(s, "a", ["box.position", "box.orientation"], t, np.c_[pos, rot], batch=batch)
         for path, x in (("box.position", pos), ("box.orientation", rot)):
             track = s.player.tracks[path]
-            assert within(track, t, x) <= track.tol
+            assert track_within(track, t, x)
             assert track.start == t[0] and track.end == t[-1]          # timing kept: the span is the take's
         ended = [m for _, m in out if m["type"] == "take.ended"][0]
         assert ended["gaps"] == [] and ended["label"] == "take box.position, box.orientation"
@@ -170,7 +167,7 @@ def test_a_stall_is_a_gap_not_a_swing(session):
     fade = track.evaluate(np.linspace(first - 0.1, first, 100))
     assert np.all(fade >= lo - track.tol) and np.all(fade <= hi + track.tol)    # no overshoot
     keep = (t <= last) | (t >= first + 0.1)
-    assert within(track, t[keep], x[keep]) <= track.tol
+    assert track_within(track, t[keep], x[keep])
 
 
 def test_capture_speed_scales_the_stall_threshold(session):
@@ -180,7 +177,7 @@ def test_capture_speed_scales_the_stall_threshold(session):
     out = take(session, "a", ["box.position"], t, x, speed=0.25)
     assert [m for _, m in out if m["type"] == "take.ended"][0]["gaps"] == []
     track = session.player.tracks["box.position"]
-    assert track.end == pytest.approx(0.5 - 0.25 / 60) and within(track, t, x) <= track.tol
+    assert track.end == pytest.approx(0.5 - 0.25 / 60) and track_within(track, t, x)
 
 
 def test_loop_recording_keeps_the_last_pass_as_one_step(session):
@@ -220,7 +217,7 @@ def test_real_camera_take_through_the_session(session, data_dir):
     take(session, "cam", ["cam.position", "cam.orientation"], t, np.c_[pos, quat], batch=10, gap=5.0)
     for path, x in (("cam.position", pos), ("cam.orientation", quat)):
         track = session.player.tracks[path]
-        assert within(track, t, x) <= track.tol and track.n_coefficients < n / 2
+        assert track_within(track, t, x) and track.n_coefficients < n / 2
 
 
 def test_pieces_of_the_curve_come_while_the_take_goes_on(session):

@@ -29,7 +29,7 @@ def export_command(
 
     Examples: sketchanim export show.sketchanim -o show.glb; sketchanim export show.sketchanim -o show.json"""
     from sketchanim.atomic import write_atomic
-    from sketchanim.formats.gltf_scene import scene_glb
+    from sketchanim.export.scene_gltf import scene_glb
     from sketchanim.project.store import Project
 
     suffix = output.suffix.lower()

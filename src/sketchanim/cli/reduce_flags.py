@@ -18,7 +18,8 @@ import typer
 
 from sketchanim.batch import FolderOptions, reduce_folder
 from sketchanim.cli.flags import FLAGS, fail
-from sketchanim.formats.clip_files import CLIP_INPUTS, CLIP_OUTPUTS
+from sketchanim.export.files import CLIP_OUTPUTS
+from sketchanim.formats.clip_files import CLIP_INPUTS
 from sketchanim.formats.quirks import DUPLICATES, UNORDERED
 from sketchanim.formats.tables import FORMATS
 from sketchanim.formats.time_units import TIME_UNITS

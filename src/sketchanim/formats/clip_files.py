@@ -1,28 +1,20 @@
-"""Motion capture files by extension: read BVH or ASF/AMC clips and C3D markers; write a
-reduced clip as glTF (.glb), BVH, USD or JSON, reduced markers as glTF or JSON."""
+"""Motion capture files by extension: read BVH or ASF/AMC clips and C3D markers (reduced
+ones are written by :func:`sketchanim.export.files.write_reduced`)."""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-from sketchanim.mocap.clip_reduction import ReducedClip
-from sketchanim.mocap.markers import Markers, ReducedMarkers
-from sketchanim.motion.skeleton import Clip
-from sketchanim.errors import FileFormatError, InputError
+from sketchanim.errors import FileFormatError
 from sketchanim.formats.amc import read_amc, read_asf
-from sketchanim.atomic import write_atomic
-from sketchanim.formats.bvh import read_bvh, write_bvh
+from sketchanim.formats.bvh import read_bvh
 from sketchanim.formats.c3d import read_c3d
+from sketchanim.mocap.markers import Markers
+from sketchanim.motion.skeleton import Clip
 
 #: Extensions read as clips (.c3d: markers).
 CLIP_INPUTS = (".bvh", ".amc", ".c3d")
-
-#: Extensions a reduced clip is written as.
-CLIP_OUTPUTS = (".glb", ".bvh", ".json", ".usd", ".usda", ".usdc")
-
-#: Extensions reduced markers are written as.
-MARKER_OUTPUTS = (".glb", ".json")
 
 
 def find_asf(amc: Path) -> Path:
@@ -59,33 +51,3 @@ def read_clip(path: str | os.PathLike[str], *, skeleton: str | os.PathLike[str] 
     if suffix == ".c3d":
         return read_c3d(source)
     raise FileFormatError(str(source), f"not a clip format this reads ({', '.join(CLIP_INPUTS)})")
-
-
-def write_reduced(path: str | os.PathLike[str], clip: ReducedClip | ReducedMarkers, *, rate: float | None = None,
-                  keys: str = "curves") -> Path:
-    """Write ``clip`` in the format its extension names: .glb (the curves, exactly; with
-    ``keys="frames"`` as LINEAR keys at the source's frames, or at ``rate``, for
-    importers that ignore tangents), .json (the curves), .bvh or .usd/.usda/.usdc
-    (frames at ``rate`` per second, the source's rate by default; clips only, markers
-    have no skeleton)."""
-    target = Path(path)
-    suffix = target.suffix.lower()
-    if suffix == ".glb":
-        from sketchanim.formats.gltf_motion import clip_glb, markers_glb
-
-        return write_atomic(target, markers_glb(clip, name=target.stem, keys=keys) if isinstance(clip, ReducedMarkers)
-                            else clip_glb(clip, name=target.stem, keys=keys, rate=rate))
-    if suffix == ".json":
-        return write_atomic(target, clip.to_json())
-    if isinstance(clip, ReducedMarkers):
-        raise InputError(f"{target}: markers are written as {' or '.join(MARKER_OUTPUTS)}, not "
-                         f"{suffix or 'files without an extension'}")
-    frames = clip.resample(1.0 / clip.frame_time if rate is None else rate)
-    if suffix == ".bvh":
-        return write_bvh(target, frames)
-    if suffix in (".usd", ".usda", ".usdc"):
-        from sketchanim.formats.usd import write_usd
-
-        return write_usd(target, frames)
-    raise InputError(f"{target}: cannot write {suffix or 'files without an extension'}; use one of "
-                     f"{', '.join(CLIP_OUTPUTS)}")

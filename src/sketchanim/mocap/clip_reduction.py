@@ -1,9 +1,11 @@
 """Whole-clip reduction: every joint's rotation as a quaternion curve within an angle,
-every translating joint's position within a distance, and what it all costs.
+every translating joint's position within a distance, and what it all costs. A reduced
+clip is a set of tracks addressed by path (``Hips.orientation``, ``Hips.position``:
+:mod:`sketchanim.mocap.tracks`).
 
 Positions are reduced with ``tol / sqrt(3)`` on each axis, so that the distance between
 curve and sample (not only each coordinate) stays within ``tol``. Both leave room for
-float32 (:func:`float32_margin`): what a client plays from a file stores keys and key
+float32 (:mod:`sketchanim.float32`): what a client plays from a file stores keys and key
 times as float32, and computes in float32, so the budget the reducer runs to is the
 tolerance less what that can move the curve.
 """
@@ -15,13 +17,14 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import BSpline
 from scipy.spatial.transform import Rotation
 
-from sketchanim.motion.skeleton import Clip, Skeleton, world_pose
-from sketchanim.anim.tracks import held_values
 from sketchanim.errors import ArgumentError, InputError
+from sketchanim.float32 import position_budget, rotation_budget
+from sketchanim.mocap.tracks import FLOAT32, ReducedTrack, curve_bytes, split_path, track_path
 from sketchanim.motion import reduce_rotations
+from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer import Reduction, reduce
 from sketchanim.reducer.result import load_versioned
 
@@ -29,76 +32,6 @@ SCHEMA = "sketchanim.clip"
 VERSION = 1
 #: Most frames a clip is resampled to (BVH, USD).
 MAX_FRAMES = 1_000_000
-
-#: Bytes per stored number, for the compression ratio (raw channels kept as float32).
-FLOAT32 = 4
-
-#: float32's unit roundoff: storing a number as float32 moves it by at most this, relative.
-EPS32 = 2.0**-24
-
-#: float32 roundings a played curve may gather: its keys, its key times, a client's own
-#: float32 arithmetic (Blender evaluates F-curves in float32, three.js keeps float32 results).
-ROUNDINGS = 16
-
-
-def float32_margin(times: np.ndarray, size: float, speed: float) -> float:
-    """How far a curve of values up to ``size`` (a norm), moving at up to ``speed`` per
-    second over ``times``, may move once stored and played in float32: ``ROUNDINGS``
-    roundings of its values, and of its times (a time rounded moves the value by the
-    speed times the rounding).
-
-    >>> m = float32_margin(np.array([0.0, 30.0]), 200.0, 300.0)     # a hips in cm, 30 s
-    >>> bool(1e-4 < m < 1e-2)
-    True
-    """
-    span = float(np.abs(np.asarray(times, dtype=float)).max()) if len(times) else 0.0
-    return ROUNDINGS * EPS32 * (size + speed * span)
-
-
-def position_budget(times: np.ndarray, points: np.ndarray, tol: float) -> float:
-    """The distance a reducer may use of ``tol`` for points (n, d) sampled at ``times``
-    so that the float32 file still plays within ``tol`` (:func:`float32_margin`; never
-    less than half of ``tol``).
-
-    >>> t = np.arange(100) / 30
-    >>> 0.49 < position_budget(t, np.c_[100 * np.sin(t), 90 + 0 * t, t], 0.5) < 0.5
-    True
-    """
-    x = np.asarray(points, dtype=float).reshape(len(times), -1)
-    speed = float((np.linalg.norm(np.diff(x, axis=0), axis=1) / np.diff(times)).max()) if len(times) > 1 else 0.0
-    return tol - min(float32_margin(times, float(np.linalg.norm(x, axis=1).max()), speed), tol / 2)
-
-
-def rotation_budget(times: np.ndarray, quats: np.ndarray, tol_deg: float) -> float:
-    """The angle (degrees) a reducer may use of ``tol_deg`` for quaternions sampled at
-    ``times``, so that the float32 file still plays within ``tol_deg``: an error ``e``
-    in a unit quaternion turns it by up to ``2 e`` radians.
-
-    >>> t = np.arange(100) / 30
-    >>> q = Rotation.from_euler("Z", 3 * t[:, None]).as_quat()
-    >>> 0.499 < rotation_budget(t, q, 0.5) < 0.5
-    True
-    """
-    q = np.asarray(quats, dtype=float)
-    turn = np.arccos(np.clip(np.abs(np.sum(q[1:] * q[:-1], axis=1)) / (np.linalg.norm(q[1:], axis=1)
-                                                                     * np.linalg.norm(q[:-1], axis=1)), 0, 1))
-    speed = float((turn / np.diff(times)).max()) if len(times) > 1 else 0.0     # of the unit quaternion, per s
-    margin = float(np.degrees(2 * float32_margin(times, 1.0, speed)))
-    return tol_deg - min(margin, tol_deg / 2)
-
-
-def curve_bytes(spline: BSpline) -> int:
-    """Bytes to store a curve: each distinct knot as a float32 and a byte of
-    multiplicity, each control point as float32s; a curve whose control points are all
-    equal (a joint that does not move) as its one value.
-
-    >>> curve_bytes(BSpline(np.r_[[0.0] * 4, [1.0] * 4], np.arange(8.0).reshape(4, 2), 3))
-    42
-    """
-    c = np.asarray(spline.c).reshape(len(spline.c), -1)
-    if np.all(c == c[0]):
-        return FLOAT32 * c.shape[1]
-    return (FLOAT32 + 1) * len(np.unique(spline.t)) + FLOAT32 * c.size
 
 
 @dataclass(frozen=True)
@@ -116,17 +49,17 @@ class JointReport:
 
 @dataclass(frozen=True)
 class ReducedClip:
-    """A clip's curves.
+    """A clip's curves, as tracks addressed by path.
 
     Attributes
     ----------
     skeleton : Skeleton
     channels : tuple of tuple of str
         The source's channel layout, per joint (for writing BVH back).
-    rotations : dict of int to Reduction
-        Joint index to its quaternion curve (scalar-last, normalised when played).
-    translations : dict of int to Reduction
-        Joint index to its position curve, for joints with translation channels.
+    tracks : dict of str to ReducedTrack
+        ``"joint.orientation"`` (a quaternion curve, scalar-last, normalised when
+        played) for every rotating joint, then ``"joint.position"`` for every joint
+        with translation channels, each in joint order.
     frame_time : float
         The source's seconds per frame.
     n_frames : int
@@ -136,24 +69,26 @@ class ReducedClip:
 
     skeleton: Skeleton
     channels: tuple[tuple[str, ...], ...]
-    rotations: dict[int, Reduction]
-    translations: dict[int, Reduction]
+    tracks: dict[str, ReducedTrack]
     frame_time: float
     n_frames: int
     unit_m: float | None = None
 
-    @property
-    def curves(self) -> list[Reduction]:
-        """Every curve: the rotations, then the translations."""
-        return [*self.rotations.values(), *self.translations.values()]
+    def __post_init__(self) -> None:
+        for path in self.tracks:
+            self.skeleton.index(split_path(path)[0])
+
+    def joint_track(self, joint: int, attribute: str) -> ReducedTrack | None:
+        """Joint ``joint``'s ``"orientation"`` or ``"position"`` track, if it has one."""
+        return self.tracks.get(track_path(self.skeleton.names[joint], attribute))
 
     @property
     def start(self) -> float:
-        return min((float(r.spline.t[r.spline.k]) for r in self.curves), default=0.0)
+        return min((t.track.start for t in self.tracks.values()), default=0.0)
 
     @property
     def end(self) -> float:
-        return max((float(r.spline.t[-r.spline.k - 1]) for r in self.curves), default=0.0)
+        return max((t.track.end for t in self.tracks.values()), default=0.0)
 
     def sample(self, times: np.ndarray) -> Clip:
         """The curves evaluated at ``times`` (rotations normalised, ends held) as a clip.
@@ -170,12 +105,13 @@ class ReducedClip:
         t = np.asarray(times, dtype=float)
         j = len(self.skeleton)
         rot, trans = self.skeleton.rest_pose(len(t))
-        for i, r in self.rotations.items():
-            rot[:, i] = held_values(r.columns, t, True)
-        for i, r in self.translations.items():
-            trans[:, i] = held_values(r.columns, t, False)
-        rotating = np.array([i in self.rotations for i in range(j)])
-        translating = np.array([i in self.translations for i in range(j)])
+        rotating, translating = np.zeros(j, bool), np.zeros(j, bool)
+        for path, curve in self.tracks.items():
+            i = self.skeleton.index(split_path(path)[0])
+            if curve.is_rotation:
+                rot[:, i], rotating[i] = curve.track.evaluate(t), True
+            else:
+                trans[:, i], translating[i] = curve.track.evaluate(t), True
         return Clip(self.skeleton, t, rot, trans, rotating, translating, self.channels, self.unit_m)
 
     def resample(self, rate: float) -> Clip:
@@ -198,7 +134,7 @@ class ReducedClip:
 
     def reduced_bytes(self) -> int:
         """Bytes to store every curve (:func:`curve_bytes`)."""
-        return sum(curve_bytes(r.columns) for r in self.curves)
+        return sum(curve_bytes(t.spline) for t in self.tracks.values())
 
     def raw_bytes(self) -> int:
         """Bytes of the source's channels at every frame as float32."""
@@ -212,13 +148,12 @@ class ReducedClip:
         """Per joint with any curve: control points and max errors at the source frames."""
         rows = []
         for i, name in enumerate(self.skeleton.names):
-            rot, pos = self.rotations.get(i), self.translations.get(i)
+            rot, pos = self.joint_track(i, "orientation"), self.joint_track(i, "position")
             if rot is None and pos is None:
                 continue
-            rows.append(JointReport(
-                name,
-                rot.n_coefficients if rot else 0, float(np.degrees(rot.max_error[0])) if rot else float("nan"),
-                pos.n_coefficients if pos else 0, float(pos.report["max_distance"]) if pos else float("nan")))
+            rows.append(JointReport(name, rot.track.n_coefficients if rot else 0, rot.error if rot else float("nan"),
+                                    pos.track.n_coefficients if pos else 0,
+                                    float(pos.reduction.report["max_distance"]) if pos else float("nan")))
         return rows
 
     def world_errors(self, clip: Clip, shell: float = 0.0, *,
@@ -226,7 +161,7 @@ class ReducedClip:
         """Per frame and joint (n, J), at ``clip``'s times: how far these curves put the
         joint from ``clip``'s in the world, plus the most a point ``shell`` from the joint
         moves by the difference of their world rotations (``2 shell sin(angle / 2)``).
-        ``source``: ``clip``'s :func:`~sketchanim.motion.skeleton.world_pose`, where the
+        ``source``: ``clip``'s :func:`~sketchanim.motion.kinematics.world_pose`, where the
         caller has it already.
 
         >>> s = Skeleton(("a",), (-1,), np.zeros((1, 3)))
@@ -244,15 +179,18 @@ class ReducedClip:
         return out
 
     def to_json(self) -> str:
-        """The skeleton and every curve as JSON (schema ``sketchanim.clip``, version 1)."""
+        """The skeleton and every curve as JSON (schema ``sketchanim.clip``, version 1:
+        the curves by joint name under ``rotations`` and ``translations``)."""
+        kinds = {"rotations": {}, "translations": {}}
+        for path, curve in self.tracks.items():
+            kinds["rotations" if curve.is_rotation else "translations"][split_path(path)[0]] = \
+                json.loads(curve.reduction.to_json())
         doc = {
             "schema": SCHEMA, "version": VERSION,
             "joints": [{"name": n, "parent": p, "offset": o.tolist(), "channels": list(c)}
                        for n, p, o, c in zip(self.skeleton.names, self.skeleton.parents, self.skeleton.offsets,
                                              self.channels)],
-            "frame_time": self.frame_time, "n_frames": self.n_frames, "unit_m": self.unit_m,
-            "rotations": {self.skeleton.names[i]: json.loads(r.to_json()) for i, r in self.rotations.items()},
-            "translations": {self.skeleton.names[i]: json.loads(r.to_json()) for i, r in self.translations.items()},
+            "frame_time": self.frame_time, "n_frames": self.n_frames, "unit_m": self.unit_m, **kinds,
         }
         return json.dumps(doc, indent=1)
 
@@ -262,8 +200,9 @@ class ReducedClip:
 
         >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
         >>> r = reduce_clip(Clip.still(s, np.arange(10) / 30), 0.01, 0.1)
-        >>> ReducedClip.from_json(r.to_json()).rotations[0].n_coefficients == r.rotations[0].n_coefficients
-        True
+        >>> back = ReducedClip.from_json(r.to_json())
+        >>> list(back.tracks), back.tracks["root.orientation"].track.n_coefficients
+        (['root.orientation'], 4)
         """
         doc = load_versioned(text, source, SCHEMA, VERSION)
         try:
@@ -271,17 +210,32 @@ class ReducedClip:
             skeleton = Skeleton(tuple(str(j["name"]) for j in joints), tuple(int(j["parent"]) for j in joints),
                                 np.array([j["offset"] for j in joints], dtype=float).reshape(len(joints), 3))
             channels = tuple(tuple(str(c) for c in j["channels"]) for j in joints)
-            curves = {kind: {skeleton.index(name): Reduction.from_json(json.dumps(r), source=f"{source}: {kind} "
-                                                                                           f"of {name}")
-                             for name, r in doc[kind].items()}
-                      for kind in ("rotations", "translations")}
+            curves = {}
+            for kind, attribute in (("rotations", "orientation"), ("translations", "position")):
+                found = {skeleton.index(name): Reduction.from_json(json.dumps(r), source=f"{source}: {kind} of {name}")
+                         for name, r in doc[kind].items()}
+                curves.update(_tracks(skeleton, attribute, found))
             unit = doc.get("unit_m")
-            return cls(skeleton, channels, curves["rotations"], curves["translations"], float(doc["frame_time"]),
-                       int(doc["n_frames"]), None if unit is None else float(unit))
+            return cls(skeleton, channels, curves, float(doc["frame_time"]), int(doc["n_frames"]),
+                       None if unit is None else float(unit))
         except InputError:
             raise
         except (KeyError, TypeError, ValueError, AttributeError) as err:
             raise InputError(f"{source}: malformed clip document ({type(err).__name__}: {err})") from None
+
+
+def _tracks(skeleton: Skeleton, attribute: str, reductions: dict[int, Reduction]) -> dict[str, ReducedTrack]:
+    """Joint index to reduction, as tracks by path in joint order."""
+    return {(p := track_path(skeleton.names[i], attribute)): ReducedTrack.of(p, reductions[i])
+            for i in sorted(reductions)}
+
+
+def clip_tracks(clip: Clip, rotations: dict[int, Reduction], translations: dict[int, Reduction]) -> ReducedClip:
+    """``clip``'s joints' curves (joint index to its rotation's, its translation's
+    reduction) as a :class:`ReducedClip`."""
+    return ReducedClip(clip.skeleton, clip.channels, {**_tracks(clip.skeleton, "orientation", rotations),
+                                                      **_tracks(clip.skeleton, "position", translations)},
+                       clip.frame_time, len(clip.times), clip.unit_m)
 
 
 def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "global") -> ReducedClip:
@@ -317,8 +271,7 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "gl
         raise ArgumentError("tol", f"must be a positive distance, got {tol!r}")
     rotations = {int(i): joint_rotation(clip, int(i), rot_tol_deg, method) for i in np.flatnonzero(clip.rotating)}
     translations = {int(i): joint_position(clip, int(i), tol, method) for i in np.flatnonzero(clip.translating)}
-    return ReducedClip(clip.skeleton, clip.channels, rotations, translations, clip.frame_time, len(clip.times),
-                       clip.unit_m)
+    return clip_tracks(clip, rotations, translations)
 
 
 def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "global") -> Reduction:

@@ -3,8 +3,9 @@ reduction.
 
 A marker is lost now and then (occluded, out of view): its samples there are NaN. A gap
 is never interpolated over: each gap-free run of a marker becomes a curve of its own
-(a *piece*), within a distance of every sample of the run, and the marker has no value
-in between. A run of one frame is a constant that holds at that frame only.
+(a :class:`MarkerPiece`), within a distance of every sample of the run, and the marker
+has no value in between. A run of one frame is a constant that holds at that frame only.
+Reduced markers are tracks addressed by path (``"LFHD.position"``), each its pieces.
 """
 
 from __future__ import annotations
@@ -16,9 +17,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
-from sketchanim.mocap.clip_reduction import FLOAT32, curve_bytes, position_budget
-from sketchanim.motion.skeleton import frame_time
 from sketchanim.errors import ArgumentError, InputError
+from sketchanim.float32 import position_budget
+from sketchanim.mocap.tracks import FLOAT32, curve_bytes, split_path, track_path
+from sketchanim.motion.skeleton import frame_time
 from sketchanim.reducer import reduce
 from sketchanim.reducer.result import load_versioned
 
@@ -72,7 +74,7 @@ class Markers:
 
 
 @dataclass(frozen=True)
-class Piece:
+class MarkerPiece:
     """One gap-free run of a marker as a curve.
 
     Attributes
@@ -95,6 +97,19 @@ class Piece:
 
 
 @dataclass(frozen=True)
+class MarkerTrack:
+    """A marker's position: ``path`` (``"LFHD.position"``) and its pieces in time
+    order (none for a marker never seen)."""
+
+    path: str
+    pieces: tuple[MarkerPiece, ...]
+
+    @property
+    def marker(self) -> str:
+        return split_path(self.path)[0]
+
+
+@dataclass(frozen=True)
 class MarkerReport:
     """One marker's pieces, control points, largest distance to its samples, and the
     frames it was not seen."""
@@ -108,13 +123,12 @@ class MarkerReport:
 
 @dataclass(frozen=True)
 class ReducedMarkers:
-    """Every marker's pieces.
+    """Every marker's track.
 
     Attributes
     ----------
-    names : tuple of str
-    pieces : tuple of tuple of Piece
-        Per marker, its pieces in time order (none for a marker never seen).
+    tracks : dict of str to MarkerTrack
+        By path, ``"marker.position"``, in the source's marker order.
     times : ndarray
         The source's frame times.
     tol : float
@@ -122,11 +136,15 @@ class ReducedMarkers:
     unit_m : float or None
     """
 
-    names: tuple[str, ...]
-    pieces: tuple[tuple[Piece, ...], ...]
+    tracks: dict[str, MarkerTrack]
     times: np.ndarray
     tol: float
     unit_m: float | None = None
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The markers, in the source's order."""
+        return tuple(t.marker for t in self.tracks.values())
 
     @property
     def frame_time(self) -> float:
@@ -145,8 +163,8 @@ class ReducedMarkers:
         """
         t = np.asarray(times, dtype=float).reshape(-1)
         out = np.full((len(t), len(self.names), 3), np.nan)
-        for m, pieces in enumerate(self.pieces):
-            for p in pieces:
+        for m, track in enumerate(self.tracks.values()):
+            for p in track.pieces:
                 inside = (t >= p.start) & (t <= p.end)
                 k = p.spline.k
                 out[inside, m] = p.spline(np.clip(t[inside], p.spline.t[k], p.spline.t[-k - 1]))
@@ -154,14 +172,14 @@ class ReducedMarkers:
 
     def reports(self) -> list[MarkerReport]:
         """Per marker: pieces, control points, largest distance, frames unseen."""
-        return [MarkerReport(name, len(pieces), sum(len(p.spline.c) for p in pieces),
-                             max((p.max_distance for p in pieces), default=0.0),
-                             len(self.times) - sum(p.frames for p in pieces))
-                for name, pieces in zip(self.names, self.pieces)]
+        return [MarkerReport(t.marker, len(t.pieces), sum(len(p.spline.c) for p in t.pieces),
+                             max((p.max_distance for p in t.pieces), default=0.0),
+                             len(self.times) - sum(p.frames for p in t.pieces))
+                for t in self.tracks.values()]
 
     def reduced_bytes(self) -> int:
         """Bytes to store every piece (:func:`~sketchanim.mocap.clip_reduction.curve_bytes`)."""
-        return sum(curve_bytes(p.spline) for pieces in self.pieces for p in pieces)
+        return sum(curve_bytes(p.spline) for t in self.tracks.values() for p in t.pieces)
 
     def raw_bytes(self) -> int:
         """Bytes of every marker's x, y, z at every frame as float32."""
@@ -176,10 +194,10 @@ class ReducedMarkers:
         doc = {
             "schema": SCHEMA, "version": VERSION, "tol": self.tol, "unit_m": self.unit_m,
             "times": self.times.tolist(),
-            "markers": {name: [{"start": p.start, "end": p.end, "frames": p.frames, "order": p.spline.k + 1,
+            "markers": {t.marker: [{"start": p.start, "end": p.end, "frames": p.frames, "order": p.spline.k + 1,
                                 "knots": np.asarray(p.spline.t).tolist(),
                                 "coefficients": np.asarray(p.spline.c).tolist(), "max_distance": p.max_distance}
-                               for p in pieces] for name, pieces in zip(self.names, self.pieces)},
+                               for p in t.pieces] for t in self.tracks.values()},
         }
         return json.dumps(doc, indent=1)
 
@@ -194,14 +212,13 @@ class ReducedMarkers:
         """
         doc = load_versioned(text, source, SCHEMA, VERSION)
         try:
-            names = tuple(str(n) for n in doc["markers"])
-            pieces = tuple(tuple(
-                Piece(float(p["start"]), float(p["end"]), int(p["frames"]),
-                      BSpline(np.asarray(p["knots"], dtype=float), np.asarray(p["coefficients"], dtype=float)
-                              .reshape(-1, 3), int(p["order"]) - 1), float(p["max_distance"]))
-                for p in doc["markers"][name]) for name in names)
+            tracks = {(path := track_path(str(name), "position")): MarkerTrack(path, tuple(
+                MarkerPiece(float(p["start"]), float(p["end"]), int(p["frames"]),
+                            BSpline(np.asarray(p["knots"], dtype=float), np.asarray(p["coefficients"], dtype=float)
+                                    .reshape(-1, 3), int(p["order"]) - 1), float(p["max_distance"]))
+                for p in pieces)) for name, pieces in doc["markers"].items()}
             unit = doc.get("unit_m")
-            return cls(names, pieces, np.asarray(doc["times"], dtype=float), float(doc["tol"]),
+            return cls(tracks, np.asarray(doc["times"], dtype=float), float(doc["tol"]),
                        None if unit is None else float(unit))
         except (KeyError, TypeError, ValueError, AttributeError) as err:
             raise InputError(f"{source}: malformed markers document ({type(err).__name__}: {err})") from None
@@ -223,20 +240,20 @@ def reduce_markers(markers: Markers, tol: float, *, method: str = "global") -> R
     if not np.isfinite(tol) or tol <= 0:
         raise ArgumentError("tol", f"must be a positive distance, got {tol!r}")
     step = markers.frame_time or 1.0
-    out = []
+    out = {}
     for m, name in enumerate(markers.names):
         pieces = []
         for a, b in markers.runs(m):
             t, x = markers.times[a:b], markers.positions[a:b, m]
             if b - a == 1:
-                pieces.append(Piece(float(t[0]), float(t[0]), 1, BSpline(np.r_[t[0], t[0] + step], x, 0), 0.0))
+                pieces.append(MarkerPiece(float(t[0]), float(t[0]), 1, BSpline(np.r_[t[0], t[0] + step], x, 0), 0.0))
                 continue
             try:
                 r = reduce(t, x, position_budget(t, x, tol) / np.sqrt(3.0), method=method)
             except InputError as err:
                 raise InputError(f"marker {name!r}, frames {a}..{b - 1}: {err}") from None
             distance = float(np.linalg.norm(r.spline(t) - x, axis=1).max())
-            pieces.append(Piece(float(t[0]), float(t[-1]), b - a, r.columns, distance))
-        out.append(tuple(pieces))
-    return ReducedMarkers(markers.names, tuple(out), np.asarray(markers.times, dtype=float), float(tol),
-                          markers.unit_m)
+            pieces.append(MarkerPiece(float(t[0]), float(t[-1]), b - a, r.columns, distance))
+        path = track_path(name, "position")
+        out[path] = MarkerTrack(path, tuple(pieces))
+    return ReducedMarkers(out, np.asarray(markers.times, dtype=float), float(tol), markers.unit_m)

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from sketchanim.mocap.clip_reduction import ReducedClip, joint_position, joint_rotation
-from sketchanim.motion.skeleton import Clip, world_pose
+from sketchanim.mocap.clip_reduction import ReducedClip, clip_tracks, joint_position, joint_rotation
+from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.skeleton import Clip
 from sketchanim.errors import ArgumentError
 
 #: Of the distance, what the translating joints' curves may use (shared among the moving
@@ -75,8 +76,7 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "gl
             if made.get(int(i)) != angle[i]:
                 rotations[int(i)] = joint_rotation(clip, int(i), float(np.degrees(angle[i])), method)
                 made[int(i)] = angle[i]
-        reduced = ReducedClip(sk, clip.channels, rotations, translations, clip.frame_time, len(clip.times),
-                              clip.unit_m)
+        reduced = clip_tracks(clip, rotations, translations)
         worst = reduced.world_errors(clip, shell, source=source).max(axis=0)
         over = np.flatnonzero(worst > tol)
         if not over.size:

@@ -5,7 +5,8 @@ Conventions: a joint's local transform is ``T(translation) R(rotation)``, applie
 its parent's (``world_j = world_parent * local_j``); rotations are scalar-last unit
 quaternions ``(x, y, z, w)`` as scipy's ``Rotation``; a joint without translation
 channels sits at its rest ``offset`` from its parent. Times in seconds; positions in the
-clip's own units (``Clip.unit_m`` metres each, where known).
+clip's own units (``Clip.unit_m`` metres each, where known). Forward kinematics is in
+:mod:`sketchanim.motion.kinematics`.
 """
 
 from __future__ import annotations
@@ -14,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError
+from sketchanim.motion.kinematics import world_pose
 
 #: Figure heights (metres) the unit guess accepts: a person standing, within reason.
 FIGURE_HEIGHT_M = (0.9, 2.6)
@@ -213,28 +214,3 @@ def frame_time(times: np.ndarray) -> float:
     0.5
     """
     return float(np.median(np.diff(times))) if len(times) > 1 else 0.0
-
-
-def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> tuple[list[Rotation], np.ndarray]:
-    """Forward kinematics: each joint's world rotation (a ``Rotation`` of n frames) and
-    world position (n, J, 3), from local rotations (n, J, 4, scalar-last) and
-    translations (n, J, 3).
-
-    >>> s = Skeleton(("a", "b"), (-1, 0), np.array([[0.0, 0, 0], [1.0, 0, 0]]))
-    >>> q = np.array([[[0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)], [0, 0, 0, 1.0]]])
-    >>> turns, positions = world_pose(s, q, np.array([[[0.0, 0, 0], [1.0, 0, 0]]]))
-    >>> positions[0, 1].round(12).tolist(), round(float(np.degrees(turns[1].magnitude()[0])), 6)
-    ([0.0, 1.0, 0.0], 90.0)
-    """
-    n, j = rotations.shape[:2]
-    world_rot: list[Rotation] = []
-    out = np.empty((n, j, 3))
-    for i, p in enumerate(skeleton.parents):
-        local = Rotation.from_quat(rotations[:, i])
-        if p < 0:
-            world_rot.append(local)
-            out[:, i] = translations[:, i]
-        else:
-            world_rot.append(world_rot[p] * local)
-            out[:, i] = out[:, p] + world_rot[p].apply(translations[:, i])
-    return world_rot, out

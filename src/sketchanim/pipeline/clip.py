@@ -10,7 +10,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from sketchanim.errors import InputError
-from sketchanim.formats.clip_files import read_clip, write_reduced
+from sketchanim.export.files import write_reduced
+from sketchanim.formats.clip_files import read_clip
 from sketchanim.mocap.clip_reduction import ReducedClip, reduce_clip
 from sketchanim.mocap.markers import Markers, ReducedMarkers, reduce_markers
 from sketchanim.mocap.world_reduction import reduce_clip_world

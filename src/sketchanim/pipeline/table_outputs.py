@@ -102,35 +102,14 @@ def _group_path(path: Path, table: SampleTable, part: list[int], k: int) -> Path
 def _write_glb(path: Path, result: TableReduction, rot_tol_deg: float) -> Written:
     """One animated node: the position and orientation curves, exactly (scene units as
     the file's; a clock far from zero moved to start at zero)."""
-    from scipy.interpolate import BSpline
-
-    from sketchanim.anim.attributes import ORIENTATION, POSITION
-    from sketchanim.anim.scene import Scene
-    from sketchanim.anim.tracks import ContinuousTrack
-    from sketchanim.formats.gltf_scene import scene_glb
+    from sketchanim.export.table_gltf import table_glb, table_tracks
 
     times = result.table.times
     origin = float(times[0]) if abs(float(times[-1])) >= GLB_CLOCK else 0.0
-    name = "path"
-    scene = Scene()
-    scene.add(name)
-    tracks = {}
-    if result.reductions:
-        s = result.reductions[0].columns
-        c = np.asarray(s.c)
-        if c.shape[1] == 2:
-            c = np.c_[c, np.zeros(len(c))]
-        tracks[f"{name}.position"] = ContinuousTrack(f"{name}.position", POSITION, BSpline(s.t - origin, c, s.k),
-                                                     float(np.max(result.reductions[0].tol)))
-    rotation = result.rotation
-    if rotation is not None:
-        s = rotation.columns
-        c = np.asarray(s.c)[:, [1, 2, 3, 0]] if rotation.report.get("scalar_first") else s.c   # glTF: x, y, z, w
-        tracks[f"{name}.orientation"] = ContinuousTrack(f"{name}.orientation", ORIENTATION,
-                                                        BSpline(s.t - origin, c, s.k), rot_tol_deg)
-    glb, _ = scene_glb(scene, tracks, name=path.stem)
-    write_atomic(path, glb)
-    return Written(path, f"one node, {', '.join(k.split('.')[1] for k in tracks)}; the file's units written as "
+    tracks = table_tracks(result.reductions[0] if result.reductions else None, result.rotation, rot_tol_deg,
+                          origin=origin)
+    write_atomic(path, table_glb(tracks, name=path.stem))
+    return Written(path, f"one node, {', '.join(t.path.split('.')[1] for t in tracks)}; the file's units written as "
                          f"metres" + (f"; times from the first sample, at {origin:.9g} s: glTF keeps float32 times"
                                       if origin else ""))
 

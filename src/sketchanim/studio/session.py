@@ -222,7 +222,7 @@ class Session:
     def export(self, name: str) -> Path:
         """Write the scene (``.glb``) or the project (``.json``) to ``name`` in the
         project's folder; a name that would leave the folder is refused."""
-        from sketchanim.formats.gltf_scene import scene_glb
+        from sketchanim.export.scene_gltf import scene_glb
 
         if os.sep in name or "/" in name or "\\" in name or name in (".", "..") or name.startswith("."):
             raise ArgumentError("file", f"{name!r}: a file name in the project's folder, not a path")

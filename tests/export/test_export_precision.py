@@ -15,7 +15,8 @@ from clips import clips, play32, samplers, validate
 from sketchanim.mocap.clip_reduction import reduce_clip
 from sketchanim.mocap.markers import Markers, reduce_markers
 from sketchanim.motion.skeleton import Clip, Skeleton
-from sketchanim.formats.clip_files import read_clip, write_reduced
+from sketchanim.export.files import write_reduced
+from sketchanim.formats.clip_files import read_clip
 from sketchanim.reducer.metric import rotation_angle
 
 TOL, ROT_TOL = 0.5, 0.5
@@ -95,8 +96,8 @@ def test_usd_keeps_rotations_float32_would_lose(tmp_path: Path) -> None:
 
 
 @pytest.mark.realdata
-def test_real_clips_play_within_tolerance_in_float32(data_dir: Path, tmp_path: Path) -> None:
-    for source in [*sorted((data_dir / "bvh").glob("*.bvh")), data_dir / "amc" / "cmu_11_01.amc"]:
+def test_real_clips_play_within_tolerance_in_float32(real_clips: list[Path], tmp_path: Path) -> None:
+    for source in real_clips:
         clip = read_clip(source)
         tol = 0.005 / clip.guess_unit_m()
         path = write_reduced(tmp_path / f"{source.stem}.glb", reduce_clip(clip, tol, 0.5))

@@ -1,5 +1,6 @@
 """A scene of the animation model as glTF: its objects, cameras and lights as nodes,
-their position, orientation and scale tracks as animation channels.
+their position, orientation and scale tracks as animation channels (written by
+:func:`~sketchanim.formats.gltf_tracks.tracks_glb`).
 
 Conventions (three.js's, which the studio draws with): scene units are metres, a camera
 looks down its local -Z with +Y up and ``fov`` is its vertical field of view in degrees;
@@ -14,7 +15,7 @@ values at the scene's current state are, where glTF has a place for them, and
 What a client plays is the written keys and key times in float32, computed in float32.
 For a track of one take (recorded in ``replace`` mode), :func:`written_curve` keeps that
 within the track's tolerance of every sample of the take: the curve may use only
-:func:`~sketchanim.mocap.clip_reduction.position_budget` (or ``rotation_budget``) of the
+:func:`~sketchanim.float32.position_budget` (or ``rotation_budget``) of the
 tolerance, float32's share left out, as clip exports do. A track whose curve already
 is within the budget is written as it is; one the recorder's streaming reducer ran closer
 to the tolerance is reduced again from its take, for the file only (the project keeps its
@@ -31,18 +32,16 @@ import numpy as np
 import pygltflib as gl
 from scipy.interpolate import BSpline
 
-from sketchanim.mocap.clip_reduction import position_budget, rotation_budget
 from sketchanim.anim.layers import reduce_samples
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track, held_values
 from sketchanim.errors import ArgumentError
-from sketchanim.formats.gltf import Channel, Node, glb_bytes, octahedron
-from sketchanim.formats.gltf_frames import FRAME_SHARE, KEYS, allowance, frame_channel, frame_times
+from sketchanim.float32 import position_budget, rotation_budget
+from sketchanim.formats.gltf import Node, octahedron
+from sketchanim.formats.gltf_frames import FRAME_SHARE, KEYS, allowance, frame_times
+from sketchanim.formats.gltf_tracks import GLTF_PATHS, CurvePiece, ExportTrack, tracks_glb
 from sketchanim.motion.rotations import unit_keys
 from sketchanim.reducer.metric import max_errors
-
-#: Attributes written as glTF channels, and their glTF paths.
-PATHS = {"position": "translation", "orientation": "rotation", "scale": "scale"}
 
 #: Of an orientation track's tolerance, what making its keys unit quaternions may use.
 KEY_SHARE = 0.1
@@ -167,8 +166,9 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
               rate: float | None = None) -> tuple[bytes, list[str]]:
     """The scene as a .glb: one node per object (its current position, orientation and
     scale at rest), a perspective camera for each camera, a spot light for each light,
-    and one animation of every position, orientation and scale track (its curve, written by :func:`written_curve` to play in float32 within the
-    tolerance of its take; or with ``keys="frames"``, LINEAR keys at
+    and one animation of every position, orientation and scale track
+    (:func:`export_track`: its curve, written by :func:`written_curve` to play in
+    float32 within the tolerance of its take; or with ``keys="frames"``, LINEAR keys at
     :func:`track_times`, dropping those within :func:`frame_allowance`). Also returns
     the paths of the tracks glTF cannot animate, which are left out.
 
@@ -201,18 +201,27 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
                 meshes.append(octahedron("object", OBJECT_RADIUS))
             node.mesh = 0
         nodes.append(node)
-    index = {n.name: i for i, n in enumerate(nodes)}
-    channels, left_out = [], []
+    names = {n.name for n in nodes}
+    written, left_out = [], []
     for path, track in sorted(tracks.items()):
         obj, attribute = path.split(".")
-        if not isinstance(track, ContinuousTrack) or attribute not in PATHS or obj not in index:
+        if not isinstance(track, ContinuousTrack) or attribute not in GLTF_PATHS or obj not in names:
             left_out.append(path)
             continue
-        if keys == "frames":
-            spline = written_curve(track)
-            channels.append(frame_channel(index[obj], PATHS[attribute], spline, track_times(track, rate),
-                                          frame_allowance(track, spline)))
-        else:
-            channels.append(Channel.curve(index[obj], PATHS[attribute], written_curve(track)))
-    return glb_bytes(nodes, channels, animation=name, meshes=meshes, cameras=cameras, lights=lights), left_out
+        written.append(export_track(track, rate))
+    return tracks_glb(nodes, written, name=name, keys=keys, meshes=meshes, cameras=cameras, lights=lights), left_out
 
+
+def export_track(track: ContinuousTrack, rate: float | None = None) -> ExportTrack:
+    """A position, orientation or scale track as the writer takes it: its
+    :func:`written_curve`, keyed with ``keys="frames"`` at :func:`track_times`,
+    dropping keys within :func:`frame_allowance`.
+
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 2, 3]]), 1)
+    >>> export_track(ContinuousTrack("a.position", POSITION, s, 0.005), 2).pieces[0].frames.tolist()
+    [0.0, 0.5, 1.0]
+    """
+    spline = written_curve(track)
+    return ExportTrack(track.path, (CurvePiece(track.start, track.end, spline, track_times(track, rate),
+                                               frame_allowance(track, spline)),))

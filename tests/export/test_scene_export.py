@@ -15,13 +15,13 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 from typer.testing import CliRunner
 
-from clips import play32, samplers, validate
+from clips import played, samplers, validate
 from sketchanim.anim.attributes import BOOL, COLOR, ORIENTATION, POSITION, SCALE, AttributeType
 from sketchanim.anim.layers import reduce_samples
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Take, Track
 from sketchanim.cli import app
-from sketchanim.formats.gltf_scene import scene_glb
+from sketchanim.export.scene_gltf import scene_glb
 from sketchanim.project.store import Project
 from sketchanim.formats.recordings import read_tum
 from sketchanim.reducer.metric import rotation_angle
@@ -44,15 +44,6 @@ def recorded(path: str, type: AttributeType, times: np.ndarray, values: np.ndarr
             off = values - curve
             values = curve + off * tol / np.maximum(np.abs(off).max(axis=0), 1e-300)
     return ContinuousTrack(path, type, spline, tol, (Take(times, values),))
-
-
-def played(path: Path, node: str, channel: str, times: np.ndarray) -> np.ndarray:
-    """A glTF channel played at ``times`` as a float32 viewer plays it (the spec's
-    Hermite rule in float32 on the float32 keys; rotations normalised)."""
-    kind, keys_t, keys = samplers(path)[(node, channel)]
-    assert kind == "CUBICSPLINE"
-    out = play32(keys_t, keys, times).astype(float)
-    return out / np.linalg.norm(out, axis=1, keepdims=True) if channel == "rotation" else out
 
 
 @st.composite

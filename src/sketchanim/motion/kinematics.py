@@ -1,0 +1,43 @@
+"""Kinematics of a :class:`~sketchanim.motion.skeleton.Skeleton`: where its joints are in
+the world for given local rotations and translations (forward kinematics; inverse
+kinematics, a pose from goals, joins it here).
+
+Conventions as :mod:`sketchanim.motion.skeleton`'s: ``world_j = world_parent * local_j``,
+a local transform ``T(translation) R(rotation)``, quaternions scalar-last.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+if TYPE_CHECKING:                       # the skeleton's clips use these kinematics
+    from sketchanim.motion.skeleton import Skeleton
+
+
+def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> tuple[list[Rotation], np.ndarray]:
+    """Forward kinematics: each joint's world rotation (a ``Rotation`` of n frames) and
+    world position (n, J, 3), from local rotations (n, J, 4, scalar-last) and
+    translations (n, J, 3).
+
+    >>> from sketchanim.motion.skeleton import Skeleton
+    >>> s = Skeleton(("a", "b"), (-1, 0), np.array([[0.0, 0, 0], [1.0, 0, 0]]))
+    >>> q = np.array([[[0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)], [0, 0, 0, 1.0]]])
+    >>> turns, positions = world_pose(s, q, np.array([[[0.0, 0, 0], [1.0, 0, 0]]]))
+    >>> positions[0, 1].round(12).tolist(), round(float(np.degrees(turns[1].magnitude()[0])), 6)
+    ([0.0, 1.0, 0.0], 90.0)
+    """
+    n, j = rotations.shape[:2]
+    world_rot: list[Rotation] = []
+    out = np.empty((n, j, 3))
+    for i, p in enumerate(skeleton.parents):
+        local = Rotation.from_quat(rotations[:, i])
+        if p < 0:
+            world_rot.append(local)
+            out[:, i] = translations[:, i]
+        else:
+            world_rot.append(world_rot[p] * local)
+            out[:, i] = out[:, p] + world_rot[p].apply(translations[:, i])
+    return world_rot, out
