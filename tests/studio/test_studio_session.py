@@ -301,4 +301,4 @@ def test_a_reducer_process_that_died_is_a_notice_for_every_page(session, monkeyp
                                 "text": "a reducer process died; reducing its attributes from the raw take"})]
     assert any("a reducer process died" in r.getMessage() for r in caplog.records)
     track = session.player.tracks["box.position"]
-    assert within(track, t, np.c_[t, 0.5 + 0 * t, 0 * t]) <= track.tol
+    assert track_within(track, t, np.c_[t, 0.5 + 0 * t, 0 * t])
