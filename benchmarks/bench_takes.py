@@ -15,9 +15,10 @@ turning the reports into a take's samples:
 * ``last event``: each frame's last report at its own time (a browser without coalesced
   events).
 
-With ``events`` and ``last event`` a frame with no new report, 25 ms or more after the
-last one, adds the resting pointer at the start of the rest (25 ms after that report) and
-at the frame's time, as the page does (``REST`` in ``Performer.js``). The
+With ``events`` and ``last event`` a frame with no new report, 1.5 of the pointer's
+median interval (at least 25 ms) after the last one, adds the resting pointer at the
+start of the rest and at the frame's time, as the page does (``restMs`` in
+``Performer.js``). The
 samples go through the recorder (:class:`sketchanim.anim.recorder.Recorder`, as the studio
 feeds it, one frame at a time) at the tolerance the page sends by default: 2 px at the
 grabbed point's depth (``DEFAULT_STEPS`` in ``resolution.js``), here 2 x 0.015 scene
@@ -109,7 +110,8 @@ def samples(drag: Drag, frames: np.ndarray, method: str) -> tuple[np.ndarray, np
         else:
             chosen = fresh if method == "events" else fresh[-1:]
             picked = [(drag.times[i], drag.points[i]) for i in chosen]
-            rest = drag.times[last] + REST_MS / 1000
+            paces = np.diff(drag.times[max(last - 16, 0): last + 1])
+            rest = drag.times[last] + max(REST_MS, 1500 * float(np.median(paces)) if len(paces) else 0) / 1000
             if not picked and now >= rest:          # at rest since its last report
                 picked = [(rest, drag.points[last]), (now, drag.points[last])]
         for t, p in picked:

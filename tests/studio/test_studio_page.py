@@ -154,7 +154,7 @@ def test_drag_in_record_mode_records_the_track_at_the_pointer_events_times(_page
     from_frames = np.isin(rest, frames)
     rest_starts = rest[~from_frames]
     last_move = moves[np.searchsorted(moves, rest_starts) - 1]
-    assert np.allclose(rest_starts - last_move, 25), "a sample neither an event's, a frame's nor a rest's start"
+    assert np.all(rest_starts - last_move >= 25 - 1e-9), "a sample neither an event's, a frame's nor a rest's start"
     assert np.isin(stamps, moves).sum() >= len(_sweep()) - 3, "the pointer's events are not the samples"
     # the box moved with the pointer: the track spans the drag
     rows = np.array(take["rows"])

@@ -235,3 +235,24 @@ test('a message field the protocol does not have is a type error (tsc, tests/stu
   assert.equal(c.sent.at(-1).type, 'set');
   assert.equal(s.notices.length, 1);
 });
+
+test("a pointer reporting slower than REST is not at rest between its events (1.5 of its own pace)", () => {
+  const { s, c } = studio();
+  const t0 = performance.now();
+  s.transport.setRecord(true);
+  s.performer.hold(['box.position'], 'move box');
+  for (let ms = 16; ms <= 400; ms += 16) {
+    if (ms % 48 === 0) {                                // an event every 48 ms, frames every 16 ms
+      s.setLocal('box.position', [ms / 1000, 0.5, 0]);
+      s.performer.mark(t0 + ms - 4);
+    }
+    s.frame(t0 + ms);
+  }
+  s.performer.release();
+  const values = c.of('take.samples').flatMap((m) => m.values.map((/** @type {number[]} */ r) => r[0]));
+  // once its pace is known (two events), only its events are samples: none held between them
+  const from = values.indexOf(0.096);
+  assert.deepEqual(values.slice(from), [96, 144, 192, 240, 288, 336, 384].map((ms) => ms / 1000));
+  // before the first event it was at rest: held samples of where it was
+  assert.ok(values.slice(0, values.indexOf(0.048)).every((v) => v === 0));
+});

@@ -8,8 +8,9 @@
  * A take pairs each value with the time it was true. A pointer's input marks every event
  * it moved the held values on (`mark`, with the event's own timeStamp: coalesced events
  * included): each mark is a sample at its event's transport time. A frame without a mark,
- * `REST` ms or more after the last, finds the pointer at rest: a sample at the start of
- * the rest and one at the frame's time. A device (a hold with a `drive`) moves the values
+ * `restMs` after the last (1.5 of the pointer's own intervals between events, at least
+ * `REST`), finds the pointer at rest: a sample at the start of the rest and one at the
+ * frame's time. A device (a hold with a `drive`) moves the values
  * on the frame: a sample at the frame's time. The take's tolerance per attribute is what
  * the input resolves there (the hold's `resolve`, resolution.js), or the animator's.
  */
@@ -21,8 +22,10 @@ import { TakeSampler } from './take.js';
 const GAP = 0.25;
 /** Seconds of fade at a punch-in's seams. */
 const BLEND = 0.1;
-/** Milliseconds without an event after which a pointer is at rest (one in motion reports at 60 Hz or more). */
+/** Milliseconds without an event after which a pointer is at rest, at least (one in motion reports at 60 Hz or more). */
 export const REST = 25;
+/** Events a hold keeps the intervals of (the pointer's own rate). */
+const PACE = 16;
 
 /**
  * @typedef {object} Grab   Something the performer holds.
@@ -37,6 +40,8 @@ export const REST = 25;
  * @property {(() => Record<string, import('./resolution.js').Resolution>) | null} resolve  what the input resolves, per path, now
  * @property {{stamp: number, row: number[]}[]} marks  the events that moved the held values since the last frame
  * @property {number} lastEvent  performance.now() of the last of them (the press, before any)
+ * @property {number[]} paces  ms between the hold's last events
+ * @property {number} events  events marked so far
  */
 
 export class Performer {
@@ -98,7 +103,7 @@ export class Performer {
   hold(paths, label, drive = null, resolve = null) {
     if (this.grab) this.release();
     this.grab = { paths, label, changed: drive !== null, dirty: false, recordable: true, take: null, loopKey: null, drive,
-      resolve, marks: [], lastEvent: performance.now() };
+      resolve, marks: [], lastEvent: performance.now(), paces: [], events: 0 };
     return this.grab;
   }
 
@@ -111,7 +116,21 @@ export class Performer {
     const grab = this.grab;
     if (!grab || grab.drive) return;
     grab.marks.push({ stamp, row: this.heldRow() });
+    if (stamp > grab.lastEvent && grab.events++ > 0) {
+      grab.paces.push(stamp - grab.lastEvent);
+      if (grab.paces.length > PACE) grab.paces.shift();
+    }
     grab.lastEvent = Math.max(grab.lastEvent, stamp);
+  }
+
+  /**
+   * Milliseconds without an event after which the held pointer is at rest: 1.5 of its
+   * median interval between events, at least `REST`.
+   * @param {Grab} grab
+   */
+  restMs(grab) {
+    const sorted = [...grab.paces].sort((a, b) => a - b);
+    return Math.max(REST, sorted.length ? 1.5 * sorted[sorted.length >> 1] : 0);
   }
 
   /**
@@ -199,8 +218,9 @@ export class Performer {
       return;
     }
     for (const m of grab.marks) take.add(at(m.stamp), m.row, m.stamp);
-    if (grab.marks.length || now - grab.lastEvent < REST) return;
-    const rest = grab.lastEvent + REST;
+    const wait = this.restMs(grab);
+    if (grab.marks.length || now - grab.lastEvent < wait) return;
+    const rest = grab.lastEvent + wait;
     if (take.stamps[take.stamps.length - 1] < rest) take.add(at(rest), this.heldRow(), rest);
     take.add(time, this.heldRow(), now);
   }
