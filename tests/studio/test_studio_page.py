@@ -285,12 +285,13 @@ def test_a_stalled_stretch_inside_a_take_is_a_gap(_page, studio: str) -> None:  
     take = last_take(page)
     times = np.array(take["times"])
     k = int(np.argmax(np.diff(times)))
-    assert times[k + 1] - times[k] > max(take["gap"], 1.4), "no stall in the take"
+    # the 1.5 s stall, less the start of the pointer's rest before it (1.5 of its pace after its last event)
+    assert times[k + 1] - times[k] > max(take["gap"], 1.3), "no stall in the take"
     doc = project(studio)
-    spline, _ = curve(doc, "box.position")
+    spline, entry = curve(doc, "box.position")
     rows = np.array(take["rows"])
     inside = np.linspace(times[k], times[k + 1], 50, endpoint=False)
-    assert np.abs(held(spline, inside) - rows[k]).max() <= 0.005, "the curve swings across the stall"
+    assert np.abs(held(spline, inside) - rows[k]).max() <= entry["tol"], "the curve swings across the stall"
     _check_within(take, doc, "box.position")
     assert drew_something(page) > 5 and not page.errors
 
