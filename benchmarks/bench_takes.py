@@ -181,7 +181,7 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=3, help="seeds per row (medians)")
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
-    console = Console()
+    console = Console(width=150)
     table = Table(title=f"A {args.seconds:g} s drag, pointer at {args.pointer_hz:g} Hz, tolerance {DEFAULT_PX:g} px "
                         f"({DEFAULT_PX * PIXEL:g} scene units); medians of {args.runs} runs; errors in px")
     for column in ("jitter px", "frames Hz", "samples from", "samples", "CP", "samples/CP", "max err", "err vs hand",
