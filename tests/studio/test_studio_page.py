@@ -450,7 +450,7 @@ def test_a_smooth_2_s_drag_gives_3_samples_per_control_point_at_the_default_tole
     assert drew_something(page) > 5 and not page.errors
 
 
-def test_the_inspector_sets_a_tolerance_the_project_keeps(_page, studio: str) -> None:  # noqa: ANN001
+def test_the_inspector_sets_a_tolerance_the_project_keeps(_page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001
     page = _page(studio)
     page.evaluate("studio.select('box')")
     field = page.locator("[data-testid='tol-box.position']")
@@ -465,6 +465,7 @@ def test_the_inspector_sets_a_tolerance_the_project_keeps(_page, studio: str) ->
     page.evaluate("studio.select('box')")
     assert page.locator("[data-testid='tol-box.position']").input_value() == "0.05"
     assert page.locator("[data-testid='tol-unit-box.position']").input_value() == "units"
+    page.locator("[data-testid=inspector]").screenshot(path=str(tmp_path / "inspector.png"))
     page.click("[data-testid=record]")
     take = _record_drag(page, "box", _sweep(30))
     assert page.evaluate("studio.takes.at(-1).sampler.tolerance['box.position'].tol") == 0.05
