@@ -49,6 +49,7 @@ test('a tolerance as the page shows it', () => {
   assert.equal(formatTolerance({ tol: 0.0300001, steps: 2 }, 'px'), 'tol 2 px = 0.03');
   assert.equal(formatTolerance({ tol: 2.29, steps: 1 }, 'step', '°'), 'tol 1 step = 2.3°');
   assert.equal(formatTolerance({ tol: 0.04, steps: 2.5 }, 'step'), 'tol 2.5 steps = 0.04');
+  assert.equal(formatTolerance({ tol: 0.05, steps: NaN }, ''), 'tol 0.05');
 });
 
 test("a stick's step over the speed it maps to", () => {

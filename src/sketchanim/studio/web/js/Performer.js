@@ -138,17 +138,18 @@ export class Performer {
    * now, in steps (`DEFAULT_STEPS`) or as the animator set it; a path the input gives no
    * resolution for is sent only with the animator's tolerance in its units.
    * @param {Grab} grab
-   * @returns {Record<string, {tol: number, steps: number, input: string}>}
+   * @returns {Record<string, import('./take.js').SentTolerance>}
    */
   tolerances(grab) {
     const resolved = grab.resolve ? grab.resolve() : {};
-    /** @type {Record<string, {tol: number, steps: number, input: string}>} */
+    /** @type {Record<string, import('./take.js').SentTolerance>} */
     const out = {};
     for (const path of grab.paths) {
       const setting = this.studio.tolerances.get(path);
       const res = resolved[path];
-      if (res && res.step > 0 && Number.isFinite(res.step)) out[path] = { ...takeTolerance(res, setting), input: res.input };
-      else if (setting?.unit === 'units') out[path] = { tol: setting.amount, steps: NaN, input: '' };
+      const unit = this.studio.types.get(path)?.unit === 'degrees' ? '°' : '';
+      if (res && res.step > 0 && Number.isFinite(res.step)) out[path] = { ...takeTolerance(res, setting), input: res.input, unit };
+      else if (setting?.unit === 'units') out[path] = { tol: setting.amount, steps: NaN, input: '', unit };
     }
     return out;
   }

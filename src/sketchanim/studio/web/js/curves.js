@@ -131,7 +131,7 @@ export class CurveView {
     g.fillText(lo.toFixed(3), 4, h - 16);
     const legend = [...names.slice(0, dim)].map((n, i) => `<b style="color:${CHANNELS[i]}">${n}</b>`).join(' ');
     const sent = trail?.sampler.tolerance[path];
-    const tol = sent && Number.isFinite(sent.steps) ? formatTolerance(sent, sent.input) : `tol ${curve ? Number(curve.tol.toPrecision(2)) : '?'}`;
+    const tol = sent ? formatTolerance(sent, sent.input, sent.unit) : `tol ${curve ? Number(curve.tol.toPrecision(2)) : '?'}`;
     const what = trail?.live ? `recording · ${samples.times.length} samples (dots) · ${pieces.length} reduced pieces (thick) · ${tol}`
       : curve ? `curve: ${curve.coef.length} control points for ${curve.takes.reduce((n, t) => n + t.n, 0)} samples in ${curve.takes.length} take${curve.takes.length === 1 ? '' : 's'} · ${sent && Math.abs(sent.tol - curve.tol) <= 1e-12 * curve.tol ? tol : `tol ${Number(curve.tol.toPrecision(2))}`}`
         : 'no track yet: record a take';

@@ -92,7 +92,7 @@ export function takeTolerance(resolution, setting) {
 }
 
 /**
- * A tolerance as the page shows it: "tol 2 px = 0.03".
+ * A tolerance as the page shows it: "tol 2 px = 0.03" ("tol 0.03" without steps: NaN).
  * @param {{tol: number, steps: number}} t
  * @param {string} input what a step is ('px', 'step')
  * @param {string} [unit] the attribute's unit ('°' for degrees)
@@ -102,5 +102,6 @@ export function takeTolerance(resolution, setting) {
 export function formatTolerance(t, input, unit = '') {
   const steps = Number(t.steps.toPrecision(2));
   const tol = Number(t.tol.toPrecision(2));
+  if (!Number.isFinite(steps)) return `tol ${tol}${unit}`;
   return `tol ${steps} ${input}${input === 'px' ? '' : steps === 1 ? '' : 's'} = ${tol}${unit}`;
 }

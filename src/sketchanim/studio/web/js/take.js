@@ -6,6 +6,14 @@
  * server in batches.
  */
 
+/**
+ * @typedef {object} SentTolerance  A take's tolerance for one attribute, as sent and shown.
+ * @property {number} tol    in the attribute's units
+ * @property {number} steps  in input steps (NaN: set in units, no input resolution)
+ * @property {string} input  what a step is ('px', 'step')
+ * @property {string} unit   the attribute's unit as shown ('°' for degrees)
+ */
+
 export class TakeSampler {
   /**
    * @param {string} id        the take's key on the wire
@@ -29,7 +37,7 @@ export class TakeSampler {
     this.dropped = 0;
     /** Real seconds without a frame that the server treats as a stall (set at the take's start). */
     this.gap = 0.25;
-    /** @type {Record<string, {tol: number, steps: number, input: string}>} the tolerance sent, by path (set at the take's start) */
+    /** @type {Record<string, SentTolerance>} the tolerance sent, by path (set at the take's start) */
     this.tolerance = {};
   }
 

@@ -104,7 +104,7 @@ export class TransportBar {
  */
 function tolerances(take) {
   return Object.entries(take.tolerance).map(([path, t]) => {
-    const unit = take.paths.length > 1 ? ` (${path.slice(path.indexOf('.') + 1)})` : '';
-    return ` · ${Number.isFinite(t.steps) ? formatTolerance(t, t.input) : `tol ${Number(t.tol.toPrecision(2))}`}${unit}`;
+    const which = take.paths.length > 1 ? ` (${path.slice(path.indexOf('.') + 1)})` : '';
+    return ` · ${formatTolerance(t, t.input, t.unit)}${which}`;
   }).join('');
 }
