@@ -408,7 +408,8 @@ def test_a_reducer_process_killed_mid_take_shows_a_warning_notice_and_the_take_l
     assert "reducer process" in path.with_name(path.name + ".log").read_text(), "the warning is not in the server's log"
 
 
-def test_a_smooth_2_s_drag_gives_3_samples_per_control_point_at_the_default_tolerance(_page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001, E501
+def test_a_smooth_2_s_drag_gives_3_samples_per_control_point_at_the_default_tolerance(
+        _page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001
     """A smooth scripted 2 s pointer drag in record mode: the page sends 2 px at the grabbed
     point's depth as the take's tolerance (and shows it), the curve keeps every sample
     within it, with at least 3 samples per control point."""

@@ -38,7 +38,8 @@ def _script(draw: st.DrawFn) -> dict:
 
 @settings(max_examples=25, deadline=None)
 @given(script=_script())
-def test_every_sample_is_an_events_value_at_its_time_or_the_pointer_at_rest(script: dict, tmp_path_factory) -> None:  # noqa: ANN001
+def test_every_sample_is_an_events_value_at_its_time_or_the_pointer_at_rest(script: dict,
+                                                                           tmp_path_factory) -> None:  # noqa: ANN001
     path = tmp_path_factory.mktemp("perform") / "script.json"
     path.write_text(json.dumps(script))
     run = subprocess.run([NODE, str(ROOT / "tests/studio/js/perform_events.mjs"), str(path)], capture_output=True,
