@@ -129,18 +129,33 @@ def _check_within(take: dict, doc: dict, path: str, below=None) -> np.ndarray:  
     return times
 
 
-def test_drag_in_record_mode_records_the_track_at_the_pages_frame_rate(_page, studio: str) -> None:  # noqa: ANN001
-    page = _page(studio)
+#: Records every pointermove's timeStamp (coalesced events included) before the page's own listeners.
+RECORD_MOVES = """window.pointerMoves = [];
+window.addEventListener('pointermove', (e) => {
+  const all = e.getCoalescedEvents ? e.getCoalescedEvents() : [];
+  for (const c of all.length ? all : [e]) window.pointerMoves.push(c.timeStamp);
+}, true);"""
+
+
+def test_drag_in_record_mode_records_the_track_at_the_pointer_events_times(_page, studio: str) -> None:  # noqa: ANN001
+    page = _page(studio, RECORD_MOVES)
     page.click("[data-testid=record]")
     take = _record_drag(page, "box", _sweep())
     assert take["paths"] == ["box.position"] and take["label"]
     times = _check_within(take, project(studio), "box.position")
-    # timed by the browser's clock: transport time follows performance.now() of each frame
+    # timed by the browser's clock: transport time follows the clock (performance.now()) of each sample
     stamps = np.array(take["stamps"])
     assert np.allclose(times - times[0], (stamps - stamps[0]) / 1000, atol=1e-9)
-    # at the page's frame rate: one sample on every animation frame of the take
+    assert np.all(np.diff(times) > 0)
+    # each sample is a pointer event at its own time, or the pointer at rest on a frame (or at its start)
+    moves = np.array(page.evaluate("window.pointerMoves"))
     frames = np.array(page.evaluate("studioStats.stamps"))
-    assert np.array_equal(frames[(frames >= stamps[0]) & (frames <= stamps[-1])], stamps)
+    rest = stamps[~np.isin(stamps, moves)]
+    from_frames = np.isin(rest, frames)
+    rest_starts = rest[~from_frames]
+    last_move = moves[np.searchsorted(moves, rest_starts) - 1]
+    assert np.all(rest_starts - last_move >= 25 - 1e-9), "a sample neither an event's, a frame's nor a rest's start"
+    assert np.isin(stamps, moves).sum() >= len(_sweep()) - 3, "the pointer's events are not the samples"
     # the box moved with the pointer: the track spans the drag
     rows = np.array(take["rows"])
     assert np.linalg.norm(rows[-1] - rows[0]) > 0.5
@@ -270,12 +285,13 @@ def test_a_stalled_stretch_inside_a_take_is_a_gap(_page, studio: str) -> None:  
     take = last_take(page)
     times = np.array(take["times"])
     k = int(np.argmax(np.diff(times)))
-    assert times[k + 1] - times[k] > max(take["gap"], 1.4), "no stall in the take"
+    # the 1.5 s stall, less the start of the pointer's rest before it (1.5 of its pace after its last event)
+    assert times[k + 1] - times[k] > max(take["gap"], 1.3), "no stall in the take"
     doc = project(studio)
-    spline, _ = curve(doc, "box.position")
+    spline, entry = curve(doc, "box.position")
     rows = np.array(take["rows"])
     inside = np.linspace(times[k], times[k + 1], 50, endpoint=False)
-    assert np.abs(held(spline, inside) - rows[k]).max() <= 0.005, "the curve swings across the stall"
+    assert np.abs(held(spline, inside) - rows[k]).max() <= entry["tol"], "the curve swings across the stall"
     _check_within(take, doc, "box.position")
     assert drew_something(page) > 5 and not page.errors
 
@@ -390,3 +406,70 @@ def test_a_reducer_process_killed_mid_take_shows_a_warning_notice_and_the_take_l
         assert curve(doc, "box.position") is not None, "the take was not laid on its track"
         assert drew_something(page) > 5
     assert "reducer process" in path.with_name(path.name + ".log").read_text(), "the warning is not in the server's log"
+
+
+def test_a_smooth_2_s_drag_gives_3_samples_per_control_point_at_the_default_tolerance(
+        _page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001
+    """A smooth scripted 2 s pointer drag in record mode: the page sends 2 px at the grabbed
+    point's depth as the take's tolerance (and shows it), the curve keeps every sample
+    within it, with at least 3 samples per control point."""
+    page = _page(studio)
+    page.click("[data-testid=record]")
+    page.wait_for_timeout(100)
+    start = page.evaluate("viewport.screenOf('box')")
+    # a pixel at the grabbed point's depth (the drag's plane faces the view through it), from the view
+    pixel_now = """() => { const c = viewport.camera; const depth = -viewport.drag.plane.distanceToPoint(c.position);
+        return 2 * depth * Math.tan(c.fov * Math.PI / 360) / viewport.renderer.domElement.clientHeight; }"""
+    u = np.linspace(0, 1, 121)
+    offsets = list(zip(260 * _smoothstep(u), -70 * np.sin(np.pi * u)))
+    page.mouse.move(start["x"], start["y"])
+    page.mouse.down()
+    status = ""
+    for i, (dx, dy) in enumerate(offsets):
+        page.wait_for_timeout(16)
+        page.mouse.move(start["x"] + dx, start["y"] + dy)
+        if i == 60:
+            pixel = page.evaluate(pixel_now)
+            status = page.locator("[data-testid=take-status]").inner_text()
+            page.locator("[data-testid=transport]").screenshot(path=str(tmp_path / "take-status.png"))
+    page.wait_for_timeout(16)
+    page.mouse.up()
+    take = last_take(page)
+    sent = page.evaluate("studio.takes.at(-1).sampler.tolerance['box.position']")
+    assert sent["steps"] == 2 and sent["input"] == "px"
+    assert abs(sent["tol"] - 2 * pixel) <= 1e-9 * pixel, (sent, pixel)
+    shown = float(format(sent["tol"], ".2g"))
+    assert f"tol 2 px = {shown:g}" in status, status
+    doc = project(studio)
+    _, entry = curve(doc, "box.position")
+    assert entry["tol"] == sent["tol"], "the track is not kept within the tolerance the page sent"
+    times = _check_within(take, doc, "box.position")
+    n = len(times)
+    assert n >= 100, f"{n} samples for a 2 s drag"
+    assert n / len(entry["coef"]) >= 3, f"{n} samples, {len(entry['coef'])} control points"
+    assert "tol 2 px" in page.locator(".curve-title").inner_text()
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_the_inspector_sets_a_tolerance_the_project_keeps(_page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001
+    page = _page(studio)
+    page.evaluate("studio.select('box')")
+    field = page.locator("[data-testid='tol-box.position']")
+    field.fill("0.05")
+    page.select_option("[data-testid='tol-unit-box.position']", "units")
+    field.press("Tab")
+    page.wait_for_function("() => studio.tolerances.get('box.position')?.unit === 'units'")
+    page.wait_for_timeout(800)                      # the server saves soon after
+    assert project(studio)["tolerances"] == {"box.position": {"amount": 0.05, "unit": "units"}}
+    page.reload()
+    page.wait_for_selector("body[data-ready=true]", timeout=60_000)
+    page.evaluate("studio.select('box')")
+    assert page.locator("[data-testid='tol-box.position']").input_value() == "0.05"
+    assert page.locator("[data-testid='tol-unit-box.position']").input_value() == "units"
+    page.locator("[data-testid=inspector]").screenshot(path=str(tmp_path / "inspector.png"))
+    page.click("[data-testid=record]")
+    take = _record_drag(page, "box", _sweep(30))
+    assert page.evaluate("studio.takes.at(-1).sampler.tolerance['box.position'].tol") == 0.05
+    _, entry = curve(project(studio), "box.position")
+    assert entry["tol"] == 0.05 and take["label"]
+    assert drew_something(page) > 5 and not page.errors

@@ -1,6 +1,6 @@
-"""The project document: the scene and its tracks as versioned JSON, validated with
-pydantic when loaded (a take's samples live in the ``takes`` table, referred to by
-index).
+"""The project document: the scene, its tracks and the animator's take tolerances as
+versioned JSON, validated with pydantic when loaded (a take's samples live in the
+``takes`` table, referred to by index).
 """
 
 from __future__ import annotations
@@ -67,15 +67,27 @@ class StepsDoc(_Doc):
     values: list[bool | str | None] = _Items
 
 
+class ToleranceDoc(_Doc):
+    """The tolerance the animator set for an attribute's takes: ``amount`` steps of the
+    input that performs it (``px``: pixels for a pointer), or ``amount`` in the
+    attribute's units (``units``)."""
+
+    amount: _Number = Field(gt=0)
+    unit: Literal["px", "units"]
+
+
 class ProjectDoc(_Doc):
     """The scene and its tracks (a take's samples live in the ``takes`` table and are
-    referenced by id)."""
+    referenced by id), and the take tolerances by attribute path (none in a document
+    from before them)."""
 
     format: Literal["sketchanim-project"] = FORMAT
     version: Literal[1] = FORMAT_VERSION
     objects: list[ObjectDoc] = Field(max_length=100_000)
     curves: list[CurveDoc] = Field(max_length=100_000)
     steps: list[StepsDoc] = Field(max_length=100_000)
+    tolerances: dict[Annotated[str, Field(max_length=200)], ToleranceDoc] = Field(default_factory=dict,
+                                                                                  max_length=100_000)
 
 
 def load_document(text: str, source: str) -> ProjectDoc:
@@ -88,8 +100,17 @@ def load_document(text: str, source: str) -> ProjectDoc:
         raise FileFormatError(source, f"{where}: {first['msg']} ({err.error_count()} problems)") from None
 
 
-def to_document(scene: Scene, tracks: dict[str, Track]) -> tuple[ProjectDoc, list[Take]]:
-    """The document of a scene and its tracks, and the takes it refers to by index."""
+def to_document(scene: Scene, tracks: dict[str, Track],
+                tolerances: dict[str, ToleranceDoc] | None = None) -> tuple[ProjectDoc, list[Take]]:
+    """The document of a scene, its tracks and take tolerances (those of attributes the
+    scene holds), and the takes it refers to by index.
+
+    >>> scene = Scene(); _ = scene.add("box")
+    >>> doc, _ = to_document(scene, {}, {"box.position": ToleranceDoc(amount=2, unit="px"),
+    ...                                  "gone.position": ToleranceDoc(amount=1, unit="px")})
+    >>> doc.tolerances
+    {'box.position': ToleranceDoc(amount=2.0, unit='px')}
+    """
     takes: list[Take] = []
     index: dict[int, int] = {}
     objects = [ObjectDoc(name=o.name, kind=o.kind, attributes=[
@@ -110,7 +131,25 @@ def to_document(scene: Scene, tracks: dict[str, Track]) -> tuple[ProjectDoc, lis
         curves.append(CurveDoc(path=track.path, tol=track.tol, order=track.spline.k + 1,
                                knots=np.asarray(track.spline.t).tolist(), coef=np.asarray(track.spline.c).tolist(),
                                takes=ids))
-    return ProjectDoc(objects=objects, curves=curves, steps=steps), takes
+    kept = {path: t for path, t in (tolerances or {}).items() if _holds(scene, path)}
+    return ProjectDoc(objects=objects, curves=curves, steps=steps, tolerances=kept), takes
+
+
+def _holds(scene: Scene, path: str) -> bool:
+    """Whether ``scene`` has a continuous attribute at ``path``."""
+    try:
+        return scene.type(path).continuous
+    except InputError:
+        return False
+
+
+def document_tolerances(doc: ProjectDoc, scene: Scene, source: str) -> dict[str, ToleranceDoc]:
+    """The take tolerances of a validated document of ``scene``; :class:`FileFormatError`
+    naming one for an attribute the scene does not have (or that is not performed)."""
+    for path in doc.tolerances:
+        if not _holds(scene, path):
+            raise FileFormatError(source, f"tolerances.{path}: no continuous attribute {path!r} in the scene")
+    return dict(doc.tolerances)
 
 
 def from_document(doc: ProjectDoc, takes: dict[int, Take], source: str) -> tuple[Scene, dict[str, Track]]:

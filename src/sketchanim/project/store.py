@@ -28,7 +28,8 @@ from sketchanim.errors import FileFormatError, InputError, load_json
 from sketchanim.project.checksums import CHECKSUMS, document_digest, take_digest
 from sketchanim.project.database import (COLUMNS, CREATE_TABLES, FORMAT, FORMAT_VERSION, MAX_TAKE_SAMPLES, connect,
                                          floats, reading, use_wal, writable)
-from sketchanim.project.document import MAX_DOCUMENT_BYTES, from_document, load_document, to_document
+from sketchanim.project.document import (MAX_DOCUMENT_BYTES, ToleranceDoc, document_tolerances, from_document,
+                                         load_document, to_document)
 from sketchanim.project.journal import Journal, journaled_take
 
 
@@ -150,15 +151,16 @@ class Project:
 
     # -- documents --------------------------------------------------------------------------
 
-    def save(self, scene: Scene, tracks: dict[str, Track]) -> None:
-        """Store the scene and the tracks (with their takes) in one transaction; the
+    def save(self, scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None) -> None:
+        """Store the scene, the tracks (with their takes) and the take tolerances (those
+        of attributes the scene holds) in one transaction; the
         journal of a take now stored is cleared with it; the checksums with them (an
         older project gets them here). A project opened read-only, or whose tables
         cannot be written, raises :class:`FileFormatError` and is left as it was."""
         source = str(self.path)
         if self.read_only:
             raise FileFormatError(source, "opened read-only: cannot save (export it, or save to a writable copy)")
-        doc, takes = to_document(scene, tracks)
+        doc, takes = to_document(scene, tracks, tolerances)
         body = doc.model_dump_json()
         rows = [(i, t.mode, float(t.blend), t.values.shape[1], len(t.times), np.asarray(t.times, "<f8").tobytes(),
                  np.asarray(t.values, "<f8").tobytes()) for i, t in enumerate(takes)]
@@ -186,6 +188,26 @@ class Project:
         if body is None:
             return Scene(), {}
         return from_document(load_document(body, source), takes, source)
+
+    def tolerances(self, scene: Scene) -> dict[str, ToleranceDoc]:
+        """The take tolerances last saved, by path (none in a new project), checked
+        against ``scene`` (what :meth:`load` gave, which checked the document's
+        checksum): :class:`FileFormatError` naming one for an attribute the scene does
+        not have.
+
+        >>> import tempfile
+        >>> path = Path(tempfile.mkdtemp()) / "tol.sketchanim"
+        >>> scene = Scene(); _ = scene.add("box")
+        >>> with Project(path) as project:
+        ...     project.save(scene, {}, {"box.position": ToleranceDoc(amount=0.01, unit="units")})
+        >>> with Project(path) as project:
+        ...     project.tolerances(project.load()[0])
+        {'box.position': ToleranceDoc(amount=0.01, unit='units')}
+        """
+        source = str(self.path)
+        with reading(source, "unreadable"):
+            row = self.db.execute("SELECT body FROM documents WHERE name = 'project'").fetchone()
+        return {} if row is None else document_tolerances(load_document(row[0], source), scene, source)
 
     def salvage(self) -> Salvaged:
         """Everything undamaged in the project: the scene and its tracks if the document
@@ -248,7 +270,7 @@ class Project:
     def export_json(self, path: str | os.PathLike[str]) -> Path:
         """Write the project, takes included, as one JSON file (atomically)."""
         scene, tracks = self.load()
-        doc, takes = to_document(scene, tracks)
+        doc, takes = to_document(scene, tracks, self.tolerances(scene))
         body = json.loads(doc.model_dump_json())
         body["takes"] = [{"mode": t.mode, "blend": t.blend, "times": t.times.tolist(), "values": t.values.tolist()}
                          for t in takes]
@@ -270,8 +292,9 @@ class Project:
                              t["mode"], float(t["blend"])) for i, t in enumerate(raw)}
         except (json.JSONDecodeError, AttributeError, KeyError, TypeError, ValueError) as err:
             raise FileFormatError(source, f"not a project export ({type(err).__name__}: {err})") from None
-        scene, tracks = from_document(load_document(json.dumps(body), source), takes, source)
-        self.save(scene, tracks)
+        doc = load_document(json.dumps(body), source)
+        scene, tracks = from_document(doc, takes, source)
+        self.save(scene, tracks, document_tolerances(doc, scene, source))
 
     # -- the journal -------------------------------------------------------------------------
 

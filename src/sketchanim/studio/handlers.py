@@ -35,6 +35,7 @@ HANDLERS: dict[str, Handler] = {
     "undo": lambda s, m, client: s.undo(),
     "redo": lambda s, m, client: s.redo(),
     "transport": lambda s, m, client: s.set_transport(m),
+    "tolerance.set": lambda s, m, client: s.set_tolerance(m.path, m.amount, m.unit),
     "export": lambda s, m, client: [("self", p.wire(p.Exported(file=s.export(m.file).name)))],
 }
 

@@ -138,6 +138,17 @@ class Transport(_Message):
     loop: tuple[Number, Number] | None = None
 
 
+class ToleranceSet(_Message):
+    """The tolerance takes of ``path`` are recorded within, kept by the project (not a
+    History step): ``amount`` input steps (``unit`` px: pixels for a pointer) or the
+    attribute's units; ``amount`` None: what the input resolves."""
+
+    type: Literal["tolerance.set"]
+    path: AttributePath
+    amount: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+    unit: Literal["px", "units"] = "px"
+
+
 class Export(_Message):
     """Write the scene (.glb) or the project (.json) into the project's folder."""
 
@@ -147,7 +158,7 @@ class Export(_Message):
 
 Message = Annotated[
     Ping | StateRequest | Set | Preview | ObjectAdd | ObjectRemove | ObjectRename | TakeBegin | TakeSamples
-    | TakeEnd | TakeCancel | Undo | Redo | Transport | Export,
+    | TakeEnd | TakeCancel | Undo | Redo | Transport | Export | ToleranceSet,
     Field(discriminator="type"),
 ]
 _ADAPTER: TypeAdapter[Message] = TypeAdapter(Message)
@@ -238,6 +249,21 @@ class TakeInfo(_Outbound):
     layout: list[tuple[str, int, int]]
 
 
+class ToleranceInfo(_Outbound):
+    """The animator's tolerance for an attribute's takes: ``amount`` input steps (px) or
+    the attribute's units."""
+
+    amount: float
+    unit: Literal["px", "units"]
+
+
+class Tolerances(_Outbound):
+    """The animator's take tolerances changed: all of them, by path."""
+
+    type: Literal["tolerances"] = "tolerances"
+    tolerances: dict[str, ToleranceInfo]
+
+
 class HistoryInfo(_Outbound):
     """The labels of the steps to undo (oldest first) and to redo (the next redo last)."""
 
@@ -261,6 +287,7 @@ class State(_Outbound):
     history: HistoryInfo
     transport: TransportInfo
     take: TakeInfo | None
+    tolerances: dict[str, ToleranceInfo]
 
 
 class Values(_Outbound):
@@ -365,12 +392,13 @@ class Notice(_Outbound):
 
 
 ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece | TakeEnded | Pong | Ack | Error
-                 | Ready | Exported | Notice | Preview | Transport)
+                 | Ready | Exported | Notice | Preview | Transport | Tolerances)
 #: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
 MESSAGES: tuple[type[BaseModel], ...] = (
     Ping, StateRequest, Set, Preview, ObjectAdd, ObjectRemove, ObjectRename, TakeBegin, TakeSamples, TakeEnd,
-    TakeCancel, Undo, Redo, Transport, Export,
-    State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice)
+    TakeCancel, Undo, Redo, Transport, Export, ToleranceSet,
+    State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice,
+    Tolerances)
 
 
 #: Who gets a message: every page, every page but the sender's, or the sender's alone.

@@ -25,6 +25,7 @@ from sketchanim.anim.scene import Scene
 from sketchanim.anim.workers import shared_pool
 from sketchanim.atomic import write_atomic
 from sketchanim.errors import ArgumentError
+from sketchanim.project.document import ToleranceDoc
 from sketchanim.project.lock import ProjectLock
 from sketchanim.project.recovery import forget_take, note_take, recovered_tracks
 from sketchanim.project.store import Project
@@ -69,6 +70,8 @@ class Session:
             self.lock.release()
             raise
         scene, tracks = self.project.load()
+        #: The animator's take tolerances by path (the project keeps them; not History).
+        self.tolerances: dict[str, ToleranceDoc] = self.project.tolerances(scene)
         fresh = not scene.objects
         self.editor = Editor(default_scene() if fresh else scene, tracks.values())
         self.takes = TakeRecorder(self.editor, self.project.journal)
@@ -114,7 +117,11 @@ class Session:
         return p.wire(p.State(ready=self.ready, project=self.path.name, objects=objects_info(self.scene),
                               tracks=[track_info(t) for t in self.player.tracks.values()], span=self.player.span,
                               history=history_info(self.history), transport=self.transport,
-                              take=None if take is None else take.info(self.editor)))
+                              take=None if take is None else take.info(self.editor),
+                              tolerances=self._tolerance_info()))
+
+    def _tolerance_info(self) -> dict[str, p.ToleranceInfo]:
+        return {path: p.ToleranceInfo(amount=t.amount, unit=t.unit) for path, t in self.tolerances.items()}
 
     def _told(self) -> list[p.Out]:
         """The messages for what changed since the last call: the whole state if objects
@@ -158,6 +165,8 @@ class Session:
         """Rename an object, its tracks with it, as one step."""
         self.takes.refuse_while_recording("object.rename")
         self.editor.rename_object(name, to)
+        self.tolerances = {(f"{to}.{path.split('.', 1)[1]}" if path.split(".", 1)[0] == name else path): t
+                           for path, t in self.tolerances.items()}
         return self._told()
 
     def undo(self) -> list[p.Out]:
@@ -173,6 +182,34 @@ class Session:
         self.transport = p.TransportInfo(time=message.time, playing=message.playing, speed=message.speed,
                                          loop=message.loop)
         return [("others", p.relay(message))]
+
+    def set_tolerance(self, path: str, amount: float | None, unit: str) -> list[p.Out]:
+        """The tolerance takes of ``path`` are recorded within: ``amount`` (> 0, finite)
+        input steps (``px``) or units of the attribute (``units``); None: what the input
+        resolves. Kept by the project, not a History step (a recording setting, like the
+        layer mode: undo stays with what the animator made). Every page gets them all.
+
+        >>> import tempfile
+        >>> session = Session(Path(tempfile.mkdtemp()) / "tol.sketchanim")
+        >>> session.set_tolerance("box.position", 3, "px")[0][1]["tolerances"]
+        {'box.position': {'amount': 3.0, 'unit': 'px'}}
+        >>> session.set_tolerance("box.shape", 3, "px")
+        Traceback (most recent call last):
+        ...
+        sketchanim.errors.ArgumentError: path: box.shape: a enum attribute is set, not performed
+        >>> session.close()
+        """
+        kind = self.scene.type(path)
+        if not kind.continuous:
+            raise ArgumentError("path", f"{path}: a {kind.name} attribute is set, not performed")
+        if amount is None:
+            self.tolerances.pop(path, None)
+        else:
+            if not (np.isfinite(amount) and amount > 0):
+                raise ArgumentError("amount", f"{path}: a tolerance must be > 0 and finite, got {amount!r}")
+            self.tolerances[path] = ToleranceDoc(amount=amount, unit=unit)
+        self.editor.dirty = True
+        return [("all", p.wire(p.Tolerances(tolerances=self._tolerance_info())))]
 
     # -- takes -----------------------------------------------------------------------------
 
@@ -207,7 +244,7 @@ class Session:
         """Save the project if anything changed (not while a take runs: saving clears
         the journal the take is streaming into)."""
         if self.editor.dirty and self.takes.take is None:
-            self.project.save(self.scene, dict(self.player.tracks))
+            self.project.save(self.scene, dict(self.player.tracks), self.tolerances)
             forget_take(self.path)
             self.editor.dirty = False
 

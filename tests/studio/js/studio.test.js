@@ -31,22 +31,26 @@ const POSITION = { name: 'position', dim: 3, tol: 0.005, unit: 'scene units', de
 function studio() {
   const c = new FakeConnection();
   const s = new Studio(c);
-  c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null,
+  c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null, tolerances: {},
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
     transport: { time: 0, playing: false, speed: 1, loop: null },
     objects: [{ name: 'box', kind: 'object', attributes: [{ name: 'position', value: [0, 0.5, 0], type: POSITION }] }] });
   return { s, c };
 }
 
-/** Run frames every 16 ms from `from` to `to` (ms after `t0`), moving the box along x. */
+/** Run frames every 16 ms from `from` to `to` (ms after `t0`), moving the box along x on a
+ * pointer event 4 ms before each frame. */
 function frames(/** @type {Studio} */ s, /** @type {number} */ t0, /** @type {number} */ from, /** @type {number} */ to) {
   for (let ms = from; ms <= to; ms += 16) {
-    if (s.performer.grab) s.setLocal('box.position', [ms / 1000, 0.5, 0]);
+    if (s.performer.grab) {
+      s.setLocal('box.position', [ms / 1000, 0.5, 0]);
+      s.performer.mark(t0 + ms - 4);
+    }
     s.frame(t0 + ms);
   }
 }
 
-test('a hold in record mode is a take: one sample a frame, stamped with transport time, sent in batches', () => {
+test("a hold in record mode is a take: each event's values at the event's transport time, sent in batches", () => {
   const { s, c } = studio();
   const t0 = performance.now();
   s.transport.setRecord(true);
@@ -56,10 +60,48 @@ test('a hold in record mode is a take: one sample a frame, stamped with transpor
   const [begin] = c.of('take.begin');
   assert.deepEqual(begin.paths, ['box.position']);
   const t = c.of('take.samples').flatMap((m) => m.t);
+  const x = c.of('take.samples').flatMap((m) => m.values.map((/** @type {number[]} */ r) => r[0]));
   assert.equal(t.length, 25);
+  assert.ok(Math.abs(t[0] - (begin.time - 0.004)) < 1e-9, "the first event is 4 ms before the take's first frame");
   assert.ok(c.of('take.samples').length < 25, 'not one message per sample');
   t.slice(1).forEach((ti, i) => assert.ok(Math.abs(ti - t[i] - 0.016) < 1e-9));
+  // each value at the time it was true: the box is at x = (frame ms) / 1000 from 4 ms before that frame
+  x.forEach((xi, i) => assert.ok(Math.abs(xi - (t[i] - t[0] + 0.016)) < 1e-9));
   assert.equal(c.sent.at(-1).type, 'take.end');
+});
+
+test('a pointer at rest: the start of the rest and every frame after it are samples of the held values', () => {
+  const { s, c } = studio();
+  const t0 = performance.now();
+  s.transport.setRecord(true);
+  s.performer.hold(['box.position'], 'move box');
+  frames(s, t0, 16, 96);                               // 6 events, the last at 92 ms
+  for (let ms = 112; ms <= 208; ms += 16) s.frame(t0 + ms);   // still: frames at 112 (20 ms after), 128, ...
+  s.performer.release();
+  const t = c.of('take.samples').flatMap((m) => m.t);
+  const x = c.of('take.samples').flatMap((m) => m.values.map((/** @type {number[]} */ r) => r[0]));
+  const first = t[0];
+  const rest = t.slice(6).map((ti) => Math.round((ti - first) * 1000));
+  // 112 ms is 20 ms after the last event (not yet at rest); 128 ms: rest from 92 + 25 = 117 ms, then each frame
+  assert.deepEqual(rest, [117 - 12, 128 - 12, 144 - 12, 160 - 12, 176 - 12, 192 - 12, 208 - 12]);
+  assert.ok(x.slice(6).every((v) => v === 0.096));
+  t.slice(1).forEach((ti, i) => assert.ok(ti > t[i]));
+});
+
+test('a take is sent with the tolerance its input resolves, or the one the animator set', () => {
+  const { s, c } = studio();
+  s.transport.setRecord(true);
+  const resolve = () => ({ 'box.position': { step: 0.015, input: 'px' } });
+  s.performer.hold(['box.position'], 'move box', null, resolve);
+  frames(s, performance.now(), 16, 64);
+  s.performer.release();
+  assert.ok(Math.abs(c.of('take.begin')[0].tol['box.position'] - 0.03) < 1e-12);   // 2 px
+  c.receive({ type: 'tolerances', tolerances: { 'box.position': { amount: 0.5, unit: 'units' } } });
+  s.performer.hold(['box.position'], 'move box', null, resolve);
+  frames(s, performance.now() + 1000, 16, 64);
+  s.performer.release();
+  assert.equal(c.of('take.begin')[1].tol['box.position'], 0.5);
+  assert.ok(Math.abs((s.takes.at(-1)?.sampler.tolerance['box.position'].steps ?? NaN) - 0.5 / 0.015) < 1e-9);
 });
 
 test('capture speed slows the transport while performing; the count-in delays the take to the punch point', () => {
@@ -154,7 +196,7 @@ test("the studio's operations emit their signals: an attribute shown, an object 
   s.select('box');
   s.showAttribute('position');
   assert.deepEqual(heard, ['selection box', 'attribute position']);
-  c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null,
+  c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null, tolerances: {},
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
     transport: { time: 0, playing: false, speed: 1, loop: null },
     objects: [{ name: 'object1', kind: 'object', attributes: [] }, { name: 'object3', kind: 'object', attributes: [] }] });
@@ -192,4 +234,25 @@ test('a message field the protocol does not have is a type error (tsc, tests/stu
   c.receive({ type: 'notice', level: 'warn', text: 'x', source: 'recorder' });
   assert.equal(c.sent.at(-1).type, 'set');
   assert.equal(s.notices.length, 1);
+});
+
+test("a pointer reporting slower than REST is not at rest between its events (1.5 of its own pace)", () => {
+  const { s, c } = studio();
+  const t0 = performance.now();
+  s.transport.setRecord(true);
+  s.performer.hold(['box.position'], 'move box');
+  for (let ms = 16; ms <= 400; ms += 16) {
+    if (ms % 48 === 0) {                                // an event every 48 ms, frames every 16 ms
+      s.setLocal('box.position', [ms / 1000, 0.5, 0]);
+      s.performer.mark(t0 + ms - 4);
+    }
+    s.frame(t0 + ms);
+  }
+  s.performer.release();
+  const values = c.of('take.samples').flatMap((m) => m.values.map((/** @type {number[]} */ r) => r[0]));
+  // once its pace is known (two events), only its events are samples: none held between them
+  const from = values.indexOf(0.096);
+  assert.deepEqual(values.slice(from), [96, 144, 192, 240, 288, 336, 384].map((ms) => ms / 1000));
+  // before the first event it was at rest: held samples of where it was
+  assert.ok(values.slice(0, values.indexOf(0.048)).every((v) => v === 0));
 });

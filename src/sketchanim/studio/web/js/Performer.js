@@ -2,10 +2,19 @@
 /**
  * The performer: what the animator holds (a drag, a gizmo, a slider, a device) and the
  * takes it records. A hold keeps playback off its attributes until the release; in record
- * mode it is a take, sampled on every animation frame (stamped with transport time) and sent
- * to the server in batches; outside record mode it previews and, on release, sends one
- * undoable edit.
+ * mode it is a take, sent to the server in batches; outside record mode it previews and,
+ * on release, sends one undoable edit.
+ *
+ * A take pairs each value with the time it was true. A pointer's input marks every event
+ * it moved the held values on (`mark`, with the event's own timeStamp: coalesced events
+ * included): each mark is a sample at its event's transport time. A frame without a mark,
+ * `restMs` after the last (1.5 of the pointer's own intervals between events, at least
+ * `REST`), finds the pointer at rest: a sample at the start of the rest and one at the
+ * frame's time. A device (a hold with a `drive`) moves the values
+ * on the frame: a sample at the frame's time. The take's tolerance per attribute is what
+ * the input resolves there (the hold's `resolve`, resolution.js), or the animator's.
  */
+import { takeTolerance } from './resolution.js';
 import { TakeSampler } from './take.js';
 
 /** Real seconds between frames beyond which the server treats the step as a stall (at least;
@@ -13,6 +22,10 @@ import { TakeSampler } from './take.js';
 const GAP = 0.25;
 /** Seconds of fade at a punch-in's seams. */
 const BLEND = 0.1;
+/** Milliseconds without an event after which a pointer is at rest, at least (one in motion reports at 60 Hz or more). */
+export const REST = 25;
+/** Events a hold keeps the intervals of (the pointer's own rate). */
+const PACE = 16;
 
 /**
  * @typedef {object} Grab   Something the performer holds.
@@ -24,6 +37,11 @@ const BLEND = 0.1;
  * @property {TakeSampler | null} take
  * @property {string | null} loopKey
  * @property {((dt: number, now: number) => void) | null} drive  moves the held attributes each frame (a device)
+ * @property {(() => Record<string, import('./resolution.js').Resolution>) | null} resolve  what the input resolves, per path, now
+ * @property {{stamp: number, row: number[]}[]} marks  the events that moved the held values since the last frame
+ * @property {number} lastEvent  performance.now() of the last of them (the press, before any)
+ * @property {number[]} paces  ms between the hold's last events
+ * @property {number} events  events marked so far
  */
 
 export class Performer {
@@ -79,12 +97,61 @@ export class Performer {
    * @param {string[]} paths continuous attributes
    * @param {string} label
    * @param {((dt: number, now: number) => void) | null} [drive] a device's: moves the attributes each frame
+   * @param {(() => Record<string, import('./resolution.js').Resolution>) | null} [resolve] what the input resolves, per path
    * @returns {Grab}
    */
-  hold(paths, label, drive = null) {
+  hold(paths, label, drive = null, resolve = null) {
     if (this.grab) this.release();
-    this.grab = { paths, label, changed: drive !== null, dirty: false, recordable: true, take: null, loopKey: null, drive };
+    this.grab = { paths, label, changed: drive !== null, dirty: false, recordable: true, take: null, loopKey: null, drive,
+      resolve, marks: [], lastEvent: performance.now(), paces: [], events: 0 };
     return this.grab;
+  }
+
+  /**
+   * The input moved the held values on an event at `stamp` (its timeStamp, the clock of
+   * performance.now()): the values now are a sample at that time.
+   * @param {number} stamp
+   */
+  mark(stamp) {
+    const grab = this.grab;
+    if (!grab || grab.drive) return;
+    grab.marks.push({ stamp, row: this.heldRow() });
+    if (stamp > grab.lastEvent && grab.events++ > 0) {
+      grab.paces.push(stamp - grab.lastEvent);
+      if (grab.paces.length > PACE) grab.paces.shift();
+    }
+    grab.lastEvent = Math.max(grab.lastEvent, stamp);
+  }
+
+  /**
+   * Milliseconds without an event after which the held pointer is at rest: 1.5 of its
+   * median interval between events, at least `REST`.
+   * @param {Grab} grab
+   */
+  restMs(grab) {
+    const sorted = [...grab.paces].sort((a, b) => a - b);
+    return Math.max(REST, sorted.length ? 1.5 * sorted[sorted.length >> 1] : 0);
+  }
+
+  /**
+   * The tolerance a take of `grab` is sent with, per path: what its input resolves there
+   * now, in steps (`DEFAULT_STEPS`) or as the animator set it; a path the input gives no
+   * resolution for is sent only with the animator's tolerance in its units.
+   * @param {Grab} grab
+   * @returns {Record<string, import('./take.js').SentTolerance>}
+   */
+  tolerances(grab) {
+    const resolved = grab.resolve ? grab.resolve() : {};
+    /** @type {Record<string, import('./take.js').SentTolerance>} */
+    const out = {};
+    for (const path of grab.paths) {
+      const setting = this.studio.tolerances.get(path);
+      const res = resolved[path];
+      const unit = this.studio.types.get(path)?.unit === 'degrees' ? '°' : '';
+      if (res && res.step > 0 && Number.isFinite(res.step)) out[path] = { ...takeTolerance(res, setting), input: res.input, unit };
+      else if (setting?.unit === 'units') out[path] = { tol: setting.amount, steps: NaN, input: '', unit };
+    }
+    return out;
   }
 
   /** Let go of what is held: ends its take, or sends its edit outside record mode. */
@@ -112,10 +179,12 @@ export class Performer {
     const dims = grab.paths.map((p) => s.types.get(p)?.dim ?? 0);
     grab.take = new TakeSampler(id, grab.paths, dims);
     grab.take.gap = this.stallGap();
+    grab.take.tolerance = this.tolerances(grab);
+    const tol = Object.fromEntries(Object.entries(grab.take.tolerance).map(([path, t]) => [path, t.tol]));
     if (this.loopRecord && s.transport.clock.loop && !grab.loopKey) grab.loopKey = `loop ${id}`;
     s.beganTake();
     s.send({ type: 'take.begin', take: id, paths: grab.paths, mode: this.mode, blend: BLEND, time,
-      speed: s.transport.captureSpeed, loop: grab.loopKey, gap: grab.take.gap });
+      speed: s.transport.captureSpeed, tol, loop: grab.loopKey, gap: grab.take.gap });
   }
 
   /**
@@ -131,6 +200,30 @@ export class Performer {
     this.studio.send({ type: 'take.end', take: take.id, label: `take ${grab.label}` });
     this.studio.endedTake(take, now);
     grab.take = null;
+  }
+
+  /**
+   * This frame's samples of the take: a device's values at the frame's time; a pointer's
+   * marks at their events' times, or, at rest, the start of the rest and the frame's time
+   * (the first sample of a take: the values at the frame's time).
+   * @param {Grab} grab
+   * @param {TakeSampler} take
+   * @param {number} now performance.now() of the frame
+   * @param {number} time the frame's transport time
+   */
+  sample(grab, take, now, time) {
+    const speed = this.studio.transport.clock.speed;
+    const at = (/** @type {number} */ stamp) => time + (speed * (stamp - now)) / 1000;
+    if (grab.drive || (!take.times.length && !grab.marks.length)) {
+      take.add(time, this.heldRow(), now);
+      return;
+    }
+    for (const m of grab.marks) take.add(at(m.stamp), m.row, m.stamp);
+    const wait = this.restMs(grab);
+    if (grab.marks.length || now - grab.lastEvent < wait) return;
+    const rest = grab.lastEvent + wait;
+    if (take.stamps[take.stamps.length - 1] < rest) take.add(at(rest), this.heldRow(), rest);
+    take.add(time, this.heldRow(), now);
   }
 
   /** Real seconds without a frame that make a stall: 0.25 s, or 4 frame intervals on a slow page. */
@@ -189,10 +282,12 @@ export class Performer {
       this.beginTake(grab, time);
     }
     if (grab.take) {
-      grab.take.add(time, this.heldRow(), now);
+      this.sample(grab, grab.take, now, time);
       const batch = grab.take.batch(now);
       if (batch) this.studio.send(batch);
-    } else if (!transport.record && grab.dirty) {
+    }
+    grab.marks.length = 0;
+    if (!grab.take && !transport.record && grab.dirty) {
       grab.dirty = false;
       for (const path of grab.paths) {
         this.studio.send({ type: 'preview', key: `${grab.label} ${path}`, path, value: this.studio.values.get(path) });

@@ -52,6 +52,8 @@ export class Studio {
     this.steps = [];
     /** @type {[number, number]} */
     this.span = [0, 0];
+    /** @type {Map<string, import('./resolution.js').ToleranceSetting>} the animator's take tolerances, by path (the project keeps them) */
+    this.tolerances = new Map();
     /** @type {import('./messages.js').HistoryLabels} */
     this.history = { undo: [], redo: [], can_undo: false, can_redo: false };
     this.ready = false;
@@ -121,6 +123,10 @@ export class Studio {
         break;
       }
       case 'transport': this.transport.receive(m); break;
+      case 'tolerances':
+        this.tolerances = new Map(Object.entries(m.tolerances));
+        this.signals.emit('tolerances');
+        break;
       case 'ready':
         this.ready = true;
         this.signals.emit('ready');
@@ -156,6 +162,7 @@ export class Studio {
     }
     this.tracks = new Map(m.tracks.map((t) => [t.path, t]));
     this.span = m.span;
+    this.tolerances = new Map(Object.entries(m.tolerances));
     this.history = m.history;
     this.ready = this.ready || m.ready;
     if (!this.loaded) this.transport.receive(m.transport);
@@ -225,6 +232,16 @@ export class Studio {
   set(path, value, label, merge = null) {
     this.setLocal(path, value);
     this.send({ type: 'set', path, value, label, merge });
+  }
+
+  /**
+   * Set the tolerance takes of `path` are recorded within (null: what the input resolves,
+   * `DEFAULT_STEPS` of it); the project keeps it (not a History step).
+   * @param {string} path
+   * @param {import('./resolution.js').ToleranceSetting | null} setting
+   */
+  setTolerance(path, setting) {
+    this.send({ type: 'tolerance.set', path, amount: setting ? setting.amount : null, unit: setting ? setting.unit : 'px' });
   }
 
   /** @param {string} name */

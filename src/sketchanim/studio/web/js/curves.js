@@ -8,6 +8,7 @@
 import { sampleCurve } from './evaluate.js';
 import { el } from './dom.js';
 import { fitCanvas } from './canvas.js';
+import { formatTolerance } from './resolution.js';
 import { viewRange } from './timescale.js';
 
 const CHANNELS = ['#ff6b6b', '#5cd65c', '#5aa0ff', '#c8c8c8', '#e0a0ff'];
@@ -129,8 +130,10 @@ export class CurveView {
     g.fillText(hi.toFixed(3), 4, 18);
     g.fillText(lo.toFixed(3), 4, h - 16);
     const legend = [...names.slice(0, dim)].map((n, i) => `<b style="color:${CHANNELS[i]}">${n}</b>`).join(' ');
-    const what = trail?.live ? `recording · ${samples.times.length} samples (dots) · ${pieces.length} reduced pieces (thick)`
-      : curve ? `curve: ${curve.coef.length} control points for ${curve.takes.reduce((n, t) => n + t.n, 0)} samples in ${curve.takes.length} take${curve.takes.length === 1 ? '' : 's'} · tolerance ${curve.tol}`
+    const sent = trail?.sampler.tolerance[path];
+    const tol = sent ? formatTolerance(sent, sent.input, sent.unit) : `tol ${curve ? Number(curve.tol.toPrecision(2)) : '?'}`;
+    const what = trail?.live ? `recording · ${samples.times.length} samples (dots) · ${pieces.length} reduced pieces (thick) · ${tol}`
+      : curve ? `curve: ${curve.coef.length} control points for ${curve.takes.reduce((n, t) => n + t.n, 0)} samples in ${curve.takes.length} take${curve.takes.length === 1 ? '' : 's'} · ${sent && Math.abs(sent.tol - curve.tol) <= 1e-12 * curve.tol ? tol : `tol ${Number(curve.tol.toPrecision(2))}`}`
         : 'no track yet: record a take';
     const html = `<span class="path">${path}</span> ${legend} <span class="what">${what}</span>`;
     if (this.lastTitle !== html) {

@@ -10,6 +10,13 @@
 
 /** Axis values below this are rest (sticks do not centre exactly). */
 export const DEADZONE = 0.12;
+/** Scene units per second at full tilt. */
+export const SPEED = 1.5;
+/** Radians per second at full tilt. */
+export const TURN_RATE = 2;
+/** The smallest change of tilt a hand holds on a stick: 1% of full tilt (finer than any
+ * stick's converter, 8 bits or more, resolves at rest). */
+export const STICK_STEP = 0.01;
 
 /**
  * @typedef {object} PadInput  Velocities in the view's frame (x right, y up, z toward
@@ -87,8 +94,8 @@ export function multiply(a, b) {
  * @returns {{position: number[], orientation: number[]}}
  */
 export function applyPad(position, orientation, input, dt, view, rates = {}) {
-  const speed = rates.speed ?? 1.5;
-  const turnRate = rates.turnRate ?? 2;
+  const speed = rates.speed ?? SPEED;
+  const turnRate = rates.turnRate ?? TURN_RATE;
   const step = rotate(view, input.move);
   const next = position.map((p, i) => p + step[i] * speed * dt);
   const axis = rotate(view, input.turn);
@@ -98,4 +105,15 @@ export function applyPad(position, orientation, input, dt, view, rates = {}) {
   const q = multiply([axis[0] * s, axis[1] * s, axis[2] * s, Math.cos(angle / 2)], orientation);
   const n = Math.hypot(...q);
   return { position: next, orientation: q.map((v) => v / n) };
+}
+
+/**
+ * What a stick resolves, over the speed it maps to: the distance (scene units) and the
+ * turn (degrees) one `STICK_STEP` of tilt makes in a second.
+ * @param {{speed?: number, turnRate?: number}} [rates] as applyPad's
+ * @returns {{position: number, orientation: number}}
+ * @example padResolution() // {position: 0.015, orientation: 1.146} (1.5 units/s, 2 rad/s at full tilt)
+ */
+export function padResolution(rates = {}) {
+  return { position: (rates.speed ?? SPEED) * STICK_STEP, orientation: ((rates.turnRate ?? TURN_RATE) * STICK_STEP * 180) / Math.PI };
 }

@@ -4,10 +4,14 @@
  * orientations (shown as XYZ Euler angles in degrees); sliders for the other floats
  * (intensity, field of view, any float attribute) and a colour picker for colours: a
  * drag of one is a hold of its attribute, so in record mode it records a take of it.
- * A click on an attribute's name shows it in the curve view.
+ * A click on an attribute's name shows it in the curve view. Under each continuous
+ * attribute, the tolerance its takes are recorded within: empty for what the input
+ * resolves (resolution.js: 2 px for a pointer), or an amount in input steps (px) or in the
+ * attribute's units; the project keeps it.
  */
 import * as THREE from 'three';
 import { el } from './dom.js';
+import { DEFAULT_STEPS, PICKER_STEP, sliderPerPixel } from './resolution.js';
 
 /** Slider ranges by attribute type. */
 const RANGES = { intensity: [0, 5, 0.01], fov: [10, 120, 0.1] };
@@ -27,7 +31,7 @@ export class Inspector {
     this.refreshers = new Map();
     this.lastRefresh = 0;
     const signals = studio.signals;
-    for (const signal of /** @type {const} */ (['state', 'selection', 'tracks', 'attribute'])) signals.on(signal, () => this.show());
+    for (const signal of /** @type {const} */ (['state', 'selection', 'tracks', 'attribute', 'tolerances'])) signals.on(signal, () => this.show());
     signals.on('frame', (now) => {
       if (now - this.lastRefresh > 100) this.refresh(now);
     });
@@ -49,7 +53,40 @@ export class Inspector {
       this.body.replaceChildren(el('p', { class: 'hint' }, 'Click an object in the view or the list to select it. Drag it to move it; turn REC on first to record the move.'));
       return;
     }
-    this.body.replaceChildren(...obj.attributes.map((a) => this.row(obj.name, a.name, a.type)));
+    this.body.replaceChildren(...obj.attributes.flatMap((a) => (a.type.continuous
+      ? [this.row(obj.name, a.name, a.type), this.toleranceRow(`${obj.name}.${a.name}`, a.type)]
+      : [this.row(obj.name, a.name, a.type)])));
+  }
+
+  /**
+   * The tolerance takes of `path` are recorded within: an amount (empty: the input's
+   * resolution, DEFAULT_STEPS steps) in input steps or the attribute's units.
+   * @param {string} path
+   * @param {import('./messages.js').AttrType} type
+   */
+  toleranceRow(path, type) {
+    const s = this.studio;
+    const row = el('div', { class: 'row tol', 'data-path': path, title: `The tolerance takes of ${path} are recorded within; empty: ${DEFAULT_STEPS} px (steps) of what the input resolves` });
+    const label = el('span', { class: 'attr' }, 'tol');
+    const amount = el('input', { type: 'number', min: '0', step: 'any', placeholder: String(DEFAULT_STEPS), 'data-testid': `tol-${path}` });
+    const unit = el('select', { 'data-testid': `tol-unit-${path}` });
+    unit.append(el('option', { value: 'px' }, type.name === 'color' ? 'steps' : 'px'), el('option', { value: 'units' }, type.unit || 'units'));
+    const setting = s.tolerances.get(path);
+    amount.value = setting ? String(setting.amount) : '';
+    unit.value = setting ? setting.unit : 'px';
+    const send = () => {
+      const x = Number(amount.value);
+      if (amount.value.trim() === '') s.setTolerance(path, null);
+      else if (x > 0 && Number.isFinite(x)) s.setTolerance(path, { amount: x, unit: /** @type {'px' | 'units'} */ (unit.value) });
+      else amount.setCustomValidity('a tolerance is a number > 0');
+    };
+    amount.addEventListener('input', () => amount.setCustomValidity(''));
+    amount.addEventListener('change', send);
+    unit.addEventListener('change', () => { if (amount.value.trim() !== '') send(); });
+    const wrap = el('div', { class: 'numbers' });
+    wrap.append(amount, unit);
+    row.append(label, wrap);
+    return row;
   }
 
   /**
@@ -115,10 +152,12 @@ export class Inspector {
     const wrap = el('div', { class: 'slider' });
     const range = /** @type {HTMLInputElement} */ (el('input', { type: 'range', min: String(lo), max: String(hi), step: String(step), 'data-testid': `slider-${path}` }));
     const readout = el('span', { class: 'num' });
-    range.addEventListener('pointerdown', () => s.performer.hold([path], `slide ${path}`));
-    range.addEventListener('input', () => {
-      if (!s.performer.grab) s.performer.hold([path], `slide ${path}`);        // the keyboard
+    const resolve = () => ({ [path]: { step: sliderPerPixel(Number(range.min), Number(range.max), Math.max(range.clientWidth, 1)), input: 'px' } });
+    range.addEventListener('pointerdown', () => s.performer.hold([path], `slide ${path}`, null, resolve));
+    range.addEventListener('input', (e) => {
+      if (!s.performer.grab) s.performer.hold([path], `slide ${path}`, null, resolve);        // the keyboard
       s.setLocal(path, [Number(range.value)]);
+      s.performer.mark(e.timeStamp);
     });
     const done = () => { if (s.performer.grab?.paths[0] === path) s.performer.release(); };
     range.addEventListener('pointerup', done);
@@ -142,10 +181,12 @@ export class Inspector {
     const s = this.studio;
     const picker = /** @type {HTMLInputElement} */ (el('input', { type: 'color', 'data-testid': `color-${path}` }));
     const c = new THREE.Color();
-    picker.addEventListener('input', () => {
-      if (!s.performer.grab) s.performer.hold([path], `colour ${path}`);
+    const resolve = () => ({ [path]: { step: PICKER_STEP, input: 'step' } });
+    picker.addEventListener('input', (e) => {
+      if (!s.performer.grab) s.performer.hold([path], `colour ${path}`, null, resolve);
       c.set(picker.value);
       s.setLocal(path, [c.r, c.g, c.b]);
+      s.performer.mark(e.timeStamp);
     });
     picker.addEventListener('change', () => { if (s.performer.grab?.paths[0] === path) s.performer.release(); });
     this.refreshers.set(path, () => {

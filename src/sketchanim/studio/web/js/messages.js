@@ -135,6 +135,18 @@
  * @property {string} file
  */
 
+/**
+ * The tolerance takes of `path` are recorded within, kept by the project (not a History
+ * step): `amount` input steps (`unit` 'px': pixels for a pointer) or the attribute's units
+ * ('units'); `amount` null: back to what the input resolves (resolution.js).
+ * @typedef {object} ToleranceSet
+ * @property {'tolerance.set'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ * @property {number | null} [amount]
+ * @property {'px' | 'units'} [unit]
+ */
+
 // -- both ways ----------------------------------------------------------------------------------
 
 /**
@@ -163,6 +175,14 @@
  * @property {HistoryLabels} history
  * @property {TransportFields} transport
  * @property {TakeInProgress | null} take
+ * @property {Record<string, ToleranceSetting>} tolerances  the animator's take tolerances, by path
+ */
+
+/**
+ * The animator's take tolerances changed: all of them, by path.
+ * @typedef {object} Tolerances
+ * @property {'tolerances'} type
+ * @property {Record<string, ToleranceSetting>} tolerances
  */
 
 /**
@@ -278,13 +298,13 @@
 /**
  * What the page sends.
  * @typedef {Ping | StateRequest | SetValue | PreviewValue | ObjectAdd | ObjectRemove | ObjectRename | TakeBegin
- *   | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | TransportState | Export} PageMessage
+ *   | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | TransportState | Export | ToleranceSet} PageMessage
  */
 
 /**
  * What the server sends.
  * @typedef {StateSnapshot | Ready | Values | Tracks | History | PreviewValue | TransportState | TakeStarted
- *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice} ServerMessage
+ *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice | Tolerances} ServerMessage
  */
 
 /**
@@ -302,6 +322,7 @@
  */
 
 /** @typedef {'object' | 'light' | 'camera'} ObjectKind */
+/** @typedef {import('./resolution.js').ToleranceSetting} ToleranceSetting */
 /** @typedef {'replace' | 'additive'} LayerMode */
 /** @typedef {'info' | 'warning' | 'error'} NoticeLevel */
 

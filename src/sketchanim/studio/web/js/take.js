@@ -1,8 +1,17 @@
 // @ts-check
 /**
- * One take as the page samples it: a row of the grabbed attributes' values (end to end,
- * in the order of `paths`) on every animation frame, stamped with transport time, kept
- * for drawing the raw trail and sent to the server in batches.
+ * One take as the page samples it: rows of the grabbed attributes' values (end to end,
+ * in the order of `paths`), each stamped with the transport time it was true (an input
+ * event's, or a frame's: Performer.js), kept for drawing the raw trail and sent to the
+ * server in batches.
+ */
+
+/**
+ * @typedef {object} SentTolerance  A take's tolerance for one attribute, as sent and shown.
+ * @property {number} tol    in the attribute's units
+ * @property {number} steps  in input steps (NaN: set in units, no input resolution)
+ * @property {string} input  what a step is ('px', 'step')
+ * @property {string} unit   the attribute's unit as shown ('°' for degrees)
  */
 
 export class TakeSampler {
@@ -22,12 +31,14 @@ export class TakeSampler {
     this.times = [];
     /** @type {number[][]} every sample's row */
     this.rows = [];
-    /** @type {number[]} performance.now() of every sample's frame */
+    /** @type {number[]} performance.now() clock time of every sample (its event's or frame's) */
     this.stamps = [];
     this.sent = 0;
     this.dropped = 0;
     /** Real seconds without a frame that the server treats as a stall (set at the take's start). */
     this.gap = 0.25;
+    /** @type {Record<string, SentTolerance>} the tolerance sent, by path (set at the take's start) */
+    this.tolerance = {};
   }
 
   /** The last sample's transport time (-Infinity before the first). */
@@ -40,7 +51,7 @@ export class TakeSampler {
    * one's or a value is not a finite number (nothing is sent that the server would refuse).
    * @param {number} t transport time
    * @param {number[]} row
-   * @param {number} now performance.now() of the frame
+   * @param {number} now its performance.now() clock time (the event's or the frame's)
    * @returns {boolean}
    */
   add(t, row, now) {

@@ -4,6 +4,7 @@
  * stop, play / pause, the time, speed, loop; what is being recorded; undo and redo.
  */
 import { choice, el } from './dom.js';
+import { formatTolerance } from './resolution.js';
 import { formatTime } from './timescale.js';
 
 export class TransportBar {
@@ -91,8 +92,19 @@ export class TransportBar {
     const counting = t.countingIn;
     const take = p.grab?.take;
     this.status.textContent = counting > 0 ? `count-in ${counting.toFixed(1)} s`
-      : take ? `● recording ${take.paths.join(', ')} · ${take.times.length} samples`
+      : take ? `● recording ${take.paths.join(', ')} · ${take.times.length} samples${tolerances(take)}`
         : t.record ? 'record mode: grab something to record it' : '';
     this.status.classList.toggle('live', !!take);
   }
+}
+
+/**
+ * The tolerances a take was sent with, as the status shows them (" · tol 2 px = 0.03").
+ * @param {import('./take.js').TakeSampler} take
+ */
+function tolerances(take) {
+  return Object.entries(take.tolerance).map(([path, t]) => {
+    const which = take.paths.length > 1 ? ` (${path.slice(path.indexOf('.') + 1)})` : '';
+    return ` · ${formatTolerance(t, t.input, t.unit)}${which}`;
+  }).join('');
 }

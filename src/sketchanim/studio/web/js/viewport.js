@@ -4,12 +4,15 @@
  * direct manipulation (press on an object and drag: it follows the pointer in the plane
  * facing the view), translate / rotate / scale gizmos (W, E, S), orbit / pan / zoom, a
  * gamepad or 3D mouse moving and turning the selected object, and a preview of the scene
- * camera's view in a corner.
+ * camera's view in a corner. A hold tells the performer what its input resolves (a pixel
+ * at the grabbed point's depth, the gizmo's degrees or scale per pixel, the stick's step)
+ * and marks every pointer event that moved it (coalesced events included) with its time.
  */
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { TransformControls } from 'three/addons/controls/TransformControls.js';
-import { active, applyPad, readPad } from './gamepad.js';
+import { active, applyPad, padResolution, readPad } from './gamepad.js';
+import { pixelWorld, turnPerPixel } from './resolution.js';
 
 const PALETTE = [0xe07a5f, 0x81b29a, 0xf2cc8f, 0x6d9dc5, 0xb388eb, 0xf28482, 0x84a59d];
 /** three.js intensity (candela) of a light of intensity 1: a clear pool of light on the floor. */
@@ -97,6 +100,8 @@ export class Viewport {
     this.drag = null;
     /** @type {{idle: number} | null} the device's hold */
     this.pad = null;
+    /** performance.now() clock time of the last pointer event on the canvas (the gizmo's moves are marked with it) */
+    this.eventStamp = 0;
     this.drawn = 0;
     studio.addSink((path, value) => this.apply(path, value));
     studio.signals.on('state', () => this.build());
@@ -223,6 +228,7 @@ export class Viewport {
   bind() {
     const el = this.renderer.domElement;
     el.addEventListener('pointerdown', (e) => this.press(e), { capture: true });   // before the controls
+    el.addEventListener('pointermove', (e) => { this.eventStamp = e.timeStamp; }, { capture: true });  // before the gizmo
     el.addEventListener('pointermove', (e) => this.move(e));
     el.addEventListener('pointerup', (e) => this.lift(e));
     el.addEventListener('pointercancel', (e) => this.lift(e));
@@ -230,8 +236,10 @@ export class Viewport {
     this.transform.addEventListener('mouseDown', () => {
       const name = this.studio.selected;
       if (!name) return;
-      const attr = { translate: 'position', rotate: 'orientation', scale: 'scale' }[this.transform.mode];
-      this.studio.performer.hold([`${name}.${attr}`], `${this.transform.mode} ${name}`);
+      const mode = this.transform.mode;
+      const attr = { translate: 'position', rotate: 'orientation', scale: 'scale' }[mode];
+      const path = `${name}.${attr}`;
+      this.studio.performer.hold([path], `${mode} ${name}`, null, () => ({ [path]: this.gizmoResolution(name, mode) }));
     });
     this.transform.addEventListener('objectChange', () => {
       const grab = this.studio.performer.grab;
@@ -243,6 +251,7 @@ export class Viewport {
         if (path.endsWith('.orientation')) this.studio.setLocal(path, r.quaternion.toArray());
         if (path.endsWith('.scale')) this.studio.setLocal(path, r.scale.toArray());
       }
+      this.studio.performer.mark(this.eventStamp);
     });
     this.transform.addEventListener('mouseUp', () => this.studio.performer.release());
   }
@@ -258,6 +267,37 @@ export class Viewport {
   /** Show or hide the scene camera's view in the corner (C). */
   togglePreviewCamera() {
     this.previewCamera = !this.previewCamera;
+  }
+
+  /**
+   * Scene units one CSS pixel spans at `point`'s depth in the view.
+   * @param {THREE.Vector3} point
+   */
+  pixelAt(point) {
+    const view = this.camera.getWorldDirection(new THREE.Vector3());
+    const depth = Math.max(point.clone().sub(this.camera.position).dot(view), this.camera.near);
+    return pixelWorld(this.camera.fov, Math.max(this.renderer.domElement.clientHeight, 1), depth);
+  }
+
+  /**
+   * What a pixel of the gizmo's drag does to the object `name`: scene units (translate),
+   * degrees (rotate: TransformControls' 20 / distance radians per unit), or scale (the
+   * drag's ratio to its start point's distance from the centre).
+   * @param {string} name
+   * @param {'translate' | 'rotate' | 'scale'} mode
+   * @returns {import('./resolution.js').Resolution}
+   */
+  gizmoResolution(name, mode) {
+    const root = /** @type {Node} */ (this.nodes.get(name)).root;
+    const centre = root.getWorldPosition(new THREE.Vector3());
+    const pixel = this.pixelAt(centre);
+    if (mode === 'rotate') return { step: turnPerPixel(pixel, Math.max(centre.distanceTo(this.camera.position), 1e-6)), input: 'px' };
+    if (mode === 'scale') {
+      const start = /** @type {{pointStart?: THREE.Vector3}} */ (/** @type {unknown} */ (this.transform)).pointStart;
+      const reach = Math.max(start ? start.length() : 0, 20 * pixel);
+      return { step: (Math.max(...root.scale.toArray().map(Math.abs)) * pixel) / reach, input: 'px' };
+    }
+    return { step: pixel, input: 'px' };
   }
 
   /** @param {PointerEvent} e */
@@ -283,15 +323,36 @@ export class Viewport {
     this.orbit.enabled = false;
     this.renderer.domElement.setPointerCapture(e.pointerId);
     if (this.studio.selected !== name) this.studio.select(name);
-    this.studio.performer.hold([`${name}.position`], `move ${name}`);
+    const path = `${name}.position`;
+    this.studio.performer.hold([path], `move ${name}`, null, () => ({ [path]: this.dragResolution() }));
     e.stopImmediatePropagation();
   }
 
-  /** @param {PointerEvent} e */
+  /**
+   * A pixel at the grabbed point's depth, in scene units (the drag's plane faces the view).
+   * @returns {import('./resolution.js').Resolution}
+   */
+  dragResolution() {
+    const drag = this.drag;
+    const node = drag ? this.nodes.get(drag.name) : null;
+    const point = node && drag ? node.root.position.clone().sub(drag.offset) : this.orbit.target.clone();
+    return { step: this.pixelAt(point), input: 'px' };
+  }
+
+  /**
+   * Every pointer event since the last (the coalesced ones where the browser has them)
+   * moves the grabbed object and is marked with its own time.
+   * @param {PointerEvent} e
+   */
   move(e) {
     if (!this.drag) return;
-    const point = this.ray(e).ray.intersectPlane(this.drag.plane, new THREE.Vector3());
-    if (point) this.studio.setLocal(`${this.drag.name}.position`, point.add(this.drag.offset).toArray());
+    const events = typeof e.getCoalescedEvents === 'function' ? e.getCoalescedEvents() : [];
+    for (const ev of events.length ? events : [e]) {
+      const point = this.ray(ev).ray.intersectPlane(this.drag.plane, new THREE.Vector3());
+      if (!point) continue;
+      this.studio.setLocal(`${this.drag.name}.position`, point.add(this.drag.offset).toArray());
+      this.studio.performer.mark(ev.timeStamp);
+    }
   }
 
   /** @param {PointerEvent} e */
@@ -336,6 +397,8 @@ export class Viewport {
     const state = { idle: 0 };
     this.pad = state;
     const paths = [`${name}.position`, `${name}.orientation`];
+    const stick = padResolution();
+    const resolve = () => ({ [paths[0]]: { step: stick.position, input: 'step' }, [paths[1]]: { step: stick.orientation, input: 'step' } });
     this.studio.performer.hold(paths, `steer ${name}`, (dt) => {
       const current = /** @type {Gamepad | undefined} */ ([...navigator.getGamepads()].filter(Boolean)[0]);
       const input = current ? readPad(current) : { move: [0, 0, 0], turn: [0, 0, 0] };
@@ -344,7 +407,7 @@ export class Viewport {
         /** @type {any} */ (input), dt, this.camera.quaternion.toArray());
       this.studio.setLocal(paths[0], next.position);
       this.studio.setLocal(paths[1], next.orientation);
-    });
+    }, resolve);
   }
 
   // -- drawing ------------------------------------------------------------------------------
