@@ -129,13 +129,19 @@ class Redo(_Message):
 
 
 class Transport(_Message):
-    """The page's transport, kept for a reload and relayed to the other pages."""
+    """The page's transport and record settings, kept for a reload and relayed to the
+    other pages: the time, playing, the playback speed, the loop range; the count-in's
+    seconds, the capture speed, the layer mode and loop recording."""
 
     type: Literal["transport"]
     time: Number = 0.0
     playing: bool = False
     speed: Annotated[float, Field(ge=-16, le=16, allow_inf_nan=False)] = 1.0
     loop: tuple[Number, Number] | None = None
+    count_in: Annotated[float, Field(ge=0, le=60, allow_inf_nan=False)] = 0.0
+    capture_speed: Annotated[float, Field(gt=0, le=4, allow_inf_nan=False)] = 1.0
+    mode: Literal[MODES] = "replace"  # type: ignore[valid-type]
+    loop_record: bool = False
 
 
 class Export(_Message):
@@ -222,10 +228,16 @@ TrackInfo = Annotated[CurveInfo | StepsInfo, Field(discriminator="kind")]
 
 
 class TransportInfo(_Outbound):
+    """The transport and record settings as the server keeps them (see :class:`Transport`)."""
+
     time: float = 0.0
     playing: bool = False
     speed: float = 1.0
     loop: tuple[float, float] | None = None
+    count_in: float = 0.0
+    capture_speed: float = 1.0
+    mode: str = "replace"
+    loop_record: bool = False
 
 
 class TakeInfo(_Outbound):
@@ -286,6 +298,12 @@ class TakeStarted(_Outbound):
     take: str
     layout: list[tuple[str, int, int]]
     width: int
+
+
+class TakeRunning(TakeInfo):
+    """To the other pages: another page began a take (``take.ended`` says when it is over)."""
+
+    type: Literal["take.running"] = "take.running"
 
 
 class TakePiece(_Outbound):
@@ -365,12 +383,13 @@ class Notice(_Outbound):
 
 
 ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece | TakeEnded | Pong | Ack | Error
-                 | Ready | Exported | Notice | Preview | Transport)
+                 | Ready | Exported | Notice | Preview | Transport | TakeRunning)
 #: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
 MESSAGES: tuple[type[BaseModel], ...] = (
     Ping, StateRequest, Set, Preview, ObjectAdd, ObjectRemove, ObjectRename, TakeBegin, TakeSamples, TakeEnd,
     TakeCancel, Undo, Redo, Transport, Export,
-    State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice)
+    State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice,
+    TakeRunning)
 
 
 #: Who gets a message: every page, every page but the sender's, or the sender's alone.

@@ -11,6 +11,15 @@ and fades into the next part over ``blend``). The take ends as one History step
 same ``loop`` key) are recorded over what was there before the last pass and replace it,
 as one step.
 
+An attribute without a track still has a value (the scene's). A take of it that starts
+later than the project (after ``min(0, the tracks' first time)``) would hold its first
+sample before it; where that sample is further than the tolerance from the value (a
+colour picked at 5.8 s), or the take is additive (its offsets go onto the value), the
+take is recorded over the value as over a track (:func:`value_track`): the value holds
+up to the take, which fades in from it over ``blend``. That track is made of a take of
+two samples (the value at the project's start and at the take's), so the raw takes
+still recompose the curve (:func:`~sketchanim.anim.layers.compose`).
+
 What the recorder warns of when a part stops (a reducer process died, the journal
 failed) is logged and becomes a ``notice`` for every page.
 """
@@ -25,11 +34,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from sketchanim.anim.attributes import AttributeType
 from sketchanim.anim.commands import RecordTake
+from sketchanim.anim.layers import recorded_over
 from sketchanim.anim.recorder import Recorder
-from sketchanim.anim.tracks import Track
+from sketchanim.anim.tracks import ContinuousTrack, Take, Track
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.project.journal import Journal
+from sketchanim.reducer.metric import max_errors
 from sketchanim.studio import protocol as p
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import layout, piece_info
@@ -66,6 +78,24 @@ class RunningTake:
         """The take as a ``state`` shows it."""
         return p.TakeInfo(take=self.id, paths=self.paths, mode=self.mode, time=self.time,
                           layout=layout(editor.scene, self.paths))
+
+
+def _flat(row: object) -> bool:
+    return isinstance(row, (list, tuple)) and all(isinstance(x, (int, float)) for x in row)
+
+
+def value_track(path: str, type: AttributeType, value: np.ndarray, start: float, end: float,
+                tol: float) -> ContinuousTrack:
+    """The track of an attribute that holds ``value`` from ``start`` to ``end``: one take
+    of two samples, as :func:`~sketchanim.anim.layers.recorded_over` lays it.
+
+    >>> from sketchanim.anim.attributes import COLOR
+    >>> track = value_track("lamp.color", COLOR, np.array([1.0, 0.5, 0.2]), 0.0, 5.8, 0.005)
+    >>> track.evaluate([0.0, 3.0, 5.8]).round(12).tolist(), len(track.takes)
+    ([[1.0, 0.5, 0.2], [1.0, 0.5, 0.2], [1.0, 0.5, 0.2]], 1)
+    """
+    take = Take(np.array([start, end]), np.tile(np.asarray(value, dtype=float), (2, 1)))
+    return recorded_over(path, type, None, take, tol, ORDER)
 
 
 def stopped(recorder: Recorder) -> tuple[dict[str, Track], list[p.Notice]]:
@@ -115,7 +145,6 @@ class TakeRecorder:
             over.update(last_pass)                      # the next pass of a loop: over what was there before
             over = {path: t for path, t in over.items() if t is not None}
         self.take = RunningTake(take, owner, list(paths), mode, blend, speed, gap, dict(tol), loop, time, over)
-        self._start_part()
         rows = layout(scene, paths)
         return p.TakeStarted(take=take, layout=rows, width=rows[-1][2])
 
@@ -124,6 +153,27 @@ class TakeRecorder:
         tk = self.take
         return {"paths": tk.paths, "mode": tk.mode, "blend": tk.blend, "tol": tk.tol, "speed": tk.speed,
                 "gap": tk.gap, "loop": tk.loop}
+
+    def _hold_values(self, tk: RunningTake, time: float, row: np.ndarray) -> None:
+        """Put into ``tk.over`` the scene's value of each armed attribute without a track
+        that the take would not keep before it (see the module's description), given the
+        take's first sample ``row`` at ``time``."""
+        scene = self.editor.scene
+        start = min(0.0, self.editor.player.span[0])
+        rows = layout(scene, tk.paths)
+        if row.shape != (rows[-1][2],):
+            return                                      # the recorder refuses the row, naming it
+        for path, lo, hi in rows:
+            type = scene.type(path)
+            if path in tk.over or time <= start:
+                continue
+            value = np.asarray(scene.get(path), dtype=float)
+            tol = tk.tol.get(path, type.tol)
+            angle = 1.0 if type.is_rotation else 0.0
+            gap = max_errors(row[None, lo:hi], value[None], angle)
+            off = float(np.degrees(gap.max()) if type.is_rotation else gap.max())
+            if tk.mode == "additive" or off > tol:
+                tk.over[path] = value_track(path, type, value, start, time, tol)
 
     def _start_part(self) -> None:
         take = self.take
@@ -151,6 +201,9 @@ class TakeRecorder:
         stall = tk.gap * tk.speed
         notices: list[p.Notice] = []
         for i, (t, row) in enumerate(zip(times, values)):
+            if tk.recorder is None and not tk.samples:     # the first sample: what the take is over is known
+                self._hold_values(tk, float(t), np.asarray(row, dtype=float) if _flat(row) else np.empty(0))
+                self._start_part()
             if tk.samples and t - tk.last > stall:
                 notices += self._cut(tk)
                 tk.gaps.append((tk.last, float(t)))
@@ -167,8 +220,10 @@ class TakeRecorder:
                             for path, piece in tk.recorder.pieces())]
 
     def _cut(self, tk: RunningTake) -> list[p.Notice]:
-        """End the part recorded so far, keeping what it made."""
+        """End the part recorded so far, keeping what it made (nothing before the first sample)."""
         rec, tk.recorder = tk.recorder, None
+        if rec is None:
+            return []
         made, notices = stopped(rec)
         tk.result.update(made)
         rec.journal.close()
