@@ -33,7 +33,7 @@ function studio() {
   const s = new Studio(c);
   c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null,
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
-    transport: { time: 0, playing: false, speed: 1, loop: null },
+    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false },
     objects: [{ name: 'box', kind: 'object', attributes: [{ name: 'position', value: [0, 0.5, 0], type: POSITION }] }] });
   return { s, c };
 }
@@ -156,7 +156,7 @@ test("the studio's operations emit their signals: an attribute shown, an object 
   assert.deepEqual(heard, ['selection box', 'attribute position']);
   c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null,
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
-    transport: { time: 0, playing: false, speed: 1, loop: null },
+    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false },
     objects: [{ name: 'object1', kind: 'object', attributes: [] }, { name: 'object3', kind: 'object', attributes: [] }] });
   s.addObject();
   assert.deepEqual(c.of('object.add').at(-1), { type: 'object.add', name: 'object2', kind: 'object' });
