@@ -281,7 +281,10 @@ def test_what_the_server_sends_is_declared_in_the_protocol(client):
 def test_one_performer_per_project_the_others_see_the_take(client):
     """While page a records, page b is told (``take.running``), is refused a take of its
     own (``busy``), gets a's pieces as they come and the take's end; then b may record."""
-    t = np.arange(120) / 60
+    import time
+
+    t = np.arange(0, 6, 1 / 60)
+    x = np.c_[np.sin(3 * t), 0.5 + 0.2 * np.cos(5 * t), t]
     with client.websocket_connect("/ws") as a, client.websocket_connect("/ws") as b:
         a.receive_json(), b.receive_json()
         a.send_json({"type": "take.begin", "take": "a1", "paths": ["box.position"], "time": 0.0})
@@ -292,8 +295,10 @@ def test_one_performer_per_project_the_others_see_the_take(client):
         b.send_json({"type": "take.begin", "id": 7, "take": "b1", "paths": ["ball.position"]})
         error, _ = receive_until(b, "error")
         assert error["id"] == 7 and error["code"] == "busy"
-        a.send_json({"type": "take.samples", "take": "a1", "t": t.tolist(),
-                     "values": np.c_[np.sin(t), 0.5 + 0 * t, t].tolist()})
+        for i in range(0, len(t), 6):
+            a.send_json({"type": "take.samples", "take": "a1", "t": t[i:i + 6].tolist(), "values": x[i:i + 6].tolist()})
+            time.sleep(0.002)
+        time.sleep(0.2)
         a.send_json({"type": "take.end", "take": "a1"})
         ended, before = receive_until(b, "take.ended", limit=400)
         assert ended["label"] == "take box.position"
