@@ -171,7 +171,7 @@ def test_keys_do_the_same_whichever_control_has_focus(_page, studio: str) -> Non
     assert drew_something(page) > 5 and not page.errors
 
 
-def test_a_second_page_sees_the_take_read_only_and_cannot_record(_page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001
+def test_a_second_page_sees_the_take_read_only_and_cannot_record(_page, studio: str) -> None:  # noqa: ANN001
     SHOTS.mkdir(parents=True, exist_ok=True)
     a, b = _page(studio), _page(studio)
     b.click("[data-testid=record]")                         # b in record mode before a's take
@@ -184,12 +184,16 @@ def test_a_second_page_sees_the_take_read_only_and_cannot_record(_page, studio: 
     for i in range(1, 30):
         a.wait_for_timeout(16)
         a.mouse.move(start["x"] + 4 * i, start["y"] - 2 * i)
-    b.wait_for_function("studio.remoteTake !== null && studio.pieces.size > 0", timeout=30_000)
+    a.wait_for_function("!!(studio.performer.grab && studio.performer.grab.take)")
+    b.wait_for_function("studio.remoteTake !== null")
     box_b = b.evaluate("studio.values.get('box.position')")
-    for i in range(30, 60):
+    moved = lambda: b.evaluate(f"studio.pieces.size > 0 && studio.values.get('box.position')[0] !== {box_b[0]}")  # noqa: E731
+    for i in range(30, 600):                       # a keeps dragging until b shows a piece of it
+        if i % 10 == 0 and moved():
+            break
         a.wait_for_timeout(16)
-        a.mouse.move(start["x"] + 4 * i, start["y"] - 2 * i)
-    b.wait_for_function(f"studio.values.get('box.position')[0] !== {box_b[0]}", timeout=30_000)
+        a.mouse.move(start["x"] + 120 * np.sin(i / 20), start["y"] - 60 * np.sin(i / 30))
+    assert moved(), "b shows none of a's take"
     status = b.locator("[data-testid=take-status]").inner_text()
     assert "recording in another tab" in status and "box.position" in status, status
     assert b.evaluate("document.body.classList.contains('remote-recording')")

@@ -410,8 +410,8 @@ def wire(message: _Outbound) -> dict:
 def relay(message: Preview | Transport) -> dict:
     """A page's ``preview`` or ``transport`` as the other pages get it (without its ``id``).
 
-    >>> relay(parse('{"type": "transport", "id": 1, "time": 2, "loop": [0, 1]}'))
-    {'type': 'transport', 'time': 2.0, 'playing': False, 'speed': 1.0, 'loop': [0.0, 1.0]}
+    >>> relay(parse('{"type": "preview", "id": 1, "key": "drag", "path": "box.position", "value": [0, 1, 2]}'))
+    {'type': 'preview', 'key': 'drag', 'path': 'box.position', 'value': [0.0, 1.0, 2.0]}
     """
     return message.model_dump(mode="json", exclude={"id"})
 
