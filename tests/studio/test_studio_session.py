@@ -340,8 +340,9 @@ def test_previews_of_a_page_that_went_away_are_put_back(session):
        n=st.integers(3, 60), mode=st.sampled_from(["replace", "additive"]))
 def test_a_take_over_an_attribute_with_a_value_keeps_it_before_the_take(tmp_path_factory, start, value, n, mode):
     """A take at ``start`` > 0 of an attribute with no track: before the take the track
-    holds the scene's value; the take fades in from it (as over a track); the raw takes
-    recompose the curve."""
+    holds the scene's value (replacing: until the blend before the take, then eases onto
+    its first sample, and every sample of the take is kept; additive: the offsets fade in
+    over the blend, onto the value); the raw takes recompose the curve."""
     from sketchanim.anim.layers import compose
 
     s = Session(tmp_path_factory.mktemp("p") / "s.sketchanim")
@@ -354,10 +355,11 @@ def test_a_take_over_an_attribute_with_a_value_keeps_it_before_the_take(tmp_path
         s.samples(OWNER, "a", t, picked.tolist())
         s.end_take(OWNER, "a", None)
         track = s.player.tracks["lamp.color"]
-        earlier = np.linspace(min(0.0, start - 1), t[0], 50)
+        ease = min(0.1, start / 2) if mode == "replace" else 0.0
+        earlier = np.linspace(min(0.0, start - 1), t[0] - ease, 50)
         assert np.abs(track.evaluate(earlier) - colour).max() <= track.tol, "the value before the take changed"
         target = picked if mode == "replace" else colour + picked
-        settled = t >= t[0] + 0.1 + 1e-9
+        settled = t >= t[0] + (0.1 if mode == "additive" else 0.0) - 1e-12
         assert not settled.any() or np.abs(track.evaluate(t[settled]) - target[settled]).max() <= track.tol
         again = compose(track.type, track.takes, track.tol, track.spline.k + 1)       # from the raw takes
         assert np.abs(again(earlier) - colour).max() <= track.tol

@@ -15,10 +15,12 @@ An attribute without a track still has a value (the scene's). A take of it that 
 later than the project (after ``min(0, the tracks' first time)``) would hold its first
 sample before it; where that sample is further than the tolerance from the value (a
 colour picked at 5.8 s), or the take is additive (its offsets go onto the value), the
-take is recorded over the value as over a track (:func:`value_track`): the value holds
-up to the take, which fades in from it over ``blend``. That track is made of a take of
-two samples (the value at the project's start and at the take's), so the raw takes
-still recompose the curve (:func:`~sketchanim.anim.layers.compose`).
+take is recorded over the value as over a track (:func:`value_track`). Replacing, the
+value holds until ``blend`` seconds before the take and eases (smoothstep) onto the
+take's first sample, and the take joins it without a fade (its samples are kept as
+performed); additive, the value holds and the offsets fade in over ``blend``. That
+track is itself made of takes (the hold's two samples, the ease's samples), so the raw
+takes still recompose the curve (:func:`~sketchanim.anim.layers.compose`).
 
 What the recorder warns of when a part stops (a reducer process died, the journal
 failed) is logged and becomes a ``notice`` for every page.
@@ -73,6 +75,7 @@ class RunningTake:
     last: float = -np.inf
     samples: int = 0
     gaps: list[tuple[float, float]] = field(default_factory=list)
+    eased: set[str] = field(default_factory=set)              # paths recorded over their value's ease
 
     def info(self, editor: Editor) -> p.TakeInfo:
         """The take as a ``state`` shows it."""
@@ -84,18 +87,36 @@ def _flat(row: object) -> bool:
     return isinstance(row, (list, tuple)) and all(isinstance(x, (int, float)) for x in row)
 
 
-def value_track(path: str, type: AttributeType, value: np.ndarray, start: float, end: float,
-                tol: float) -> ContinuousTrack:
-    """The track of an attribute that holds ``value`` from ``start`` to ``end``: one take
-    of two samples, as :func:`~sketchanim.anim.layers.recorded_over` lays it.
+#: Samples of the ease from an attribute's value onto a take's first sample.
+EASE_SAMPLES = 16
+
+
+def value_track(path: str, type: AttributeType, value: np.ndarray, onto: np.ndarray, start: float, end: float,
+                ease: float, tol: float) -> ContinuousTrack:
+    """The track of an attribute that holds ``value`` from ``start`` and eases onto
+    ``onto`` (smoothstep; a quaternion's normalized, in ``value``'s hemisphere) over the
+    ``ease`` seconds before ``end``: a take of two samples (the hold), then one of samples
+    of the ease, as :func:`~sketchanim.anim.layers.recorded_over` lays them.
 
     >>> from sketchanim.anim.attributes import COLOR
-    >>> track = value_track("lamp.color", COLOR, np.array([1.0, 0.5, 0.2]), 0.0, 5.8, 0.005)
-    >>> track.evaluate([0.0, 3.0, 5.8]).round(12).tolist(), len(track.takes)
-    ([[1.0, 0.5, 0.2], [1.0, 0.5, 0.2], [1.0, 0.5, 0.2]], 1)
+    >>> track = value_track("lamp.color", COLOR, np.array([1.0, 0.5, 0.2]), np.array([0.0, 0.0, 1.0]),
+    ...                     0.0, 5.8, 0.1, 0.005)
+    >>> track.evaluate([0.0, 5.7]).round(3).tolist(), track.evaluate([5.8]).round(3).tolist(), len(track.takes)
+    ([[1.0, 0.5, 0.2], [1.0, 0.5, 0.2]], [[0.0, 0.0, 1.0]], 2)
     """
-    take = Take(np.array([start, end]), np.tile(np.asarray(value, dtype=float), (2, 1)))
-    return recorded_over(path, type, None, take, tol, ORDER)
+    value, onto = np.asarray(value, dtype=float), np.asarray(onto, dtype=float)
+    ease = min(ease, (end - start) / 2)
+    held = recorded_over(path, type, None, Take(np.array([start, end - ease]), np.vstack([value, value])), tol, ORDER)
+    if ease <= 0:
+        return held
+    if type.is_rotation and float(np.dot(value, onto)) < 0:
+        onto = -onto
+    u = np.linspace(0.0, 1.0, EASE_SAMPLES + 1)
+    w = u * u * (3 - 2 * u)
+    ramp = value + w[:, None] * (onto - value)
+    if type.is_rotation:
+        ramp /= np.linalg.norm(ramp, axis=1, keepdims=True)
+    return recorded_over(path, type, held, Take(end - ease + ease * u, ramp, blend=0.0), tol, ORDER)
 
 
 def stopped(recorder: Recorder) -> tuple[dict[str, Track], list[p.Notice]]:
@@ -161,7 +182,7 @@ class TakeRecorder:
         scene = self.editor.scene
         start = min(0.0, self.editor.player.span[0])
         rows = layout(scene, tk.paths)
-        if row.shape != (rows[-1][2],):
+        if row.shape != (rows[-1][2],) or not np.all(np.isfinite(row)):
             return                                      # the recorder refuses the row, naming it
         for path, lo, hi in rows:
             type = scene.type(path)
@@ -172,14 +193,18 @@ class TakeRecorder:
             angle = 1.0 if type.is_rotation else 0.0
             gap = max_errors(row[None, lo:hi], value[None], angle)
             off = float(np.degrees(gap.max()) if type.is_rotation else gap.max())
-            if tk.mode == "additive" or off > tol:
-                tk.over[path] = value_track(path, type, value, start, time, tol)
+            if tk.mode == "additive":
+                tk.over[path] = value_track(path, type, value, value, start, time, 0.0, tol)
+            elif off > tol:
+                tk.over[path] = value_track(path, type, value, row[lo:hi], start, time, tk.blend, tol)
+                tk.eased.add(path)
 
     def _start_part(self) -> None:
         take = self.take
         rec = Recorder(self.editor.scene, order=ORDER, journal=self.journal())
         for path in take.paths:
-            rec.arm(path, tol=take.tol.get(path), mode=take.mode, blend=take.blend)
+            eased = path in take.eased and not take.result          # the first part joins the ease unfaded
+            rec.arm(path, tol=take.tol.get(path), mode=take.mode, blend=0.0 if eased else take.blend)
         rec.start({**take.over, **take.result})
         take.recorder = rec
 
