@@ -277,11 +277,15 @@ def test_a_colour_take_at_a_later_time_keeps_the_colour_before_it(_page, studio:
     assert take["paths"] == ["lamp.color"] and take["times"][0] > 1.2
     page.click("[data-testid=record]")
     page.wait_for_function("studio.tracks.has('lamp.color')")
-    # the page's evaluation of the track: the colour before the take, the picked colours after
+    # the page's evaluation of the track: the colour before the take (it eases onto the take's
+    # first sample over the blend, 0.1 s, before it), the picked colours after
     shown = page.evaluate("""(ts) => ts.map((t) => { studio.transport.seek(t); return studio.values.get('lamp.color'); })""",
-                          [0.0, 0.5, 1.0, take["times"][0] - 0.01])
+                          [0.0, 0.5, 1.0, take["times"][0] - 0.1 - 1e-3])
     assert np.abs(np.array(shown) - before).max() <= 0.005, f"the lamp's colour before the take changed: {shown}"
     end = page.evaluate("(t) => { studio.transport.seek(t); return studio.values.get('lamp.color'); }",
                         take["times"][-1])
     assert np.abs(np.array(end) - take["rows"][-1]).max() <= 0.005
+    first = page.evaluate("(t) => { studio.transport.seek(t); return studio.values.get('lamp.color'); }",
+                          take["times"][0])
+    assert np.abs(np.array(first) - take["rows"][0]).max() <= 0.005, "the take's first sample was not kept"
     assert drew_something(page) > 5 and not page.errors
