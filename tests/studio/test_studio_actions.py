@@ -58,8 +58,15 @@ def _served(page, path: str) -> list:  # noqa: ANN001
     return next(a["value"] for o in state["objects"] if o["name"] == obj for a in o["attributes"] if a["name"] == attr)
 
 
-def _undo_count(page) -> int:  # noqa: ANN001
-    return page.evaluate("studio.history.undo.length")
+def _gizmo_ring(page, centre: dict) -> tuple[float, float] | None:  # noqa: ANN001
+    """A radius and angle around ``centre`` (page pixels) where the pointer hovers an axis of
+    the transform controls, the pointer left there; None if there is none."""
+    for r in range(30, 160, 6):
+        for a in np.linspace(0, 2 * np.pi, 24, endpoint=False):
+            page.mouse.move(centre["x"] + r * np.cos(a), centre["y"] + r * np.sin(a))
+            if page.evaluate("viewport.transform.axis") is not None:
+                return float(r), float(a)
+    return None
 
 
 def test_a_plain_drag_and_a_gizmo_turn_are_undone_exactly(_page, studio: str) -> None:  # noqa: ANN001
@@ -75,16 +82,21 @@ def test_a_plain_drag_and_a_gizmo_turn_are_undone_exactly(_page, studio: str) ->
     page.wait_for_timeout(200)
     assert page.evaluate("studio.values.get('box.position')") == before
     assert _served(page, "box.position") == before, "undo did not restore the value before the drag"
-    # a gizmo turn: the transform controls' own events (press, the object turned over frames, release)
+    # a gizmo turn with the pointer: find a ring of the rotate gizmo (where the controls hover an
+    # axis), press on it and drag along it
     turned0 = page.evaluate("studio.values.get('box.orientation')")
     page.click("[data-testid=outliner] li[data-object=box]")
     page.keyboard.press("e")
-    page.evaluate("viewport.transform.dispatchEvent({type: 'mouseDown'})")
-    for i in range(1, 16):
-        page.evaluate("(a) => { const n = viewport.nodes.get('box').root; n.rotation.set(0, a, 0); "
-                      "viewport.transform.dispatchEvent({type: 'objectChange'}); }", 0.05 * i)
-        page.wait_for_timeout(20)
-    page.evaluate("viewport.transform.dispatchEvent({type: 'mouseUp'})")
+    centre = page.evaluate("viewport.screenOf('box')")
+    ring = _gizmo_ring(page, centre)
+    assert ring is not None, "no ring of the rotate gizmo under the pointer around the box"
+    r, a = ring
+    page.mouse.down()
+    for k in range(1, 25):
+        page.wait_for_timeout(16)
+        page.mouse.move(centre["x"] + r * np.cos(a + 0.04 * k), centre["y"] + r * np.sin(a + 0.04 * k))
+    page.wait_for_timeout(16)
+    page.mouse.up()
     page.wait_for_function("studio.history.undo.length === 1 && studio.history.undo[0].startsWith('rotate')")
     assert _served(page, "box.orientation") != turned0
     page.keyboard.press("Control+z")
