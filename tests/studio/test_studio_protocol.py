@@ -170,16 +170,22 @@ def test_autosave_and_relays(client, tmp_path):
         transport, before = receive_until(b, "transport", limit=200)
         previews = [m["value"][0] for m in before if m["type"] == "preview"]
         assert previews and previews[-1] == 49 and previews == sorted(previews)     # newest kept, never older after newer
-        assert transport == {"type": "transport", "time": 1.5, "playing": True, "speed": 0.5, "loop": [1.0, 3.0]}
+        assert transport == {"type": "transport", "time": 1.5, "playing": True, "speed": 0.5, "loop": [1.0, 3.0],
+                             "count_in": 0.0, "capture_speed": 1.0, "mode": "replace", "loop_record": False}
         time.sleep(1.0)                                                  # autosave: half a second after a change
         with Project(tmp_path / "p.sketchanim", create=False) as project:
             scene, _ = project.load()
         assert scene.get("cam.fov").tolist() == [35.0]
-    with client.websocket_connect("/ws") as c:
+        with client.websocket_connect("/ws") as c:                       # a page opened mid-drag sees it live
+            assert _box(c.receive_json()) == [49.0, 0.5, 0.0]
+    with client.websocket_connect("/ws") as c:      # the dragging page went without its set: the value is back
         state = c.receive_json()
     assert state["transport"]["time"] == 1.5
-    assert {a["name"]: a["value"] for o in state["objects"] if o["name"] == "box" for a in o["attributes"]}[
-        "position"] == [49.0, 0.5, 0.0]
+    assert _box(state) == [0.0, 0.5, 0.0]
+
+
+def _box(state: dict) -> list:
+    return {a["name"]: a["value"] for o in state["objects"] if o["name"] == "box" for a in o["attributes"]}["position"]
 
 
 def test_objects_stay_while_a_take_runs(client):
@@ -266,7 +272,41 @@ def test_what_the_server_sends_is_declared_in_the_protocol(client):
         seen += receive_until(a, "exported", limit=200)[1] + [a.receive_json()]
         seen += receive_until(b, "state", limit=200)[1]
     assert {m["type"] for m in seen} >= {"state", "pong", "ack", "values", "history", "take.started", "tracks",
-                                         "take.ended", "exported", "error", "preview", "transport"}
+                                         "take.ended", "exported", "error", "preview", "transport", "take.running"}
     for m in seen:
         model = adapter.validate_python(m)
         assert protocol.wire(model) == m or m["type"] in ("preview", "transport"), m
+
+
+def test_one_performer_per_project_the_others_see_the_take(client):
+    """While page a records, page b is told (``take.running``), is refused a take of its
+    own (``busy``), gets a's pieces as they come and the take's end; then b may record."""
+    import time
+
+    t = np.arange(0, 6, 1 / 60)
+    x = np.c_[np.sin(3 * t), 0.5 + 0.2 * np.cos(5 * t), t]
+    with client.websocket_connect("/ws") as a, client.websocket_connect("/ws") as b:
+        a.receive_json(), b.receive_json()
+        a.send_json({"type": "take.begin", "take": "a1", "paths": ["box.position"], "time": 0.0})
+        receive_until(a, "take.started")
+        running, _ = receive_until(b, "take.running")
+        assert running == {"type": "take.running", "take": "a1", "paths": ["box.position"], "mode": "replace",
+                           "time": 0.0, "layout": [["box.position", 0, 3]]}
+        b.send_json({"type": "take.begin", "id": 7, "take": "b1", "paths": ["ball.position"]})
+        error, _ = receive_until(b, "error")
+        assert error["id"] == 7 and error["code"] == "busy"
+        for i in range(0, len(t), 6):
+            a.send_json({"type": "take.samples", "take": "a1", "t": t[i:i + 6].tolist(), "values": x[i:i + 6].tolist()})
+            time.sleep(0.002)
+        time.sleep(0.2)
+        a.send_json({"type": "take.end", "take": "a1"})
+        ended, before = receive_until(b, "take.ended", limit=400)
+        assert ended["label"] == "take box.position"
+        assert any(m["type"] == "take.piece" and m["take"] == "a1" for m in before), "b saw none of the take"
+        with client.websocket_connect("/ws") as c:                   # no take runs now: c is told none
+            assert c.receive_json()["take"] is None
+        b.send_json({"type": "take.begin", "take": "b2", "paths": ["ball.position"]})
+        receive_until(b, "take.started")
+        receive_until(a, "take.running")
+        b.send_json({"type": "take.cancel", "take": "b2"})
+        receive_until(b, "take.ended")

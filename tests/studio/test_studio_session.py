@@ -11,6 +11,8 @@ from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.tracks import ContinuousTrack
 from sketchanim.formats.recordings import read_tum
+from sketchanim.studio import protocol as p
+from sketchanim.studio.outbound import layout
 from sketchanim.studio.session import Session
 import tolerance
 
@@ -18,7 +20,12 @@ OWNER = 1
 
 
 def take(session, name, paths, t, rows, *, batch=6, mode="replace", loop=None, speed=1.0, gap=0.25, label=None):
-    """Perform a take through the session as the page does: begin, batches, end."""
+    """Perform a take through the session as the page does: begin, batches, end. An
+    attribute without a track is grabbed where it is (the scene holds the first sample),
+    as a drag on the page starts."""
+    for path, lo, hi in layout(session.scene, paths):
+        if path not in session.player.tracks and mode == "replace":
+            session.scene.set(path, rows[0][lo:hi])
     session.begin_take(OWNER, name, paths, mode, 0.1, float(t[0]), speed, {}, loop, gap)
     for i in range(0, len(t), batch):
         session.samples(OWNER, name, t[i:i + batch], rows[i:i + batch].tolist())
@@ -302,3 +309,70 @@ def test_a_reducer_process_that_died_is_a_notice_for_every_page(session, monkeyp
     assert any("a reducer process died" in r.getMessage() for r in caplog.records)
     track = session.player.tracks["box.position"]
     assert track_within(track, t, np.c_[t, 0.5 + 0 * t, 0 * t])
+
+
+def test_undo_after_previews_restores_the_value_before_the_gesture(session):
+    """A drag previews (the scene shows each value live) and its release sets the last
+    one: undo gives back exactly the value before the first preview."""
+    before = session.scene.get("box.position").tolist()
+    for i in range(1, 20):
+        session.preview(p.Preview(type="preview", key="move box", path="box.position", value=[0.1 * i, 0.5, 0.0]),
+                        OWNER)
+    assert session.scene.get("box.position").tolist() == [1.9000000000000001, 0.5, 0.0]    # live
+    session.set("box.position", [1.9, 0.5, 0.0], "move box", "move box 1")
+    session.undo()
+    assert session.scene.get("box.position").tolist() == before
+    session.redo()
+    assert session.scene.get("box.position").tolist() == [1.9, 0.5, 0.0]
+
+
+def test_previews_of_a_page_that_went_away_are_put_back(session):
+    before = session.scene.get("lamp.intensity").tolist()
+    session.preview(p.Preview(type="preview", key="slide", path="lamp.intensity", value=[4.0]), OWNER)
+    out = session.leave(OWNER)
+    assert session.scene.get("lamp.intensity").tolist() == before
+    assert ("all", {"type": "values", "values": {"lamp.intensity": before}}) in out
+    assert session.history.labels == ([], [])
+
+
+@settings(max_examples=6, deadline=None)
+@given(start=st.floats(0.2, 8.0), value=st.lists(st.floats(0.0, 1.0), min_size=3, max_size=3),
+       n=st.integers(3, 60), mode=st.sampled_from(["replace", "additive"]))
+def test_a_take_over_an_attribute_with_a_value_keeps_it_before_the_take(tmp_path_factory, start, value, n, mode):
+    """A take at ``start`` > 0 of an attribute with no track: before the take the track
+    holds the scene's value (replacing: until the blend before the take, then eases onto
+    its first sample, and every sample of the take is kept; additive: the offsets fade in
+    over the blend, onto the value); the raw takes recompose the curve."""
+    from sketchanim.anim.layers import compose
+
+    s = Session(tmp_path_factory.mktemp("p") / "s.sketchanim")
+    try:
+        colour = np.array(value)
+        s.scene.set("lamp.color", colour)
+        t = start + np.arange(n) / 60
+        picked = np.tile([0.9, 0.1, 0.3], (n, 1)) if mode == "replace" else np.tile([0.05, -0.05, 0.02], (n, 1))
+        s.begin_take(OWNER, "a", ["lamp.color"], mode, 0.1, float(t[0]), 1.0, {}, None, 0.25)
+        s.samples(OWNER, "a", t, picked.tolist())
+        s.end_take(OWNER, "a", None)
+        track = s.player.tracks["lamp.color"]
+        ease = min(0.1, start / 2) if mode == "replace" else 0.0
+        earlier = np.linspace(min(0.0, start - 1), t[0] - ease, 50)
+        assert np.abs(track.evaluate(earlier) - colour).max() <= track.tol, "the value before the take changed"
+        target = picked if mode == "replace" else colour + picked
+        settled = t >= t[0] + (0.1 if mode == "additive" else 0.0) - 1e-12
+        assert not settled.any() or np.abs(track.evaluate(t[settled]) - target[settled]).max() <= track.tol
+        again = compose(track.type, track.takes, track.tol, track.spline.k + 1)       # from the raw takes
+        assert np.abs(again(earlier) - colour).max() <= track.tol
+        assert not settled.any() or np.abs(again(t[settled]) - target[settled]).max() <= track.tol
+    finally:
+        s.close()
+
+
+def test_a_take_that_starts_where_the_value_is_is_the_take_alone(session):
+    """A drag starts where the object is: its take is the track (no hold added)."""
+    t = 2.0 + np.arange(40) / 60
+    x = np.c_[np.sin(t - 2), 0.5 + 0 * t, 0 * t]
+    session.scene.set("box.position", x[0])
+    take(session, "a", ["box.position"], t, x)
+    track = session.player.tracks["box.position"]
+    assert len(track.takes) == 1 and track.start == t[0] and track_within(track, t, x)

@@ -159,12 +159,12 @@ class Hub:
             self._saving = asyncio.get_running_loop().create_task(later())
 
     async def leave(self, client: Client) -> None:
-        """A page went away: a take it was recording ends as if released (kept)."""
+        """A page went away: a take it was recording ends as if released (kept), what it
+        previewed without a set goes back (:meth:`Session.leave`)."""
         self.clients.pop(client.number, None)
-        take = self.session.take
-        if take is not None and take.owner == client.number:
-            self.send(await self.call(self.session.end_take, client.number, take.id, None), None)
-            self.autosave(0.0)
+        out = await self.call(self.session.leave, client.number)
+        self.send(out, None)
+        self.autosave(0.0)
 
 
 def same_origin(origin: str | None, host: str | None) -> bool:

@@ -62,6 +62,7 @@ class Editor:
         self.dirty = False
         self._scene_changes: list[tuple[str, str, str | None]] = []
         self._shown: dict[str, Track] = dict(self.player.tracks)
+        self._before: dict[str, object] = {}     # path -> its value before the previews since its last set
         scene.watch(lambda *change: self._scene_changes.append(change))
 
     def run(self, command: Command) -> None:
@@ -70,12 +71,36 @@ class Editor:
         self.dirty = True
 
     def set(self, path: str, value: object, label: str | None, merge: str | None) -> None:
-        """Set ``path`` to ``value`` (steps with the same ``merge`` key join)."""
-        self.run(SetValue(self.player, path, value, label, merge))
+        """Set ``path`` to ``value`` (steps with the same ``merge`` key join); the step
+        undoes to the value before any preview of ``path`` since its last set."""
+        checked = self.scene.type(path).check(value, path)
+        if path in self._before:
+            self.scene.attribute(path).value = self._before.pop(path)
+        self.run(SetValue(self.player, path, checked, label, merge))
 
     def preview(self, path: str, value: object) -> None:
-        """A live value (not a History step): the scene's current value until the next."""
-        self.scene.attribute(path).value = self.scene.type(path).check(value, path)
+        """A live value (not a History step): the scene's current value until the next
+        preview, the :meth:`set` that ends the gesture, or :meth:`cancel_previews`.
+
+        >>> from sketchanim.studio.defaults import default_scene
+        >>> editor = Editor(default_scene(), [])
+        >>> before = editor.scene.get("lamp.intensity").tolist()
+        >>> editor.preview("lamp.intensity", [3.0]); editor.preview("lamp.intensity", [4.0])
+        >>> editor.set("lamp.intensity", [4.0], None, None)
+        >>> _ = editor.undo()
+        >>> editor.scene.get("lamp.intensity").tolist() == before
+        True
+        """
+        checked = self.scene.type(path).check(value, path)
+        self._before.setdefault(path, self.scene.get(path))
+        self.scene.attribute(path).value = checked
+
+    def cancel_previews(self, paths: Iterable[str]) -> None:
+        """Put back the values ``paths`` had before their previews (a gesture that ended
+        without its set: the page went away)."""
+        for path in paths:
+            if path in self._before and self._exists(path):
+                self.scene.set(path, self._before.pop(path))
 
     def add_object(self, name: str, kind: str) -> None:
         """Add an object (with a ``shape`` if it is a plain object)."""
@@ -90,12 +115,15 @@ class Editor:
         self.run(RenameObject(self.player, name, to))
 
     def undo(self) -> bool:
-        """Undo the last step; whether there was one."""
+        """Undo the last step; whether there was one (previews in progress stay as the
+        scene's values, their gestures' undo targets those values as undone)."""
+        self._before.clear()
         self.dirty |= (done := self.history.undo() is not None)
         return done
 
     def redo(self) -> bool:
-        """Redo the last undone step; whether there was one."""
+        """Redo the last undone step; whether there was one (as :meth:`undo` for previews)."""
+        self._before.clear()
         self.dirty |= (done := self.history.redo() is not None)
         return done
 

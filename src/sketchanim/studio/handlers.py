@@ -23,7 +23,7 @@ HANDLERS: dict[str, Handler] = {
     "ping": lambda s, m, client: [("self", p.wire(p.Pong(id=m.id, server_time=time.time())))],
     "state": lambda s, m, client: [("self", s.state())],
     "set": lambda s, m, client: s.set(m.path, m.value, m.label, m.merge),
-    "preview": lambda s, m, client: s.preview(m),
+    "preview": lambda s, m, client: s.preview(m, client),
     "object.add": lambda s, m, client: s.add_object(m.name, m.kind),
     "object.remove": lambda s, m, client: s.remove_object(m.name),
     "object.rename": lambda s, m, client: s.rename_object(m.name, m.to),

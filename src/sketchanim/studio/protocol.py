@@ -129,13 +129,19 @@ class Redo(_Message):
 
 
 class Transport(_Message):
-    """The page's transport, kept for a reload and relayed to the other pages."""
+    """The page's transport and record settings, kept for a reload and relayed to the
+    other pages: the time, playing, the playback speed, the loop range; the count-in's
+    seconds, the capture speed, the layer mode and loop recording."""
 
     type: Literal["transport"]
     time: Number = 0.0
     playing: bool = False
     speed: Annotated[float, Field(ge=-16, le=16, allow_inf_nan=False)] = 1.0
     loop: tuple[Number, Number] | None = None
+    count_in: Annotated[float, Field(ge=0, le=60, allow_inf_nan=False)] = 0.0
+    capture_speed: Annotated[float, Field(gt=0, le=4, allow_inf_nan=False)] = 1.0
+    mode: Literal[MODES] = "replace"  # type: ignore[valid-type]
+    loop_record: bool = False
 
 
 class ToleranceSet(_Message):
@@ -233,10 +239,16 @@ TrackInfo = Annotated[CurveInfo | StepsInfo, Field(discriminator="kind")]
 
 
 class TransportInfo(_Outbound):
+    """The transport and record settings as the server keeps them (see :class:`Transport`)."""
+
     time: float = 0.0
     playing: bool = False
     speed: float = 1.0
     loop: tuple[float, float] | None = None
+    count_in: float = 0.0
+    capture_speed: float = 1.0
+    mode: str = "replace"
+    loop_record: bool = False
 
 
 class TakeInfo(_Outbound):
@@ -313,6 +325,12 @@ class TakeStarted(_Outbound):
     take: str
     layout: list[tuple[str, int, int]]
     width: int
+
+
+class TakeRunning(TakeInfo):
+    """To the other pages: another page began a take (``take.ended`` says when it is over)."""
+
+    type: Literal["take.running"] = "take.running"
 
 
 class TakePiece(_Outbound):
@@ -392,13 +410,13 @@ class Notice(_Outbound):
 
 
 ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece | TakeEnded | Pong | Ack | Error
-                 | Ready | Exported | Notice | Preview | Transport | Tolerances)
+                 | Ready | Exported | Notice | Preview | Transport | Tolerances | TakeRunning)
 #: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
 MESSAGES: tuple[type[BaseModel], ...] = (
     Ping, StateRequest, Set, Preview, ObjectAdd, ObjectRemove, ObjectRename, TakeBegin, TakeSamples, TakeEnd,
     TakeCancel, Undo, Redo, Transport, Export, ToleranceSet,
     State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice,
-    Tolerances)
+    Tolerances, TakeRunning)
 
 
 #: Who gets a message: every page, every page but the sender's, or the sender's alone.
@@ -419,8 +437,8 @@ def wire(message: _Outbound) -> dict:
 def relay(message: Preview | Transport) -> dict:
     """A page's ``preview`` or ``transport`` as the other pages get it (without its ``id``).
 
-    >>> relay(parse('{"type": "transport", "id": 1, "time": 2, "loop": [0, 1]}'))
-    {'type': 'transport', 'time': 2.0, 'playing': False, 'speed': 1.0, 'loop': [0.0, 1.0]}
+    >>> relay(parse('{"type": "preview", "id": 1, "key": "drag", "path": "box.position", "value": [0, 1, 2]}'))
+    {'type': 'preview', 'key': 'drag', 'path': 'box.position', 'value': [0.0, 1.0, 2.0]}
     """
     return message.model_dump(mode="json", exclude={"id"})
 

@@ -78,6 +78,7 @@ class Session:
         #: Whether the compiled kernels are warm (the app says so; pages see it in ``state``).
         self.ready = True
         self.transport = p.TransportInfo()
+        self._previewed: dict[int, set[str]] = {}     # client -> paths it previewed since their last set
         made = recovered_tracks(self.project, self.scene, self.player.tracks, ORDER)
         if made:
             self.editor.run(RecordTake(self.player, made, "recovered take"))
@@ -141,14 +142,26 @@ class Session:
     # -- scene edits -----------------------------------------------------------------------
 
     def set(self, path: str, value: object, label: str | None, merge: str | None) -> list[p.Out]:
-        """Set ``path`` to ``value`` as one History step."""
+        """Set ``path`` to ``value`` as one History step (undone to the value before
+        the previews of the gesture it ends)."""
         self.editor.set(path, value, label, merge)
+        for paths in self._previewed.values():
+            paths.discard(path)
         return self._told()
 
-    def preview(self, message: p.Preview) -> list[p.Out]:
-        """A live value (not a History step), relayed to the other pages."""
+    def preview(self, message: p.Preview, client: int) -> list[p.Out]:
+        """A live value from ``client`` (not a History step), relayed to the other pages."""
         self.editor.preview(message.path, message.value)
+        self._previewed.setdefault(client, set()).add(message.path)
         return [("others", p.relay(message))]
+
+    def leave(self, client: int) -> list[p.Out]:
+        """``client`` went away: a take it was recording ends as if released (kept), and
+        what it previewed without a set goes back to the value before."""
+        take = self.take
+        out = [] if take is None or take.owner != client else self.end_take(client, take.id, None)
+        self.editor.cancel_previews(self._previewed.pop(client, ()))
+        return out + self._told()
 
     def add_object(self, name: str, kind: str) -> list[p.Out]:
         """Add an object (with a ``shape`` if it is a plain object) as one step."""
@@ -178,9 +191,9 @@ class Session:
         return self._told() if self.editor.redo() else [("self", p.wire(history_info(self.history)))]
 
     def set_transport(self, message: p.Transport) -> list[p.Out]:
-        """The page's transport, kept for a reload and relayed to the other pages."""
-        self.transport = p.TransportInfo(time=message.time, playing=message.playing, speed=message.speed,
-                                         loop=message.loop)
+        """The page's transport and record settings, kept for a reload and relayed to
+        the other pages."""
+        self.transport = p.TransportInfo(**message.model_dump(exclude={"id", "type"}))
         return [("others", p.relay(message))]
 
     def set_tolerance(self, path: str, amount: float | None, unit: str) -> list[p.Out]:
@@ -220,7 +233,8 @@ class Session:
         self.save()                     # the last take leaves the journal before this one streams into it
         started = self.takes.begin(owner, take, paths, mode, blend, time, speed, tol, loop, gap)
         note_take(self.path, self.takes.settings())
-        return [("self", p.wire(started))]
+        running = p.TakeRunning(**self.takes.take.info(self.editor).model_dump())
+        return [("self", p.wire(started)), ("others", p.wire(running))]
 
     def samples(self, owner: int, take: str, times: np.ndarray, values: list) -> list[p.Out]:
         """Push a batch of frames (transport times (n,), rows (n, width))."""

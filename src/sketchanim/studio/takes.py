@@ -11,6 +11,17 @@ and fades into the next part over ``blend``). The take ends as one History step
 same ``loop`` key) are recorded over what was there before the last pass and replace it,
 as one step.
 
+An attribute without a track still has a value (the scene's). A take of it that starts
+later than the project (after ``min(0, the tracks' first time)``) would hold its first
+sample before it; where that sample is further than the tolerance from the value (a
+colour picked at 5.8 s), or the take is additive (its offsets go onto the value), the
+take is recorded over the value as over a track (:func:`value_track`). Replacing, the
+value holds until ``blend`` seconds before the take and eases (smoothstep) onto the
+take's first sample, and the take joins it without a fade (its samples are kept as
+performed); additive, the value holds and the offsets fade in over ``blend``. That
+track is itself made of takes (the hold's two samples, the ease's samples), so the raw
+takes still recompose the curve (:func:`~sketchanim.anim.layers.compose`).
+
 What the recorder warns of when a part stops (a reducer process died, the journal
 failed) is logged and becomes a ``notice`` for every page.
 """
@@ -25,11 +36,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from sketchanim.anim.attributes import AttributeType
 from sketchanim.anim.commands import RecordTake
+from sketchanim.anim.layers import recorded_over
 from sketchanim.anim.recorder import Recorder
-from sketchanim.anim.tracks import Track
+from sketchanim.anim.tracks import ContinuousTrack, Take, Track
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.project.journal import Journal
+from sketchanim.reducer.metric import max_errors
 from sketchanim.studio import protocol as p
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import layout, piece_info
@@ -61,11 +75,48 @@ class RunningTake:
     last: float = -np.inf
     samples: int = 0
     gaps: list[tuple[float, float]] = field(default_factory=list)
+    eased: set[str] = field(default_factory=set)              # paths recorded over their value's ease
 
     def info(self, editor: Editor) -> p.TakeInfo:
         """The take as a ``state`` shows it."""
         return p.TakeInfo(take=self.id, paths=self.paths, mode=self.mode, time=self.time,
                           layout=layout(editor.scene, self.paths))
+
+
+def _flat(row: object) -> bool:
+    return isinstance(row, (list, tuple)) and all(isinstance(x, (int, float)) for x in row)
+
+
+#: Samples of the ease from an attribute's value onto a take's first sample.
+EASE_SAMPLES = 16
+
+
+def value_track(path: str, type: AttributeType, value: np.ndarray, onto: np.ndarray, start: float, end: float,
+                ease: float, tol: float) -> ContinuousTrack:
+    """The track of an attribute that holds ``value`` from ``start`` and eases onto
+    ``onto`` (smoothstep; a quaternion's normalized, in ``value``'s hemisphere) over the
+    ``ease`` seconds before ``end``: a take of two samples (the hold), then one of samples
+    of the ease, as :func:`~sketchanim.anim.layers.recorded_over` lays them.
+
+    >>> from sketchanim.anim.attributes import COLOR
+    >>> track = value_track("lamp.color", COLOR, np.array([1.0, 0.5, 0.2]), np.array([0.0, 0.0, 1.0]),
+    ...                     0.0, 5.8, 0.1, 0.005)
+    >>> track.evaluate([0.0, 5.7]).round(3).tolist(), track.evaluate([5.8]).round(3).tolist(), len(track.takes)
+    ([[1.0, 0.5, 0.2], [1.0, 0.5, 0.2]], [[0.0, 0.0, 1.0]], 2)
+    """
+    value, onto = np.asarray(value, dtype=float), np.asarray(onto, dtype=float)
+    ease = min(ease, (end - start) / 2)
+    held = recorded_over(path, type, None, Take(np.array([start, end - ease]), np.vstack([value, value])), tol, ORDER)
+    if ease <= 0:
+        return held
+    if type.is_rotation and float(np.dot(value, onto)) < 0:
+        onto = -onto
+    u = np.linspace(0.0, 1.0, EASE_SAMPLES + 1)
+    w = u * u * (3 - 2 * u)
+    ramp = value + w[:, None] * (onto - value)
+    if type.is_rotation:
+        ramp /= np.linalg.norm(ramp, axis=1, keepdims=True)
+    return recorded_over(path, type, held, Take(end - ease + ease * u, ramp, blend=0.0), tol, ORDER)
 
 
 def stopped(recorder: Recorder) -> tuple[dict[str, Track], list[p.Notice]]:
@@ -115,7 +166,6 @@ class TakeRecorder:
             over.update(last_pass)                      # the next pass of a loop: over what was there before
             over = {path: t for path, t in over.items() if t is not None}
         self.take = RunningTake(take, owner, list(paths), mode, blend, speed, gap, dict(tol), loop, time, over)
-        self._start_part()
         rows = layout(scene, paths)
         return p.TakeStarted(take=take, layout=rows, width=rows[-1][2])
 
@@ -125,11 +175,36 @@ class TakeRecorder:
         return {"paths": tk.paths, "mode": tk.mode, "blend": tk.blend, "tol": tk.tol, "speed": tk.speed,
                 "gap": tk.gap, "loop": tk.loop}
 
+    def _hold_values(self, tk: RunningTake, time: float, row: np.ndarray) -> None:
+        """Put into ``tk.over`` the scene's value of each armed attribute without a track
+        that the take would not keep before it (see the module's description), given the
+        take's first sample ``row`` at ``time``."""
+        scene = self.editor.scene
+        start = min(0.0, self.editor.player.span[0])
+        rows = layout(scene, tk.paths)
+        if row.shape != (rows[-1][2],) or not np.all(np.isfinite(row)):
+            return                                      # the recorder refuses the row, naming it
+        for path, lo, hi in rows:
+            type = scene.type(path)
+            if path in tk.over or time <= start:
+                continue
+            value = np.asarray(scene.get(path), dtype=float)
+            tol = tk.tol.get(path, type.tol)
+            angle = 1.0 if type.is_rotation else 0.0
+            gap = max_errors(row[None, lo:hi], value[None], angle)
+            off = float(np.degrees(gap.max()) if type.is_rotation else gap.max())
+            if tk.mode == "additive":
+                tk.over[path] = value_track(path, type, value, value, start, time, 0.0, tol)
+            elif off > tol:
+                tk.over[path] = value_track(path, type, value, row[lo:hi], start, time, tk.blend, tol)
+                tk.eased.add(path)
+
     def _start_part(self) -> None:
         take = self.take
         rec = Recorder(self.editor.scene, order=ORDER, journal=self.journal())
         for path in take.paths:
-            rec.arm(path, tol=take.tol.get(path), mode=take.mode, blend=take.blend)
+            eased = path in take.eased and not take.result          # the first part joins the ease unfaded
+            rec.arm(path, tol=take.tol.get(path), mode=take.mode, blend=0.0 if eased else take.blend)
         rec.start({**take.over, **take.result})
         take.recorder = rec
 
@@ -151,6 +226,9 @@ class TakeRecorder:
         stall = tk.gap * tk.speed
         notices: list[p.Notice] = []
         for i, (t, row) in enumerate(zip(times, values)):
+            if tk.recorder is None and not tk.samples:     # the first sample: what the take is over is known
+                self._hold_values(tk, float(t), np.asarray(row, dtype=float) if _flat(row) else np.empty(0))
+                self._start_part()
             if tk.samples and t - tk.last > stall:
                 notices += self._cut(tk)
                 tk.gaps.append((tk.last, float(t)))
@@ -167,8 +245,10 @@ class TakeRecorder:
                             for path, piece in tk.recorder.pieces())]
 
     def _cut(self, tk: RunningTake) -> list[p.Notice]:
-        """End the part recorded so far, keeping what it made."""
+        """End the part recorded so far, keeping what it made (nothing before the first sample)."""
         rec, tk.recorder = tk.recorder, None
+        if rec is None:
+            return []
         made, notices = stopped(rec)
         tk.result.update(made)
         rec.journal.close()

@@ -2,7 +2,7 @@
 // The keyboard module: which key asks for what, and keys typed into a field left alone.
 import test from 'node:test';
 import assert from 'node:assert/strict';
-import { actionOf, bindKeyboard } from '../../../src/sketchanim/studio/web/js/keyboard.js';
+import { actionOf, bindKeyboard, typing } from '../../../src/sketchanim/studio/web/js/keyboard.js';
 
 /** @param {string} key @param {{ctrlKey?: boolean, metaKey?: boolean, shiftKey?: boolean, altKey?: boolean}} [mods] */
 const press = (key, mods = {}) => ({ key, ctrlKey: false, metaKey: false, shiftKey: false, altKey: false, ...mods });
@@ -31,7 +31,7 @@ function keydown(/** @type {string} */ key, /** @type {object} */ target, mods =
   return event;
 }
 
-test('bound keys run their action once (Space and undo kept from the browser); keys in a field do not', () => {
+test('bound keys run their action once, their default prevented, whatever has focus; keys typed into a field do not', () => {
   const target = new EventTarget();
   /** @type {string[]} */
   const ran = [];
@@ -42,11 +42,30 @@ test('bound keys run their action once (Space and undo kept from the browser); k
   const space = keydown(' ', { tagName: 'CANVAS' });
   target.dispatchEvent(space);
   assert.ok(space.defaultPrevented, 'Space would scroll the page');
-  const loop = keydown('l', { tagName: 'BODY' });
-  target.dispatchEvent(loop);
-  assert.ok(!loop.defaultPrevented);
+  for (const focused of [{ tagName: 'BUTTON' }, { tagName: 'SELECT' }, { tagName: 'INPUT', type: 'checkbox' },
+    { tagName: 'INPUT', type: 'range' }, { tagName: 'INPUT', type: 'color' }]) {
+    const enter = keydown('Enter', focused);
+    target.dispatchEvent(enter);
+    assert.ok(enter.defaultPrevented, `Enter would also activate the focused ${focused.tagName}`);
+  }
   target.dispatchEvent(keydown('z', { tagName: 'BODY' }, { ctrlKey: true }));
-  for (const tagName of ['INPUT', 'SELECT', 'TEXTAREA']) target.dispatchEvent(keydown('r', { tagName }));
-  target.dispatchEvent(keydown('q', { tagName: 'BODY' }));
-  assert.deepEqual(ran, ['play', 'loop', 'undo']);
+  for (const focused of [{ tagName: 'INPUT', type: 'number' }, { tagName: 'INPUT', type: 'text' }, { tagName: 'TEXTAREA' },
+    { tagName: 'DIV', isContentEditable: true }]) {
+    const r = keydown('r', focused);
+    target.dispatchEvent(r);
+    assert.ok(!r.defaultPrevented, `a key typed into ${focused.tagName} was taken`);
+  }
+  const q = keydown('q', { tagName: 'BODY' });
+  target.dispatchEvent(q);
+  assert.ok(!q.defaultPrevented, 'a key that is no shortcut keeps its default');
+  assert.deepEqual(ran, ['play', 'stop', 'stop', 'stop', 'stop', 'stop', 'undo']);
+});
+
+test('typing: text and number fields, text areas and editable elements only', () => {
+  assert.equal(typing({ tagName: 'INPUT', type: 'number' }), true);
+  assert.equal(typing({ tagName: 'INPUT' }), true);                  // no type: a text field
+  assert.equal(typing({ tagName: 'INPUT', type: 'checkbox' }), false);
+  assert.equal(typing({ tagName: 'SELECT' }), false);
+  assert.equal(typing({ tagName: 'BUTTON' }), false);
+  assert.equal(typing(null), false);
 });

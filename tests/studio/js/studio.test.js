@@ -33,7 +33,7 @@ function studio() {
   const s = new Studio(c);
   c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null, tolerances: {},
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
-    transport: { time: 0, playing: false, speed: 1, loop: null },
+    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false },
     objects: [{ name: 'box', kind: 'object', attributes: [{ name: 'position', value: [0, 0.5, 0], type: POSITION }] }] });
   return { s, c };
 }
@@ -198,7 +198,7 @@ test("the studio's operations emit their signals: an attribute shown, an object 
   assert.deepEqual(heard, ['selection box', 'attribute position']);
   c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null, tolerances: {},
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
-    transport: { time: 0, playing: false, speed: 1, loop: null },
+    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false },
     objects: [{ name: 'object1', kind: 'object', attributes: [] }, { name: 'object3', kind: 'object', attributes: [] }] });
   s.addObject();
   assert.deepEqual(c.of('object.add').at(-1), { type: 'object.add', name: 'object2', kind: 'object' });
@@ -255,4 +255,63 @@ test("a pointer reporting slower than REST is not at rest between its events (1.
   assert.deepEqual(values.slice(from), [96, 144, 192, 240, 288, 336, 384].map((ms) => ms / 1000));
   // before the first event it was at rest: held samples of where it was
   assert.ok(values.slice(0, values.indexOf(0.048)).every((v) => v === 0));
+});
+
+test("another page's take: shown from its pieces, no take begins here, a hold in record mode leaves the server's values", () => {
+  const { s, c } = studio();
+  s.transport.setRecord(true);
+  c.receive({ type: 'take.running', take: 'a1', paths: ['box.position'], mode: 'replace', time: 0, layout: [['box.position', 0, 3]] });
+  assert.equal(s.remoteTake?.take, 'a1');
+  c.receive({ type: 'take.piece', take: 'a1', path: 'box.position', order: 2, rotation: false, knots: [0, 0, 1, 1],
+    coef: [[0, 0.5, 0], [0.3, 0.5, 0]] });
+  assert.deepEqual(s.values.get('box.position'), [0.3, 0.5, 0], 'the other take is not shown');
+  s.performer.hold(['box.position'], 'move box');
+  s.setLocal('box.position', [2, 2, 2]);
+  frames(s, performance.now(), 16, 200);
+  s.performer.release();
+  assert.equal(c.of('take.begin').length, 0, 'a take began while another page records');
+  assert.deepEqual(s.values.get('box.position'), [0, 0.5, 0], 'the hold left a value the server does not hold');
+  c.receive({ type: 'take.ended', take: 'a1', label: 'take box.position', paths: ['box.position'], ms: 1, gaps: [] });
+  assert.equal(s.remoteTake, null);
+  s.transport.setRecord(false);
+  s.transport.setRecord(true);
+  assert.equal(s.transport.record, true);
+});
+
+test('record mode stays off while another page records; a refused take.begin puts the server values back', () => {
+  const { s, c } = studio();
+  c.receive({ type: 'take.running', take: 'a1', paths: ['cam.position'], mode: 'replace', time: 0, layout: [['cam.position', 0, 3]] });
+  s.transport.setRecord(true);
+  assert.equal(s.transport.record, false);
+  c.receive({ type: 'take.ended', take: 'a1', label: null, paths: [], ms: 0, gaps: [] });
+  s.transport.setRecord(true);
+  const t0 = performance.now();
+  s.performer.hold(['box.position'], 'move box');
+  s.setLocal('box.position', [1, 1, 1]);
+  frames(s, t0, 16, 60);
+  assert.equal(c.of('take.begin').length, 1);
+  c.receive({ type: 'error', id: null, ref: 'take.begin', code: 'busy', message: "take 'x' is being recorded" });
+  assert.equal(s.performer.grab?.take, null);
+  assert.deepEqual(s.values.get('box.position'), [0, 0.5, 0]);
+  s.setLocal('box.position', [2, 1, 1]);
+  frames(s, t0 + 60, 16, 60);
+  s.performer.release();
+  assert.equal(c.of('take.begin').length, 1, 'the refused hold began another take');
+  assert.deepEqual(s.values.get('box.position'), [0, 0.5, 0]);
+});
+
+test('the transport and record settings go to the server and come back from it', () => {
+  const { s, c } = studio();
+  s.transport.setSpeed(0.5);
+  s.transport.setCountIn(2);
+  s.transport.setCaptureSpeed(0.25);
+  s.performer.setMode('additive');
+  s.performer.setLoopRecord(true);
+  const last = c.of('transport').at(-1);
+  assert.deepEqual({ ...last, time: 0 }, { type: 'transport', time: 0, playing: false, speed: 0.5, loop: null, count_in: 2,
+    capture_speed: 0.25, mode: 'additive', loop_record: true });
+  const fresh = studio().s;
+  fresh.transport.receive(last);
+  assert.deepEqual([fresh.transport.playSpeed, fresh.transport.countIn, fresh.transport.captureSpeed, fresh.performer.mode,
+    fresh.performer.loopRecord], [0.5, 2, 0.25, 'additive', true]);
 });

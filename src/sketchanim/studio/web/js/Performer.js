@@ -67,12 +67,14 @@ export class Performer {
   setMode(mode) {
     this.mode = mode;
     this.studio.signals.emit('settings');
+    this.studio.transport.send();                              // a record setting the server keeps
   }
 
   /** @param {boolean} on */
   setLoopRecord(on) {
     this.loopRecord = on;
     this.studio.signals.emit('settings');
+    this.studio.transport.send();
   }
 
   /**
@@ -159,8 +161,10 @@ export class Performer {
     const grab = this.grab;
     if (!grab) return;
     const now = performance.now();
+    const took = !!grab.take;
     if (grab.take) this.endTake(grab, now);
     this.grab = null;
+    if (!took && this.studio.transport.record) this.studio.revert(grab.paths);   // nothing was stored
     if (!grab.take && !this.studio.transport.record && grab.changed) {
       const merge = `${grab.label} ${now}`;
       for (const path of grab.paths) {
@@ -226,6 +230,16 @@ export class Performer {
     take.add(time, this.heldRow(), now);
   }
 
+  /** The server refused this page's take (another page records): the hold records nothing
+   * more and shows the server's values again. */
+  refused() {
+    const grab = this.grab;
+    if (!grab?.take) return;
+    grab.take = null;
+    grab.recordable = false;
+    this.studio.revert(grab.paths);
+  }
+
   /** Real seconds without a frame that make a stall: 0.25 s, or 4 frame intervals on a slow page. */
   stallGap() {
     const sorted = [...this.intervals].sort((a, b) => a - b);
@@ -278,7 +292,8 @@ export class Performer {
     const transport = this.studio.transport;
     if (!grab) return;
     if (grab.drive) grab.drive(dt, now);
-    if (transport.record && !grab.take && grab.recordable && transport.clock.playing && time >= transport.punchFrom) {
+    if (transport.record && !grab.take && grab.recordable && !this.studio.remoteTake && transport.clock.playing
+      && time >= transport.punchFrom) {
       this.beginTake(grab, time);
     }
     if (grab.take) {

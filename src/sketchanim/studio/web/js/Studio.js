@@ -45,6 +45,10 @@ export class Studio {
     this.types = new Map();
     /** @type {Map<string, any>} the scene's current values, by path */
     this.values = new Map();
+    /** @type {Map<string, any>} the scene's values as the server holds them (no track playing, no hold) */
+    this.served = new Map();
+    /** @type {import('./messages.js').TakeInProgress | null} the take another page is recording (this one cannot) */
+    this.remoteTake = null;
     /** @type {Map<string, Track>} */
     this.tracks = new Map();
     this.packed = pack([]);
@@ -110,9 +114,12 @@ export class Studio {
         const list = this.pieces.get(m.path) ?? [];
         list.push(m);
         this.pieces.set(m.path, list);
+        if (this.remoteTake?.take === m.take) this.showPiece(m);
         break;
       }
+      case 'take.running': this.remoteBegan(m); break;
       case 'take.ended': {
+        if (this.remoteTake?.take === m.take) this.remoteEnded();
         const log = this.takes.find((l) => l.id === m.take);
         if (log) {
           log.final = performance.now();
@@ -132,6 +139,7 @@ export class Studio {
         this.signals.emit('ready');
         break;
       case 'error':
+        if (m.ref === 'take.begin') this.performer.refused();
         this.errors.push(m);
         this.signals.emit('error', m);
         break;
@@ -154,12 +162,16 @@ export class Studio {
     this.objects = m.objects;
     this.types.clear();
     this.values.clear();
+    this.served.clear();
     for (const o of this.objects) {
       for (const a of o.attributes) {
         this.types.set(`${o.name}.${a.name}`, a.type);
         this.values.set(`${o.name}.${a.name}`, a.value);
+        this.served.set(`${o.name}.${a.name}`, a.value);
       }
     }
+    const own = this.performer.grab?.take?.id;
+    this.remoteTake = m.take && m.take.take !== own && !this.takes.some((l) => l.id === m.take?.take) ? m.take : null;
     this.tracks = new Map(m.tracks.map((t) => [t.path, t]));
     this.span = m.span;
     this.tolerances = new Map(Object.entries(m.tolerances));
@@ -172,11 +184,61 @@ export class Studio {
     this.signals.emit('state');
     for (const [path, value] of this.values) this.draw(path, value);
     if (this.ready) this.signals.emit('ready');
+    this.signals.emit('remote');
+  }
+
+  /**
+   * Another page began a take: this page shows it as its pieces come (read-only) and
+   * records nothing until it ends.
+   * @param {import('./messages.js').TakeInProgress} take
+   */
+  remoteBegan(take) {
+    this.remoteTake = take;
+    if (!this.performer.grab?.take) this.pieces.clear();
+    this.signals.emit('remote');
+  }
+
+  /** The other page's take ended: its track comes in a `tracks` message. */
+  remoteEnded() {
+    const paths = this.remoteTake?.paths ?? [];
+    this.remoteTake = null;
+    this.revert(paths);
+    this.signals.emit('remote');
+  }
+
+  /**
+   * The latest value of another page's take: where its newest piece ends.
+   * @param {TakePiece} piece
+   */
+  showPiece(piece) {
+    if (this.performer.holds(piece.path)) return;
+    const last = piece.coef[piece.coef.length - 1];
+    const norm = piece.rotation ? Math.hypot(...last) : 1;
+    const value = last.map((x) => x / norm);
+    this.values.set(piece.path, value);
+    this.draw(piece.path, value);
+  }
+
+  /**
+   * Show the server's values of `paths` again (held or not): a track's at the transport's
+   * time, else the scene's. What a hold that stored nothing leaves.
+   * @param {string[]} paths
+   */
+  revert(paths) {
+    for (const path of paths) {
+      const value = this.served.get(path);
+      if (value === undefined) continue;
+      this.values.set(path, value);
+      this.draw(path, value);
+    }
+    this.writeTracks(this.transport.time, paths);
+    this.signals.emit('values', paths);
   }
 
   /** @param {Record<string, any>} values */
   receiveValues(values) {
     for (const [path, value] of Object.entries(values)) {
+      this.served.set(path, value);
       if (this.performer.holds(path)) continue;                 // the performer holds it
       this.values.set(path, value);
       this.draw(path, value);
@@ -306,12 +368,15 @@ export class Studio {
   // -- every frame ------------------------------------------------------------------------
 
   /**
-   * Write every track's value at `time` into the scene, except what the performer holds.
+   * Write every track's value at `time` into the scene, except what the performer holds
+   * (but for `also`) and what another page's take records.
    * @param {number} time
+   * @param {string[]} [also] held attributes written all the same
    */
-  writeTracks(time) {
+  writeTracks(time, also = []) {
     const p = this.packed;
-    const held = this.performer.grab ? this.performer.grab.paths : [];
+    const held = [...(this.performer.grab ? this.performer.grab.paths : []), ...(this.remoteTake?.paths ?? [])]
+      .filter((path) => !also.includes(path));
     evaluate(p, time);
     for (let j = 0; j < p.paths.length; j++) {
       const path = p.paths[j];

@@ -2,8 +2,10 @@
 /**
  * The transport: the clock that maps the browser's time to transport time, play / pause /
  * stop / seek, speed, the loop range, and record mode (the transport runs at the capture
- * speed, after the count-in's pre-roll). What it changes goes to the server (kept for a
- * reload, relayed to the other pages) and out as the "transport" and "record" signals.
+ * speed, after the count-in's pre-roll). What it changes, and the record settings (count-in,
+ * capture speed, the performer's layer mode and loop recording), goes to the server (kept for
+ * a reload, relayed to the other pages) and out as the "transport", "settings" and "record"
+ * signals. While another page records a take, record mode stays off here.
  */
 import { Clock } from './clock.js';
 
@@ -30,8 +32,8 @@ export class Transport {
   }
 
   /**
-   * The server's transport (on connecting, or another page's): taken as it is; it plays
-   * only once the state is loaded.
+   * The server's transport and record settings (on connecting, or another page's): taken
+   * as they are; it plays only once the state is loaded.
    * @param {TransportFields} m
    */
   receive(m) {
@@ -44,13 +46,20 @@ export class Transport {
     if (m.playing && this.studio.loaded) this.clock.play(now);
     else this.clock.pause(now);
     this.time = m.time;
+    this.countIn = m.count_in;
+    this.captureSpeed = m.capture_speed;
+    this.studio.performer.mode = m.mode;
+    this.studio.performer.loopRecord = m.loop_record;
     this.studio.signals.emit('transport');
+    this.studio.signals.emit('settings');
   }
 
-  /** Tell the server (and the panels) the transport as it is now. */
+  /** Tell the server (and the panels) the transport and the record settings as they are now. */
   send() {
+    const p = this.studio.performer;
     this.studio.send({ type: 'transport', time: this.time, playing: this.clock.playing, speed: this.playSpeed,
-      loop: this.clock.loop });
+      loop: this.clock.loop, count_in: this.countIn, capture_speed: this.captureSpeed, mode: p.mode,
+      loop_record: p.loopRecord });
     this.studio.signals.emit('transport');
   }
 
@@ -128,7 +137,7 @@ export class Transport {
    */
   setRecord(on) {
     const now = performance.now();
-    if (on === this.record) return;
+    if (on === this.record || (on && this.studio.remoteTake)) return;
     this.record = on;
     if (on) {
       const time = this.clock.raw(now);
@@ -149,12 +158,14 @@ export class Transport {
   setCountIn(seconds) {
     this.countIn = seconds;
     this.studio.signals.emit('settings');
+    this.send();
   }
 
   /** @param {number} speed transport seconds per real second while recording */
   setCaptureSpeed(speed) {
     this.captureSpeed = speed;
     this.studio.signals.emit('settings');
+    this.send();
   }
 
   /** Seconds left of the count-in (0 when none is running). */

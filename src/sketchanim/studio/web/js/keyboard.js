@@ -2,7 +2,14 @@
 /**
  * The studio's keys, all in one place: R record mode, Space play / pause, Enter stop, L loop,
  * C the camera view, Escape deselect, W / E / S the move / turn / scale gizmo, Ctrl+Z undo,
- * Ctrl+Shift+Z or Ctrl+Y redo (Cmd for Ctrl on a Mac). Keys typed into a field are the field's.
+ * Ctrl+Shift+Z or Ctrl+Y redo (Cmd for Ctrl on a Mac).
+ *
+ * One model whichever control has focus: the window takes a shortcut in the capture phase,
+ * before the focused element sees it, and prevents the key's default action, so a focused
+ * button does not also click (Enter, Space), a checkbox does not toggle (Space), a menu does
+ * not open or jump to an option (Space, a letter), the page does not scroll. Only while typing
+ * in a text or number field are the keys the field's. Focus stays where it is (Tab still
+ * walks the controls); no control needs its own key handling.
  */
 
 /** @typedef {'undo' | 'redo' | 'record' | 'play' | 'stop' | 'loop' | 'camera' | 'deselect' | 'translate' | 'rotate' | 'scale'} KeyAction */
@@ -11,8 +18,6 @@
 /** @type {Record<string, KeyAction>} the plain keys (no Ctrl, Cmd or Alt), by their lower-case `key` */
 const PLAIN = { r: 'record', ' ': 'play', enter: 'stop', l: 'loop', c: 'camera', escape: 'deselect',
   w: 'translate', e: 'rotate', s: 'scale' };
-/** What the browser would otherwise do with these keys (scroll, its own undo). */
-const PREVENT = new Set(['undo', 'redo', 'play']);
 
 /**
  * The action a key press asks for, or null.
@@ -32,13 +37,25 @@ export function actionOf(e) {
   return PLAIN[key] ?? null;
 }
 
+/** The input types one types text into (a checkbox, a slider, a colour picker are not). */
+const TEXT_INPUTS = new Set(['text', 'number', 'search', 'email', 'url', 'tel', 'password']);
+
 /**
- * Whether a key press goes to a field (a number, a select, a text box) and not to the studio.
- * @param {EventTarget | null} target
+ * Whether a key press is typing into a field (a text or number input, a text area, an
+ * editable element): then it is the field's, not a shortcut.
+ * @param {EventTarget | {tagName?: string, type?: string, isContentEditable?: boolean} | null} target
+ * @returns {boolean}
+ *
+ * @example
+ * typing({tagName: 'INPUT', type: 'number'});     // true
+ * typing({tagName: 'SELECT'});                    // false: a menu's keys are shortcuts too
  */
-function typing(target) {
-  const tag = target && 'tagName' in target ? String(target.tagName) : '';
-  return tag === 'INPUT' || tag === 'SELECT' || tag === 'TEXTAREA';
+export function typing(target) {
+  if (!target || typeof target !== 'object') return false;
+  const t = /** @type {{tagName?: string, type?: string, isContentEditable?: boolean}} */ (target);
+  const tag = String(t.tagName ?? '');
+  if (tag === 'TEXTAREA' || t.isContentEditable) return true;
+  return tag === 'INPUT' && TEXT_INPUTS.has(String(t.type ?? 'text').toLowerCase());
 }
 
 /**
@@ -65,7 +82,9 @@ export function studioActions(studio, viewport) {
 }
 
 /**
- * Run `actions` on the key presses `target` (the window) receives.
+ * Run `actions` on the key presses `target` (the window) receives, in the capture phase:
+ * a shortcut's key does only the shortcut (its default action prevented), whichever
+ * control has focus, except while typing in a field.
  * @param {EventTarget} target
  * @param {Record<KeyAction, () => void>} actions
  */
@@ -75,7 +94,12 @@ export function bindKeyboard(target, actions) {
     if (typing(e.target)) return;
     const action = actionOf(e);
     if (!action) return;
-    if (PREVENT.has(action)) e.preventDefault();
-    actions[action]();
-  });
+    e.preventDefault();
+    if (!e.repeat || action === 'undo' || action === 'redo') actions[action]();
+  }, { capture: true });
+  // Space activates a focused button or checkbox on its key up: that default goes too.
+  target.addEventListener('keyup', (event) => {
+    const e = /** @type {KeyboardEvent} */ (event);
+    if (!typing(e.target) && actionOf(e)) e.preventDefault();
+  }, { capture: true });
 }

@@ -150,7 +150,9 @@
 // -- both ways ----------------------------------------------------------------------------------
 
 /**
- * The transport: a page's (kept for a reload), relayed to the other pages.
+ * The transport and the record settings: a page's (kept for a reload), relayed to the other
+ * pages. `count_in` seconds of pre-roll, `capture_speed` transport seconds per real second
+ * while recording, the layer `mode`, `loop_record` (each pass of the loop a take).
  * @typedef {object} TransportState
  * @property {'transport'} type
  * @property {number | string | null} [id]
@@ -158,6 +160,10 @@
  * @property {boolean} playing
  * @property {number} speed
  * @property {[number, number] | null} loop
+ * @property {number} count_in
+ * @property {number} capture_speed
+ * @property {LayerMode} mode
+ * @property {boolean} loop_record
  */
 
 // -- server to page -----------------------------------------------------------------------------
@@ -224,6 +230,17 @@
  * @property {string} take
  * @property {[string, number, number][]} layout  path, first and last + 1 column of each attribute
  * @property {number} width
+ */
+
+/**
+ * Another page began a take (it alone records until its `take.ended`).
+ * @typedef {object} TakeRunning
+ * @property {'take.running'} type
+ * @property {string} take
+ * @property {string[]} paths
+ * @property {LayerMode} mode
+ * @property {number} time
+ * @property {[string, number, number][]} layout
  */
 
 /**
@@ -304,7 +321,7 @@
 /**
  * What the server sends.
  * @typedef {StateSnapshot | Ready | Values | Tracks | History | PreviewValue | TransportState | TakeStarted
- *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice | Tolerances} ServerMessage
+ *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice | Tolerances | TakeRunning} ServerMessage
  */
 
 /**

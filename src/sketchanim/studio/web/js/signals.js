@@ -33,6 +33,7 @@ export const SIGNALS = {
   record: /** @type {Signal<boolean>} */ (signal('record mode went on (true) or off (false)')),
   settings: /** @type {Signal<void>} */ (signal('a recording setting changed: layer mode, count-in, capture speed, loop recording')),
   tolerances: /** @type {Signal<void>} */ (signal("the animator's take tolerances changed")),
+  remote: /** @type {Signal<void>} */ (signal('another page began or ended a take (studio.remoteTake): this one cannot record meanwhile')),
   error: /** @type {Signal<import('./messages.js').ErrorReply>} */ (signal('the server refused a message')),
   notice: /** @type {Signal<import('./messages.js').Notice>} */ (signal('the server has news for the animator')),
   frame: /** @type {Signal<number>} */ (signal('an animation frame was stepped, at this performance.now()')),

@@ -28,6 +28,7 @@ export class TransportBar {
     this.loopButton.addEventListener('click', () => t.toggleLoop());
     const speed = choice('speed', [['0.25', '¼×'], ['0.5', '½×'], ['1', '1×'], ['2', '2×'], ['-1', '−1×']], '1',
       (v) => t.setSpeed(Number(v)), 'speed');
+    this.speed = speed.select;
     const mode = choice('layer', [['replace', 'punch-in'], ['additive', 'additive']], p.mode,
       (v) => p.setMode(/** @type {import('./messages.js').LayerMode} */ (v)), 'mode');
     this.mode = mode.select;
@@ -57,6 +58,7 @@ export class TransportBar {
     signals.on('record', () => this.showTransport());
     signals.on('transport', () => this.showTransport());
     signals.on('settings', () => this.showSettings());
+    signals.on('remote', () => this.showTransport());
     signals.on('frame', () => this.showTime());
   }
 
@@ -75,6 +77,12 @@ export class TransportBar {
     document.body.classList.toggle('recording', t.record);
     this.playButton.textContent = t.clock.playing ? '❚❚' : '▶';
     this.loopButton.classList.toggle('on', !!t.clock.loop);
+    this.speed.value = String(t.playSpeed);
+    const remote = this.studio.remoteTake;
+    this.recordButton.disabled = !!remote && !t.record;
+    this.recordButton.title = remote ? 'Another tab is recording a take: this one records once it ends'
+      : 'Record mode (R): every grab is a take';
+    document.body.classList.toggle('remote-recording', !!remote);
   }
 
   showSettings() {
@@ -91,10 +99,13 @@ export class TransportBar {
     this.clockText.textContent = formatTime(t.time);
     const counting = t.countingIn;
     const take = p.grab?.take;
+    const remote = this.studio.remoteTake;
     this.status.textContent = counting > 0 ? `count-in ${counting.toFixed(1)} s`
       : take ? `● recording ${take.paths.join(', ')} · ${take.times.length} samples${tolerances(take)}`
+        : remote ? `◌ recording in another tab: ${remote.paths.join(', ')} (shown here, read-only)`
         : t.record ? 'record mode: grab something to record it' : '';
     this.status.classList.toggle('live', !!take);
+    this.status.classList.toggle('remote', !take && !!remote);
   }
 }
 
