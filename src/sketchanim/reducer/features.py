@@ -66,8 +66,9 @@ class FeatureOptions:
     break_window : int
         Samples on each side of a break that must follow one smooth arc (``w``).
     gap : float or None
-        :func:`sketchanim.reduce` cuts the take where an interval is longer than this
-        many median sampling intervals, and bridges it (:mod:`.gaps`); None: never.
+        :func:`sketchanim.reduce` also cuts the take where an interval is longer than
+        this many median sampling intervals, and bridges it (:mod:`.gaps`); None (the
+        default): an interval is bridged only where the curve would swing across it.
 
     >>> FeatureOptions(breaks=False).enabled
     True
@@ -77,7 +78,7 @@ class FeatureOptions:
     breaks: bool = True
     min_pause: float = 0.5
     break_window: int = 4
-    gap: float | None = 5.0
+    gap: float | None = None
 
     def __post_init__(self) -> None:
         if self.gap is not None and not (isinstance(self.gap, (int, float)) and not isinstance(self.gap, bool)
