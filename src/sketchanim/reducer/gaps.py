@@ -29,7 +29,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from scipy.interpolate import BSpline
+from scipy.interpolate import BSpline, make_lsq_spline
 
 from sketchanim.reducer.features import Feature
 from sketchanim.reducer.splice import join
@@ -137,6 +137,7 @@ def reduce_across(times: np.ndarray, values: np.ndarray, cuts: np.ndarray, order
     ([Feature(kind='gap', start=1.0, end=5.0)], 3.0)
     """
     edges = np.r_[0, cuts + 1, len(times)]
+    smooth_at: list[float] = []
     pieces: list[BSpline] = []
     found: list[Feature] = []
     end: tuple[np.ndarray, np.ndarray | None] | None = None        # the last run's end value and slope
@@ -159,13 +160,32 @@ def reduce_across(times: np.ndarray, values: np.ndarray, cuts: np.ndarray, order
                 room = excess(smooth, times[a - 1 : a + 1], lo[a - 1 : a], hi[a - 1 : a])
                 if np.all(room <= SLACK * _magnitude(lo[a - 1], hi[a - 1])):
                     piece = smooth
+                    smooth_at += [t0, t1]
             pieces.append(piece)
             found.append(Feature("jump" if a - 1 in jumps else "gap", t0, t1))
         if spline is not None:
             pieces.append(spline)
         found.extend(features)
         end = (last, slopes[1])
-    return join(pieces), found
+    return _c1(join(pieces), smooth_at), found
+
+
+def _c1(spline: BSpline, at: list[float]) -> BSpline:
+    """``spline`` with one knot fewer at each time in ``at``, where it is C1 (joined on
+    a Hermite bridge): the same curve, to rounding, one control point fewer each.
+
+    >>> s = BSpline(np.r_[[0.0] * 4, [1.0] * 3, [2.0] * 4], np.c_[[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]], 3)
+    >>> c = _c1(s, [1.0])
+    >>> len(c.c), bool(np.allclose(c(np.linspace(0, 2, 9)), s(np.linspace(0, 2, 9))))
+    (6, True)
+    """
+    if not at or spline.k < 3:
+        return spline
+    k = spline.k
+    knots = np.delete(spline.t, [int(np.searchsorted(spline.t, a)) for a in at])
+    u = np.unique(knots)
+    points = np.r_[(u[:-1, None] + np.diff(u)[:, None] * np.linspace(0, 1, k + 2)[None, :-1]).ravel(), u[-1]]
+    return make_lsq_spline(points, np.asarray(spline(points)).reshape(len(points), -1), knots, k)
 
 
 def _magnitude(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
