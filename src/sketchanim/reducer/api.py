@@ -99,8 +99,8 @@ def reduce(
     method : {"global", "incremental"}
         Lyche-Morken knot removal over the whole take, or the incremental method
         (windows of ``window`` knots, as :class:`StreamReducer` does while samples
-        arrive; the same spline as streaming these samples with the same options
-        wherever the stream's curve already keeps the no-swing bound).
+        arrive; with ``FeatureOptions(jumps=False)`` or ``features=False``, the same
+        spline as streaming these samples, the stream keeping the no-swing bound itself).
     start : {"paper", "lm"}
         Starting curve: the samples as control polygon, or LM's reduced
         piecewise-linear interpolant raised to ``order``.
@@ -125,9 +125,9 @@ def reduce(
     features : bool or FeatureOptions
         Find pauses (the curve then holds exactly still there) and velocity breaks
         (kept as corners) and cut the take there (:mod:`sketchanim.reducer.features`);
-        True uses the default thresholds, False looks for none. Whatever this says,
-        the take is cut at its jumps (a value step over one interval) and wherever the
-        curve would swing out of its local range between samples (gaps; with
+        True uses the default thresholds, False looks for none. The take is cut at
+        its jumps (a value step over one interval; not with False or
+        ``FeatureOptions(jumps=False)``) and, whatever this says, wherever the curve would swing out of its local range between samples (gaps; with
         ``FeatureOptions.gap``, also at every interval over that many median
         intervals): each side reduced on its own, the cut interval bridged, C1 where
         that stays within its range, else straight (:mod:`sketchanim.reducer.gaps`).
@@ -181,20 +181,20 @@ def reduce(
     if method != "incremental":
         report["start"] = start
 
-    def run(t: np.ndarray, x: np.ndarray, note: bool = False) -> tuple[BSpline, list[Feature]]:
+    def run(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, list[Feature]]:
         """Samples ``t``, ``x`` (all, or a run between cuts) in one go, by ``method``;
-        with ``note``, the work done goes in the report."""
-        log = report if note else {}
+        the work done is added up in the report."""
         if method == "incremental":
             stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
                                    angle=angle or None, features=options)
             for a in range(0, len(t), STREAM_CHUNK):        # in chunks: the same spline, bounded memory
                 stream.extend(t[a : a + STREAM_CHUNK], x[a : a + STREAM_CHUNK])
             streamed = stream.finish()
-            log.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
+            report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
             return streamed.columns, list(streamed.features)
         if len(t) < order:
-            log["note"] = f"{len(t)} samples < order {order}: the interpolating polynomial"
+            if len(t) == samples.n:
+                report["note"] = f"{len(t)} samples < order {order}: the interpolating polynomial"
             return polynomial_through(t, x, order), []
         opts = GlobalOptions(start, split, minimax_iterations, exhaustive_below, coarse_samples)
         found: list[Feature] = []
@@ -202,8 +202,10 @@ def reduce(
             spline, found, work = reduce_segmented(t, x, samples.tol, order, opts, angle, options)
         else:
             spline, work = reduce_global(t, x, samples.tol, order, opts, angle)
-        log.update(iterations=work.iterations, fits=work.fits, coarse_pass=work.coarse_pass,
-                   coarse_outcome=work.coarse_outcome)
+        done = {key: int(report.get(key, 0)) for key in ("iterations", "fits")}  # type: ignore[call-overload]
+        report.update(iterations=done["iterations"] + work.iterations, fits=done["fits"] + work.fits,
+                      coarse_pass=bool(report.get("coarse_pass")) or work.coarse_pass,
+                      coarse_outcome=work.coarse_outcome or report.get("coarse_outcome"))
         return spline, found
 
     def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
@@ -213,8 +215,8 @@ def reduce(
 
     widening = np.full(samples.dim, 2 * np.sin(angle / 4)) if angle else samples.tol
     lo, hi = local_ranges(samples.values, widening, limits)
-    spline, found = without_swing(samples.times, samples.values, samples.tol, order, options.gap, lo, hi,
-                                  lambda: run(samples.times, samples.values, True), part)
+    spline, found = without_swing(samples.times, samples.values, samples.tol, order, options.jumps, options.gap, lo,
+                                  hi, lambda: run(samples.times, samples.values), part)
     for kind in ("gap", "jump"):
         if any(f.kind == kind for f in found):
             report[kind + "s"] = sum(f.kind == kind for f in found)

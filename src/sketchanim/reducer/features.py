@@ -65,6 +65,11 @@ class FeatureOptions:
         Shortest pause, in seconds (also at least ``3 * order`` samples).
     break_window : int
         Samples on each side of a break that must follow one smooth arc (``w``).
+    jumps : bool
+        :func:`sketchanim.reduce` cuts the take beforehand at its jumps (a value step
+        over one interval, :func:`.gaps.find_jumps`) and bridges them; off, a step is
+        bridged only where the curve swings beside it (as the stream, which finds no
+        jumps, keeps it).
     gap : float or None
         :func:`sketchanim.reduce` also cuts the take where an interval is longer than
         this many median sampling intervals, and bridges it (:mod:`.gaps`); None (the
@@ -78,6 +83,7 @@ class FeatureOptions:
     breaks: bool = True
     min_pause: float = 0.5
     break_window: int = 4
+    jumps: bool = True
     gap: float | None = None
 
     def __post_init__(self) -> None:
@@ -107,7 +113,7 @@ class FeatureOptions:
         if isinstance(features, FeatureOptions):
             return features
         if features is None or features is False:
-            return cls(pauses=False, breaks=False, gap=None)
+            return cls(pauses=False, breaks=False, jumps=False)
         if features is True:
             return cls()
         raise ArgumentError("features", f"must be True, False or FeatureOptions, got {features!r}")

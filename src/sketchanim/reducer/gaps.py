@@ -29,11 +29,13 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from scipy.interpolate import BSpline, make_lsq_spline
+from scipy.interpolate import BSpline
+from scipy.sparse.linalg import spsolve
 
 from sketchanim.reducer.features import Feature
 from sketchanim.reducer.splice import join
 from sketchanim.reducer.swing import SLACK, excess, swinging
+from sketchanim.spline import insertion_matrix
 
 #: A run of samples reduced alone: (times, values) -> (spline, features).
 ReducePart = Callable[[np.ndarray, np.ndarray], tuple[BSpline, tuple[Feature, ...]]]
@@ -173,6 +175,8 @@ def reduce_across(times: np.ndarray, values: np.ndarray, cuts: np.ndarray, order
 def _c1(spline: BSpline, at: list[float]) -> BSpline:
     """``spline`` with one knot fewer at each time in ``at``, where it is C1 (joined on
     a Hermite bridge): the same curve, to rounding, one control point fewer each.
+    Coefficients the removal does not touch are copied exactly (a pause beside a bridge
+    stays exactly still).
 
     >>> s = BSpline(np.r_[[0.0] * 4, [1.0] * 3, [2.0] * 4], np.c_[[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]], 3)
     >>> c = _c1(s, [1.0])
@@ -181,11 +185,19 @@ def _c1(spline: BSpline, at: list[float]) -> BSpline:
     """
     if not at or spline.k < 3:
         return spline
-    k = spline.k
-    knots = np.delete(spline.t, [int(np.searchsorted(spline.t, a)) for a in at])
-    u = np.unique(knots)
-    points = np.r_[(u[:-1, None] + np.diff(u)[:, None] * np.linspace(0, 1, k + 2)[None, :-1]).ravel(), u[-1]]
-    return make_lsq_spline(points, np.asarray(spline(points)).reshape(len(points), -1), knots, k)
+    order = spline.k + 1
+    coarse = np.delete(spline.t, [int(np.searchsorted(spline.t, a)) for a in at])
+    A = insertion_matrix(coarse, spline.t, order).tocsr()      # fine coefficients = A @ coarse ones
+    fine = np.asarray(spline.c).reshape(A.shape[0], -1)
+    x = np.full((A.shape[1], fine.shape[1]), np.nan)
+    rows = np.flatnonzero(np.diff(A.indptr) == 1)
+    rows = rows[A.data[A.indptr[rows]] == 1.0]                  # a coefficient kept as it is
+    x[A.indices[A.indptr[rows]]] = fine[rows]
+    unknown = np.isnan(x[:, 0])
+    known = A[:, ~unknown] @ x[~unknown]
+    Au = A[:, unknown]
+    x[unknown] = spsolve((Au.T @ Au).tocsc(), Au.T @ (fine - known)).reshape(-1, fine.shape[1])
+    return BSpline(coarse, x, spline.k)
 
 
 def _magnitude(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -193,11 +205,11 @@ def _magnitude(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return np.maximum(np.abs(np.where(np.isfinite(lo), lo, 0.0)), np.abs(np.where(np.isfinite(hi), hi, 0.0)))
 
 
-def without_swing(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, gap: float | None,
-                  lo: np.ndarray, hi: np.ndarray, whole: Callable[[], tuple[BSpline, list[Feature]]],
+def without_swing(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, jumps: bool,
+                  gap: float | None, lo: np.ndarray, hi: np.ndarray, whole: Callable[[], tuple[BSpline, list[Feature]]],
                   reduce_part: ReducePart) -> tuple[BSpline, list[Feature]]:
-    """The take reduced with ``whole()`` (no cuts) or, cut at its jumps (and, with
-    ``gap``, at intervals over ``gap`` median intervals), run by run with
+    """The take reduced with ``whole()`` (no cuts) or, cut at its jumps (with
+    ``jumps``; and, with ``gap``, at intervals over ``gap`` median intervals), run by run with
     ``reduce_part``; then cut and bridged further wherever it leaves ``lo``, ``hi``
     between samples (:func:`~sketchanim.reducer.swing.swinging`), until it does not.
     Runs already reduced are not reduced again.
@@ -207,13 +219,14 @@ def without_swing(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order:
     >>> def part(t, x):
     ...     return BSpline(np.r_[[t[0]] * 2, [t[-1]] * 2], x[[0, -1]], 1), ()
     >>> lo, hi = local_ranges(x, np.array([0.01]))
-    >>> s, found = without_swing(t, x, np.array([0.01]), 2, None, lo, hi, None, part)
+    >>> s, found = without_swing(t, x, np.array([0.01]), 2, True, None, lo, hi, None, part)
     >>> [f.kind for f in found], bool(np.all(s(t) == x))
     (['jump'], True)
     """
     gaps = find_gaps(times, gap) if gap is not None else np.zeros(0, dtype=int)
-    jumps = np.setdiff1d(find_jumps(values, tol, times), gaps)          # a step across a gap is the gap
-    cuts = np.union1d(gaps, jumps)
+    steps = find_jumps(values, tol, times) if jumps else np.zeros(0, dtype=int)
+    steps = np.setdiff1d(steps, gaps)                             # a step across a gap is the gap
+    cuts = np.union1d(gaps, steps)
     done: dict[tuple[float, float, int], tuple[BSpline, tuple[Feature, ...]]] = {}
 
     def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
@@ -224,7 +237,7 @@ def without_swing(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order:
 
     last = len(times) - 2                                         # the last interval
     while True:
-        spline, found = reduce_across(times, values, cuts, order, part, jumps, lo, hi) if len(cuts) else whole()
+        spline, found = reduce_across(times, values, cuts, order, part, steps, lo, hi) if len(cuts) else whole()
         bad = swinging(spline, times, lo, hi)
         # A bridge beyond its range: the runs beside it end off the samples; cut them there.
         stuck = np.intersect1d(bad, cuts)
