@@ -88,7 +88,7 @@ def test_shared_recordings_features_flat_and_sharp(data_dir, method):
     from test_features import check_features
 
     from recordings import rotation_cases
-    from test_features import bridged
+    from test_features import bridged, one_sided
 
     kinds = set()
     for name, t, x, tol in shared_cases(data_dir):

@@ -162,7 +162,8 @@ def reduce_across(times: np.ndarray, values: np.ndarray, cuts: np.ndarray, order
                 room = excess(smooth, times[a - 1 : a + 1], lo[a - 1 : a], hi[a - 1 : a])
                 if np.all(room <= SLACK * _magnitude(lo[a - 1], hi[a - 1])):
                     piece = smooth
-                    smooth_at += [t0, t1]
+                    # one knot fewer at each C1 join, but beside a pause (kept exactly still)
+                    smooth_at += [at for at, v in ((t0, end[1]), (t1, slopes[0])) if np.any(v != 0)]
             pieces.append(piece)
             found.append(Feature("jump" if a - 1 in jumps else "gap", t0, t1))
         if spline is not None:
