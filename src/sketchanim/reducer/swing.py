@@ -14,7 +14,7 @@ roots of each polynomial piece's derivative there.
 >>> ring = BSpline(np.r_[[0.0] * 4, [4.0] * 4], np.c_[[0.0, -1.0, 2.0, 1.0]], 3)
 >>> lo, hi = local_ranges(x, np.array([0.01]))
 >>> swinging(ring, t, lo, hi).tolist()
-[0, 1, 3]
+[0, 1, 2, 3]
 """
 
 from __future__ import annotations
