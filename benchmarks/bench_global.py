@@ -1,6 +1,8 @@
 """Global reduction vs the peers: control points, max error and median time, one table.
 
     .venv/bin/python benchmarks/bench_global.py [--quick] [--repeats N]
+    .venv/bin/python benchmarks/bench_global.py --swing       # the reducer table
+
 
 Cases: the Archimedean spiral (t cos t, t sin t), t in [0, 6 pi], tol 0.1, n = 1k, 10k,
 100k; a noisy synthetic 3-D take; and, when ../shared/data is present, a BVH root-position track, a pen stroke and
@@ -8,11 +10,21 @@ the TUM hand-held camera path. Methods: ours (paper start, LM start), SISL s1961
 0 and 0.1) and s1940, scipy make_splprep with the smoothing factor bisected. Times are
 medians over repeats (FITPACK's whole search: one run), taken in one run on this machine;
 SISL's is its own call alone.
+
+``--swing`` prints the reducer table instead: over every channel group of ../shared/data
+(tests/recordings.py), seven TUM segments with dropped frames and the mouse-log spike,
+the control points of ours (features on), of ours with ``features=False`` and of SISL
+s1961 at the same tolerance, and each curve's worst swing beyond its samples' local
+range (``swing.excess`` with tolerance 0, over the tolerance: <= 1 keeps the no-swing
+bound). The swing check is loaded from this tree's file, so the same script measures
+an older ``sketchanim`` on PYTHONPATH (``git worktree add /tmp/before f42d35a``, then
+``PYTHONPATH=/tmp/before/src``).
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import statistics
 import sys
 import time
@@ -76,11 +88,55 @@ def measure(method: Callable[..., PeerResult], t: np.ndarray, x: np.ndarray, tol
     return runs[0], statistics.median(r.seconds for r in runs)
 
 
+def swing_cases() -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]:
+    """The reducer table's cases: ../shared/data, TUM with dropped frames, the spike."""
+    from recordings import shared_cases, tum_dropped_frames
+    from signals import spike_drag
+
+    out = [(name, t, x.reshape(len(t), -1), np.full(x.reshape(len(t), -1).shape[1], tol))
+           for name, t, x, tol in shared_cases(DATA)]
+    for seed in range(7):
+        t, x = tum_dropped_frames(DATA, seed)
+        out.append((f"TUM dropped frames #{seed}", t, x, np.full(3, 0.005)))
+    spike = spike_drag()
+    out.append(("mouse drag, spike 536 -> 0 -> 538 (px)", spike.times, spike.values, spike.tol))
+    return out
+
+
+def swing_table(console: Console) -> None:
+    """Print the reducer table (see the module's docstring)."""
+    spec = importlib.util.spec_from_file_location("swing", REPO / "src" / "sketchanim" / "reducer" / "swing.py")
+    assert spec is not None and spec.loader is not None
+    swing = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(swing)
+    table = Table(title="The reducer: control points and worst swing beyond the local range (in tolerances)")
+    for col in ("case", "n", "ours", "features=False", "SISL s1961", "ours swing", "features=False swing",
+                "SISL swing"):
+        table.add_column(col, justify="left" if col == "case" else "right")
+    totals = np.zeros(3, dtype=int)
+    for name, t, x, tol in swing_cases():
+        print(f"{name} ...", file=sys.stderr, flush=True)
+        splines = [sketchanim.reduce(t, x, tol).spline, sketchanim.reduce(t, x, tol, features=False).spline,
+                   sisl.s1961(t, x, tol).spline]
+        lo, hi = swing.local_ranges(x, np.zeros_like(tol))
+        counts = [len(s.c) for s in splines]
+        swings = [float(np.max(swing.excess(s, t, lo, hi) / tol)) for s in splines]
+        totals += counts
+        table.add_row(name, str(len(t)), *map(str, counts), *(f"{v:.3g}" for v in swings))
+    table.add_section()
+    table.add_row("total", "", *map(str, totals), "", "", "")
+    console.print(table)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="spiral n=1000 only, one repeat")
     parser.add_argument("--repeats", type=int, default=5, help="timing repeats (FITPACK's search runs once)")
+    parser.add_argument("--swing", action="store_true", help="the reducer table (needs ../shared/data)")
     args = parser.parse_args()
+    if args.swing:
+        swing_table(Console(width=170))
+        return
     console = Console(width=170)
     table = Table(title="Global reduction: control points and median time (this machine, one run)")
     for col in ("case", "n", "method", "control points", "max err / tol", "median ms"):

@@ -76,3 +76,19 @@ def rotation_cases(data: Path) -> list[tuple[str, np.ndarray, np.ndarray, bool]]
     for bvh in sorted((data / "bvh").glob("*.bvh")):
         cases += [(name, times, quats, False) for name, times, quats in bvh_joint_rotations(bvh, limit=3)]
     return cases
+
+
+def tum_dropped_frames(data: Path, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """82 real TUM camera positions (m) with dropped frames: 21 runs of consecutive
+    100 Hz frames, split by 20 drops of 1-38 frames (intervals of 20-390 ms), from frame
+    ``100 + 330 * seed`` (seeds 0-6 fit in the recording). The samples are the
+    recording's own; only which frames are kept is drawn."""
+    t, pos, _ = read_tum(data / "camera" / "freiburg1_xyz-groundtruth.txt")
+    rng = np.random.default_rng(seed)
+    runs = rng.multinomial(82 - 21, np.ones(21) / 21) + 1
+    drops = np.r_[rng.integers(1, 39, 20), 0]
+    keep, i = [], 100 + 330 * seed
+    for run, drop in zip(runs, drops):
+        keep += range(i, i + run)
+        i += run + drop
+    return t[keep], pos[keep]

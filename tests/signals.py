@@ -95,3 +95,17 @@ def performances(draw, dims: tuple[int, int] = (1, 3)) -> Performance:
     if draw(st.booleans()):
         values += rng.normal(0, 0.1 * tol[0], values.shape)
     return Performance(times, values, tol, holds, corners)
+
+
+
+def spike_drag(seed: int = 0) -> Signal:
+    """A mouse drag logged in pixels (tol 2 px) at uneven event intervals (4-33 ms),
+    with the pointer glitching to 0 for one sample: x runs 536 -> 0 -> 538 there, the
+    spike of issue 24's mouse log (the midpoint check let the curve dip 67 px below it)."""
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.choice([0.004, 0.008, 0.016, 0.017, 0.033], 120))
+    t -= t[0]
+    x = np.c_[500 + 40 * np.sin(6 * t), 300 + 60 * t]
+    i = int(np.argmin(np.abs(x[:, 0] - 536)))
+    x[i - 1, 0], x[i, 0], x[i + 1, 0] = 536.0, 0.0, 538.0
+    return Signal(t, x, np.array([2.0, 2.0]))

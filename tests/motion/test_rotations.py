@@ -83,7 +83,7 @@ def test_every_sample_within_the_angle(stream, method: str, window: int) -> None
 def test_streaming_rotations_equal_the_batch(stream, chunks: list[int], scalar_first: bool, mode: str) -> None:
     t, q, tol = stream
     batch = sketchanim.reduce_rotations(t, q, tol, method="incremental", scalar_first=scalar_first, mode=mode,
-                                        features=sketchanim.FeatureOptions(gap=None))   # the stream cuts no gaps
+                                        features=sketchanim.FeatureOptions(jumps=False))   # the stream cuts no jumps
     rs = sketchanim.RotationStream(tol, scalar_first=scalar_first, mode=mode)
     i, c = 0, 0
     while i < len(t):

@@ -94,7 +94,7 @@ def test_paper_reference_lets_error_creep_and_says_so() -> None:
 @given(signals(max_n=300, dims=(1, 3)), st.integers(3, 30), st.lists(st.integers(1, 50), min_size=1, max_size=20))
 def test_streaming_in_any_chunks_equals_batch(sig, window: int, chunks: list[int]) -> None:
     batch = sketchanim.reduce(sig.times, sig.values, sig.tol, method="incremental", window=window,
-                              features=sketchanim.FeatureOptions(gap=None))    # the stream cuts no gaps
+                              features=sketchanim.FeatureOptions(jumps=False))    # the stream cuts no jumps
     pieces = []
     sr = sketchanim.StreamReducer(sig.values.shape[1], sig.tol, window=window, on_piece=pieces.append)
     i, c = 0, 0

@@ -92,9 +92,9 @@ REDUCE_PARAMETERS = [
     _option("duplicates", str, "error", f"Tables: two samples at one time with different values: "
             f"{', '.join(DUPLICATES)} (keep the first, or average)."),
     _option("unordered", str, "error", f"Tables: samples earlier than the one before: {', '.join(UNORDERED)}."),
-    _option("gap", float, 5.0, "Tables: an interval longer than this many median sampling intervals is a gap: "
-            "each side reduced on its own, bridged straight; jumps and intervals the curve would overshoot are "
-            f"bridged too ({_range('gap')})."),
+    _option("gap", float, 0.0, "Tables: also bridge every interval longer than this many median sampling "
+            "intervals (0: only jumps and intervals the curve would swing across, always bridged; "
+            f"{_range('gap')})."),
     _option("keys", str, "curves", "Clips as .glb: 'curves' (exact, few keys: three.js, Babylon, our Blender "
             "add-on) or 'frames' (LINEAR keys at every frame or --rate: importers that ignore tangents, such as "
             "Blender's own)."),

@@ -48,7 +48,7 @@ class TableOptions:
         The rotation's tolerance in degrees, its curve (``"quaternion"`` or
         ``"euler"``), Euler sequence, and quaternion layout.
     pauses, breaks, min_pause, gap
-        Features kept (:class:`~sketchanim.reducer.FeatureOptions`); ``gap`` 0: none.
+        Features kept (:class:`~sketchanim.reducer.FeatureOptions`); ``gap`` 0 (the default): no long-interval cut.
     format, time_unit, time_col, cols, rate
         How the file is read (:func:`sketchanim.formats.tables.read_table`).
     groups : tuple of tuple of str, or None
@@ -82,7 +82,7 @@ class TableOptions:
     pauses: bool = True
     breaks: bool = True
     min_pause: float = 0.5
-    gap: float = 5.0
+    gap: float = 0.0
     format: str = "auto"
     time_unit: str | None = None
     time_col: str | None = None

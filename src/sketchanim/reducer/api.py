@@ -3,22 +3,22 @@
 from __future__ import annotations
 
 import time
-from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 
-from sketchanim.errors import ArgumentError, ToleranceUnreachableError
+from sketchanim.errors import ArgumentError, SampleError, ToleranceUnreachableError
 from sketchanim.reducer.conditioning import Samples, check_angle, check_count, check_order, condition
 from sketchanim.reducer.features import Feature, FeatureOptions
-from sketchanim.reducer.gaps import without_overshoot
+from sketchanim.reducer.gaps import without_swing
 from sketchanim.reducer.global_method import STARTS, GlobalOptions, reduce_global
 from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.segments import reduce_segmented
 from sketchanim.reducer.starts import interpolant, polynomial_through
 from sketchanim.reducer.stream import StreamReducer
+from sketchanim.reducer.swing import Bounds, check_bounds, local_ranges, outside
 
 METHODS = ("global", "incremental")
 
@@ -44,6 +44,22 @@ def _guaranteed(spline: BSpline, samples: Samples, order: int, angle: float) -> 
     return exact, err, True
 
 
+def _checked_bounds(values: ArrayLike, bounds: tuple[ArrayLike, ArrayLike] | None, dim: int) -> Bounds | None:
+    """``bounds`` checked (:func:`~sketchanim.reducer.swing.check_bounds`), or a
+    :class:`SampleError` naming the first sample of ``values`` (checked finite) outside
+    them, by its index in the caller's input and its channel."""
+    limits = check_bounds(bounds, dim)
+    if limits is None:
+        return None
+    x = np.asarray(values, dtype=float).reshape(-1, dim)
+    i = outside(x, limits)
+    if i is not None:
+        j = int(np.flatnonzero((x[i] < limits[0]) | (x[i] > limits[1]))[0])
+        raise SampleError(f"value {float(x[i, j])!r} is outside the bounds [{float(limits[0][j])!r}, "
+                          f"{float(limits[1][j])!r}]", index=i, field=f"channel {j}")
+    return limits
+
+
 def reduce(
     times: ArrayLike,
     values: ArrayLike,
@@ -60,12 +76,15 @@ def reduce(
     constraints: str = "end",
     angle: float | None = None,
     features: bool | FeatureOptions = True,
+    bounds: tuple[ArrayLike, ArrayLike] | None = None,
 ) -> Reduction:
     """Reduce sampled motion to a B-spline that keeps every sample's value and time.
 
     Time is the spline's parameter, so timing is kept: for every sample ``i`` and channel
     ``j``, ``|spline(times[i])[j] - values[i, j]| <= tol[j]``. This is checked on the
-    result of every call and reported in ``max_error``.
+    result of every call and reported in ``max_error``. Between samples ``i`` and
+    ``i + 1`` the curve stays within the range of samples ``i - 1 .. i + 2`` widened by
+    the tolerance and cut to ``bounds`` (no swing; :mod:`sketchanim.reducer.gaps`).
 
     Parameters
     ----------
@@ -80,8 +99,8 @@ def reduce(
     method : {"global", "incremental"}
         Lyche-Morken knot removal over the whole take, or the incremental method
         (windows of ``window`` knots, as :class:`StreamReducer` does while samples
-        arrive; with ``FeatureOptions(gap=None)``, the same spline as streaming these
-        samples with its defaults: the stream does not cut gaps).
+        arrive; with ``FeatureOptions(jumps=False)`` or ``features=False``, the same
+        spline as streaming these samples, the stream keeping the no-swing bound itself).
     start : {"paper", "lm"}
         Starting curve: the samples as control polygon, or LM's reduced
         piecewise-linear interpolant raised to ``order``.
@@ -99,17 +118,23 @@ def reduce(
     angle : float or None
         If given, the four channels are quaternions and each sample keeps its rotation
         instead: the spline's value, normalised, within ``angle`` radians of it;
-        ``tol`` then only scales the fit. :func:`sketchanim.reduce_rotations` is the
+        ``tol`` then only scales the fit, and the no-swing range of each component is
+        widened by ``2 sin(angle / 4)`` (the distance between unit quaternions whose
+        rotations are ``angle`` apart). :func:`sketchanim.reduce_rotations` is the
         front end for rotations.
     features : bool or FeatureOptions
         Find pauses (the curve then holds exactly still there) and velocity breaks
         (kept as corners) and cut the take there (:mod:`sketchanim.reducer.features`);
-        True uses the default thresholds, False reduces the take in one piece. The
-        take is also cut at its gaps (intervals over ``FeatureOptions.gap`` = 5 median
-        intervals), at its jumps (a value step over one interval) and wherever the
-        curve would overshoot between samples (:mod:`sketchanim.reducer.gaps`): each
-        side reduced on its own, bridged by a straight segment. The result's ``features`` lists what was
-        found.
+        True uses the default thresholds, False looks for none. The take is cut at
+        its jumps (a value step over one interval; not with False or
+        ``FeatureOptions(jumps=False)``) and, whatever this says, wherever the curve would swing out of its local range between samples (gaps; with
+        ``FeatureOptions.gap``, also at every interval over that many median
+        intervals): each side reduced on its own, the cut interval bridged, C1 where
+        that stays within its range, else straight (:mod:`sketchanim.reducer.gaps`).
+        The result's ``features`` lists what was found.
+    bounds : (array_like, array_like) or None
+        Least and greatest value of each channel (numbers or shape (d,); ±inf:
+        unbounded): the curve stays within them everywhere. Not with ``angle``.
 
     Returns
     -------
@@ -118,8 +143,8 @@ def reduce(
     Raises
     ------
     sketchanim.errors.SampleError
-        A NaN or infinite sample, time going backwards, or fewer than 2 distinct samples
-        (names the sample index and field).
+        A NaN or infinite sample, time going backwards, fewer than 2 distinct samples,
+        or a sample outside ``bounds`` (names the sample index and field).
     sketchanim.errors.ArgumentError
         A tolerance <= 0 or of the wrong length, a bad order, method or start.
 
@@ -130,6 +155,10 @@ def reduce(
     >>> r = sketchanim.reduce(t, np.c_[t * np.cos(t), t * np.sin(t)], 0.1)
     >>> r.n_coefficients <= 18, bool(np.all(r.max_error <= 0.1))
     (True, True)
+    >>> colour = sketchanim.reduce(t, np.clip(np.sin(t), 0, 1), 0.05, bounds=(0, 1))
+    >>> curve = colour.spline(np.linspace(0, 6 * np.pi, 5000))
+    >>> bool(curve.min() >= 0 and curve.max() <= 1)
+    True
     """
     clock = time.perf_counter()
     order = check_order(order)
@@ -144,51 +173,53 @@ def reduce(
         check_count(name, value, least)
     samples = condition(times, values, tol)
     angle = check_angle(angle, samples.dim)
+    if angle and bounds is not None:
+        raise ArgumentError("bounds", "orientations (angle) have no bounds")
+    limits = _checked_bounds(values, bounds, samples.dim)
     options = FeatureOptions.of(features)
     report: dict[str, object] = {"duplicates_dropped": samples.duplicates_dropped}
     if method != "incremental":
         report["start"] = start
 
-    def whole() -> tuple[BSpline, list[Feature]]:
-        """The take in one go, by ``method``."""
+    def run(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, list[Feature]]:
+        """Samples ``t``, ``x`` (all, or a run between cuts) in one go, by ``method``;
+        the work done is added up in the report."""
         if method == "incremental":
             stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
                                    angle=angle or None, features=options)
-            for a in range(0, samples.n, STREAM_CHUNK):     # in chunks: the same spline, bounded memory
-                stream.extend(samples.times[a : a + STREAM_CHUNK], samples.values[a : a + STREAM_CHUNK])
+            for a in range(0, len(t), STREAM_CHUNK):        # in chunks: the same spline, bounded memory
+                stream.extend(t[a : a + STREAM_CHUNK], x[a : a + STREAM_CHUNK])
             streamed = stream.finish()
             report.update((key, v) for key, v in streamed.report.items() if key != "duplicates_dropped")
             return streamed.columns, list(streamed.features)
-        if samples.n < order:
-            report["note"] = f"{samples.n} samples < order {order}: the interpolating polynomial"
-            return polynomial_through(samples.times, samples.values, order), []
+        if len(t) < order:
+            if len(t) == samples.n:
+                report["note"] = f"{len(t)} samples < order {order}: the interpolating polynomial"
+            return polynomial_through(t, x, order), []
         opts = GlobalOptions(start, split, minimax_iterations, exhaustive_below, coarse_samples)
         found: list[Feature] = []
         if options.enabled:
-            spline, found, log = reduce_segmented(samples.times, samples.values, samples.tol, order, opts, angle,
-                                                  options)
+            spline, found, work = reduce_segmented(t, x, samples.tol, order, opts, angle, options)
         else:
-            spline, log = reduce_global(samples.times, samples.values, samples.tol, order, opts, angle)
-        report.update(iterations=log.iterations, fits=log.fits, coarse_pass=log.coarse_pass,
-                      coarse_outcome=log.coarse_outcome)
+            spline, work = reduce_global(t, x, samples.tol, order, opts, angle)
+        done = {key: int(report.get(key, 0)) for key in ("iterations", "fits")}  # type: ignore[call-overload]
+        report.update(iterations=done["iterations"] + work.iterations, fits=done["fits"] + work.fits,
+                      coarse_pass=bool(report.get("coarse_pass")) or work.coarse_pass,
+                      coarse_outcome=work.coarse_outcome or report.get("coarse_outcome"))
         return spline, found
 
     def part(t: np.ndarray, x: np.ndarray) -> tuple[BSpline, tuple[Feature, ...]]:
         """A run between cuts, reduced alone."""
-        r = reduce(t, x, samples.tol, order=order, method=method, start=start, split=split,
-                   minimax_iterations=minimax_iterations, exhaustive_below=exhaustive_below,
-                   coarse_samples=coarse_samples, window=window, constraints=constraints, angle=angle or None,
-                   features=replace(options, gap=None))
-        return r.spline, r.features
+        spline, found = run(t, x)
+        return spline, tuple(found)
 
-    if options.gap is None:
-        spline, found = whole()
-    else:
-        spline, found = without_overshoot(samples.times, samples.values, samples.tol, order, options.gap, whole,
-                                          part)
-        for kind in ("gap", "jump"):
-            if any(f.kind == kind for f in found):
-                report[kind + "s"] = sum(f.kind == kind for f in found)
+    widening = np.full(samples.dim, 2 * np.sin(angle / 4)) if angle else samples.tol
+    lo, hi = local_ranges(samples.values, widening, limits)
+    spline, found = without_swing(samples.times, samples.values, samples.tol, order, options.jumps, options.gap, lo,
+                                  hi, lambda: run(samples.times, samples.values), part)
+    for kind in ("gap", "jump"):
+        if any(f.kind == kind for f in found):
+            report[kind + "s"] = sum(f.kind == kind for f in found)
     spline, max_error, fell_back = _guaranteed(spline, samples, order, angle)
     if fell_back:
         report["note"] = "rounding broke the bound: kept the interpolant"

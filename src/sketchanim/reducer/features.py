@@ -65,9 +65,15 @@ class FeatureOptions:
         Shortest pause, in seconds (also at least ``3 * order`` samples).
     break_window : int
         Samples on each side of a break that must follow one smooth arc (``w``).
+    jumps : bool
+        :func:`sketchanim.reduce` cuts the take beforehand at its jumps (a value step
+        over one interval, :func:`.gaps.find_jumps`) and bridges them; off, a step is
+        bridged only where the curve swings beside it (as the stream, which finds no
+        jumps, keeps it).
     gap : float or None
-        :func:`sketchanim.reduce` cuts the take where an interval is longer than this
-        many median sampling intervals, and bridges it (:mod:`.gaps`); None: never.
+        :func:`sketchanim.reduce` also cuts the take where an interval is longer than
+        this many median sampling intervals, and bridges it (:mod:`.gaps`); None (the
+        default): an interval is bridged only where the curve would swing across it.
 
     >>> FeatureOptions(breaks=False).enabled
     True
@@ -77,7 +83,8 @@ class FeatureOptions:
     breaks: bool = True
     min_pause: float = 0.5
     break_window: int = 4
-    gap: float | None = 5.0
+    jumps: bool = True
+    gap: float | None = None
 
     def __post_init__(self) -> None:
         if self.gap is not None and not (isinstance(self.gap, (int, float)) and not isinstance(self.gap, bool)
@@ -106,7 +113,7 @@ class FeatureOptions:
         if isinstance(features, FeatureOptions):
             return features
         if features is None or features is False:
-            return cls(pauses=False, breaks=False, gap=None)
+            return cls(pauses=False, breaks=False, jumps=False)
         if features is True:
             return cls()
         raise ArgumentError("features", f"must be True, False or FeatureOptions, got {features!r}")
