@@ -34,6 +34,7 @@ from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.splice import hold, join
 from sketchanim.reducer.starts import held_interpolant
+from sketchanim.reducer.swing import check_bounds, outside
 
 #: Window constraint variants of the paper's figures 1 and 2.
 CONSTRAINTS = ("end", "none", "pin", "pin+end")
@@ -224,6 +225,16 @@ class StreamReducer:
         default thresholds, False: off). The take is cut there: a pause comes out as a
         constant piece, a break as a corner (a knot of multiplicity ``order - 1``).
         Samples then reach the windows up to ``min_pause`` seconds late.
+    bounds : (low, high) or None
+        Bounds of the channels (each a number or ``dim`` numbers; ±inf: unbounded). A
+        sample outside them is refused (:class:`~sketchanim.errors.SampleError`).
+
+    A removal is accepted only if, besides every sample staying within tolerance, the
+    window's curve leaves the no-swing range of no interval between samples
+    (:func:`sketchanim.reducer.swing.local_ranges`: the four samples around it widened
+    by the tolerance, cut to ``bounds``; with ``angle``, widened by ``2 sin(angle / 4)``
+    per component, the most a unit quaternion within ``angle`` of a sample differs from
+    it) further than the window's starting curve, its interpolant, does there.
 
     Examples
     --------
@@ -257,10 +268,14 @@ class StreamReducer:
         on_piece: Callable[[Piece], object] | None = None,
         angle: float | None = None,
         features: bool | FeatureOptions = True,
+        bounds: tuple[ArrayLike, ArrayLike] | None = None,
     ) -> None:
         self.dim = check_count("dim", dim, 1)
         self.tol = check_tolerance(tol, self.dim)
         self.angle = check_angle(angle, self.dim)
+        self.bounds = check_bounds(bounds, self.dim)
+        #: how far a curve may leave its samples' range between them (the tolerance)
+        self._widen = np.full(self.dim, 2.0 * np.sin(self.angle / 4.0)) if self.angle else self.tol
         self.order = k = check_order(order)
         self.window = check_count("window", window, max(1, k // 2), MAX_WINDOW)
         if constraints not in CONSTRAINTS:
@@ -312,6 +327,7 @@ class StreamReducer:
         self._start_value = start
         #: window coefficients after the past context still holding the start value
         self._start_held = 0 if start is None else 1
+        self._before = np.zeros((0, self.dim))       # the sample before the held ones (scaled)
         self._end_value: np.ndarray | None = None
         self._seg_n = 0
         self._last_t = 0.0
@@ -361,6 +377,12 @@ class StreamReducer:
         keep, error = scan_samples(t, x, offset=self._pushed, previous=self._previous, tol=self.tol,
                            reference=self._reference)
         good = len(keep)
+        bad = outside(x[:good], self.bounds)
+        if bad is not None:
+            assert self.bounds is not None
+            good, keep = bad, keep[:bad]
+            error = SampleError(f"value {x[bad].tolist()} is outside the bounds [{self.bounds[0].tolist()}, "
+                                f"{self.bounds[1].tolist()}]", index=self._pushed + bad, field="values")
         if good:
             self._pushed += good
             self._previous = (float(t[good - 1]), x[good - 1].copy())
@@ -457,10 +479,12 @@ class StreamReducer:
         end = np.zeros((0, self.dim))
         if final and self._end_value is not None:
             end = ((self._end_value - self._center) / self.tol).reshape(1, -1)
+        low, high = (np.full(self.dim, -np.inf), np.full(self.dim, np.inf)) if self.bounds is None else \
+            ((b - self._center) / self.tol for b in self.bounds)
         return window_kernel.window_step(
             self.order, kt, kc, self._bt, self._bx, self._bn, a, b, self.window, f0, f_back, self.end_tol, final,
             self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
-            self._origin, self.tol, self._center, self.angle, end)
+            self._origin, self.tol, self._center, self.angle, end, self._before, self._widen / self.tol, low, high)
 
     def _needed(self) -> int:
         """Sample knots the next window takes (the future context is ``order`` knots)."""
@@ -504,6 +528,7 @@ class StreamReducer:
 
     def _drop(self, done: int) -> None:
         """Forget the first ``done`` held samples (they are finished)."""
+        self._before = self._bx[done - 1 : done].copy()
         self._bn -= done
         self._b0 += done
         if self._b0 > self.buffer_bound:

@@ -20,13 +20,47 @@ roots of each polynomial piece's derivative there.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
+
+from sketchanim.errors import ArgumentError
 
 #: Bounds of an attribute's channels: (low, high), each of shape (d,) (±inf: unbounded).
 Bounds = tuple[np.ndarray, np.ndarray]
 
 #: Relative slack of the comparison (rounding of the curve's evaluation).
 SLACK = 1e-9
+
+
+def check_bounds(bounds: tuple[ArrayLike, ArrayLike] | None, dim: int) -> Bounds | None:
+    """``bounds`` as two float arrays of shape (dim,) with ``low <= high`` (a scalar
+    applies to every channel; ±inf: unbounded), or None; else
+    :class:`~sketchanim.errors.ArgumentError`.
+
+    >>> [b.tolist() for b in check_bounds((0, 1), 2)]
+    [[0.0, 0.0], [1.0, 1.0]]
+    """
+    if bounds is None:
+        return None
+    try:
+        low, high = (np.broadcast_to(np.asarray(b, dtype=float), (dim,)).copy() for b in bounds)
+    except (TypeError, ValueError) as err:
+        raise ArgumentError("bounds", f"needs (low, high), each a number or {dim} numbers, got {bounds!r}") from err
+    if np.isnan(low).any() or np.isnan(high).any() or np.any(low > high):
+        raise ArgumentError("bounds", f"needs low <= high in every channel, got low {low.tolist()}, high {high.tolist()}")
+    return low, high
+
+
+def outside(values: np.ndarray, bounds: Bounds | None) -> int | None:
+    """Index of the first row of ``values`` (n, d) outside ``bounds``, or None.
+
+    >>> outside(np.c_[[0.5, 1.5]], (np.array([0.0]), np.array([1.0])))
+    1
+    """
+    if bounds is None or not len(values):
+        return None
+    bad = np.flatnonzero(np.any((values < bounds[0]) | (values > bounds[1]), axis=1))
+    return int(bad[0]) if len(bad) else None
 
 
 def local_ranges(values: np.ndarray, tol: np.ndarray, bounds: Bounds | None = None

@@ -23,6 +23,8 @@ from sketchanim.reducer.approximate import PASS
 
 #: Lawson re-weighting only starts when a fit misses by at most this (in tolerances).
 MINIMAX_REACH = 1.5
+#: Swing a removal may add on an interval, in tolerances (rounding of the evaluation).
+SWING_SLACK = 1e-7
 #: Knots whose removal weight is above this (in tolerances) are not tried: the window's
 #: refit seldom absorbs them, and trying costs a fit each (measured by bench_stream).
 WEIGHT_REACH = 2.5
@@ -214,6 +216,132 @@ def fit_minimax(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int, ts: n
 
 
 @njit(cache=True, error_model="numpy")
+def local_ranges(xs: np.ndarray, before: np.ndarray, widen: np.ndarray, low: np.ndarray,
+                 high: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The range each interval between samples ``xs`` must stay in (the rule of
+    :func:`sketchanim.reducer.swing.local_ranges`): the least and greatest of the samples
+    ``s - 1 .. s + 2`` around interval ``s``, widened by ``widen``, cut to ``low``,
+    ``high``; ``before`` (zero or one row) is the sample before ``xs[0]``. Shape (n - 1, d)."""
+    n, d = xs.shape
+    lo = np.empty((max(n - 1, 0), d))
+    hi = np.empty((max(n - 1, 0), d))
+    for s in range(n - 1):
+        for c in range(d):
+            a = min(xs[s, c], xs[s + 1, c])
+            b = max(xs[s, c], xs[s + 1, c])
+            if s > 0:
+                a = min(a, xs[s - 1, c])
+                b = max(b, xs[s - 1, c])
+            elif len(before):
+                a = min(a, before[0, c])
+                b = max(b, before[0, c])
+            if s + 2 < n:
+                a = min(a, xs[s + 2, c])
+                b = max(b, xs[s + 2, c])
+            lo[s, c] = max(a - widen[c], low[c])
+            hi[s, c] = min(b + widen[c], high[c])
+    return lo, hi
+
+
+@njit(cache=True, error_model="numpy")
+def _beyond(v: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """How far the point ``v`` is outside the box ``[lo, hi]`` in its worst channel (0 inside)."""
+    e = 0.0
+    for c in range(len(v)):
+        e = max(e, v[c] - hi[c], lo[c] - v[c])
+    return e
+
+
+@njit(cache=True, error_model="numpy")
+def interval_excess(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                    s0: int) -> np.ndarray:
+    """How far the curve leaves ``[lo[s], hi[s]]`` anywhere on ``[ts[s], ts[s + 1]]``,
+    for the intervals ``s >= s0`` (earlier ones: 0), in its worst channel; exactly: on
+    each polynomial piece the curve is sampled at ``k`` points, which give its power
+    form, and checked at the ends and at the real roots of its derivative."""
+    n = len(ts)
+    d = coef.shape[1]
+    out = np.zeros(max(n - 1, 0))
+    z = np.linspace(0.0, 1.0, k)
+    vinv = np.linalg.inv(np.vander(z, k, increasing=True))
+    vals = np.empty((k, d))
+    b = np.empty(k)
+    scratch = np.empty((2, k))
+    v = np.empty(d)
+    last = len(T) - k - 1
+    span = k - 1
+    for s in range(s0, n - 1):
+        u0 = ts[s]
+        end = ts[s + 1]
+        worst = 0.0
+        while u0 < end:
+            while span < last and T[span + 1] <= u0:
+                span += 1
+            u1 = end if span == last else min(end, T[span + 1])
+            h = u1 - u0
+            for m in range(k):
+                basis_values(T, k, span, u0 + h * z[m], b, scratch)
+                for c in range(d):
+                    acc = 0.0
+                    for r in range(k):
+                        acc += b[r] * coef[span - k + 1 + r, c]
+                    vals[m, c] = acc
+            worst = max(worst, _beyond(vals[0], lo[s], hi[s]), _beyond(vals[k - 1], lo[s], hi[s]))
+            if k >= 3:
+                p = vinv @ vals                                  # power form in z, (k, d)
+                for c in range(d):
+                    # roots in (0, 1) of the derivative sum_q (q + 1) p[q + 1] z^q
+                    roots = _derivative_roots(p[:, c])
+                    for zr in roots:
+                        if 0.0 < zr < 1.0:
+                            for cc in range(d):
+                                acc = 0.0
+                                for q in range(k - 1, -1, -1):
+                                    acc = acc * zr + p[q, cc]
+                                v[cc] = acc
+                            worst = max(worst, _beyond(v, lo[s], hi[s]))
+            u0 = u1
+        out[s] = worst
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _derivative_roots(p: np.ndarray) -> np.ndarray:
+    """Real roots of the derivative of the polynomial ``sum_q p[q] z^q``."""
+    k = len(p)
+    dq = np.empty(k - 1)
+    for q in range(k - 1):
+        dq[q] = (q + 1) * p[q + 1]
+    top = k - 2
+    scale = 0.0
+    for q in range(k - 1):
+        scale = max(scale, abs(dq[q]))
+    while top > 0 and abs(dq[top]) <= 1e-14 * scale:
+        top -= 1
+    if top == 0 or scale == 0.0:
+        return np.empty(0)
+    if top == 1:
+        return np.array([-dq[0] / dq[1]])
+    if top == 2:
+        c0, c1, c2 = dq[0], dq[1], dq[2]
+        disc = c1 * c1 - 4.0 * c2 * c0
+        if disc < 0.0:
+            return np.empty(0)
+        q = -0.5 * (c1 + np.copysign(np.sqrt(disc), c1))
+        if q == 0.0:
+            return np.array([0.0])
+        return np.array([q / c2, c0 / q])
+    r = np.roots(dq[: top + 1][::-1].astype(np.complex128))
+    out = np.empty(len(r))
+    m = 0
+    for x in r:
+        if abs(x.imag) <= 1e-12 * max(1.0, abs(x.real)):
+            out[m] = x.real
+            m += 1
+    return out[:m]
+
+
+@njit(cache=True, error_model="numpy")
 def removal_weight(T: np.ndarray, k: int, coef: np.ndarray, j: int) -> float:
     """Lyche-Morken weight of knot ``T[j]`` (see :mod:`.rank`, whose closed form this is)."""
     a = np.ones(k)
@@ -300,10 +428,23 @@ def _without(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int,
 
 
 @njit(cache=True, error_model="numpy")
+def _within(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo: np.ndarray, hi: np.ndarray, s0: int,
+            allowed: np.ndarray) -> bool:
+    """Whether the curve leaves no interval's range by more than ``allowed`` there."""
+    ex = interval_excess(T, k, coef, ts, lo, hi, s0)
+    for s in range(s0, len(ex)):
+        if ex[s] > allowed[s]:
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
 def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int, f1: int, ts: np.ndarray,
                   xs: np.ndarray, lim: np.ndarray, cand_lo: int, cand_hi: int, max_span: int,
-                  exhaustive_below: int, minimax_iterations: int, reference_curve: bool, metric: tuple):
-    """Remove as many of the knots ``T[cand_lo:cand_hi]`` as the tolerance allows.
+                  exhaustive_below: int, minimax_iterations: int, reference_curve: bool, metric: tuple,
+                  low: np.ndarray, high: np.ndarray):
+    """Remove as many of the knots ``T[cand_lo:cand_hi]`` as the tolerance and the
+    no-swing rule allow.
 
     ``coef[:f0]`` is held (the curve left of the window, and pinned coefficients);
     ``coef[f0:f_back]`` holds the previous window's values, used as held coefficients
@@ -312,7 +453,10 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     the remaining candidates on the current fit; find the largest count ``j`` whose
     ``j`` lightest knots can go (every count below ``exhaustive_below`` candidates, else
     bisection); if none, try the knots one by one; stop when a round removes nothing.
-    Every accepted fit keeps every sample within ``lim`` tolerances.
+    Every accepted fit keeps every sample within ``lim`` tolerances, and on every
+    interval between samples ``s`` the curve goes no further outside ``[low[s], high[s]]``
+    (:func:`local_ranges`) than the window's starting curve does (:func:`interval_excess`;
+    only the intervals after ``T[f0]`` change).
 
     With ``reference_curve`` (the paper's own check) fits and checks are against the
     window's starting curve at the sample times instead of the samples.
@@ -342,6 +486,10 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     removed = 0
     if start > PASS:
         return T, c, removed, fits, start
+    s0 = max(0, np.searchsorted(ts, T[f0], side="right") - 1)
+    allowed = interval_excess(T, k, c, ts, low, high, s0)
+    for s in range(len(allowed)):
+        allowed[s] = max(allowed[s], 0.0) + SWING_SLACK
     while cand.any():
         counts = np.zeros(len(T), dtype=np.int64)
         span = k - 1
@@ -360,7 +508,8 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
             j = hi if exhaustive else (lo + hi + 1) // 2
             T2, c2 = _without(T, k, c, f0, f1, order[:j])
             fits += 1
-            if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, minimax_iterations, metric) <= PASS:
+            if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, minimax_iterations, metric) <= PASS \
+                    and _within(T2, k, c2, ts, low, high, s0, allowed):
                 best_j, best_T, best_c = j, T2, c2
                 lo = j
                 if exhaustive:
@@ -371,7 +520,8 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
             for q in range(1, len(order)):
                 T2, c2 = _without(T, k, c, f0, f1, order[q:q + 1])
                 fits += 1
-                if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, 0, metric) <= PASS:
+                if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, 0, metric) <= PASS \
+                        and _within(T2, k, c2, ts, low, high, s0, allowed):
                     best_j, best_T, best_c = 1, T2, c2
                     order = order[q:q + 1]
                     break
@@ -406,7 +556,8 @@ def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarr
 def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.ndarray, bn: int, a: int,
                 b: int, m: int, f0: int, f_back: int, end_tol: float, final: bool, max_span: int,
                 exhaustive_below: int, minimax_iterations: int, reference_curve: bool, origin: float,
-                scale: np.ndarray, center: np.ndarray, angle: float, end: np.ndarray):
+                scale: np.ndarray, center: np.ndarray, angle: float, end: np.ndarray, before: np.ndarray,
+                widen: np.ndarray, low: np.ndarray, high: np.ndarray):
     """One window of the stream, from the held state to the next.
 
     ``kt`` are the knots from the first that acts on the window through the end of
@@ -424,7 +575,9 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     knots. The error and the finished curve are in the caller's units (times
     ``origin + t``, values ``center + scale * x``); ``angle`` > 0 bounds the rotation
     angle of quaternion samples instead of each channel (see :func:`fit`). A final
-    window with one row of ``end`` (scaled) ends the curve on that value.
+    window with one row of ``end`` (scaled) ends the curve on that value. ``before``
+    (zero or one row), ``widen``, ``low`` and ``high`` (scaled) give the ranges of the
+    no-swing rule (:func:`local_ranges`).
     """
     metric = (angle, scale, center)
     f1 = len(end) if final else 0
@@ -447,9 +600,10 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
         for s in range(used):
             if ts[s] >= knots[cand_hi]:
                 lim[s] = end_tol
+    lo, hi = local_ranges(xs, before, widen, low, high)
     knots, coef, removed, fits, start = reduce_window(
         knots, k, coef, f0, f_back, f1, ts, xs, lim, cand_lo, cand_hi, max_span, exhaustive_below,
-        minimax_iterations, reference_curve, metric)
+        minimax_iterations, reference_curve, metric, lo, hi)
     if final:
         advance = len(coef) - (k - 1)
         done = bn
