@@ -34,6 +34,7 @@ from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.splice import hold, join
 from sketchanim.reducer.starts import held_interpolant
+from sketchanim.reducer.straighten import straightened
 from sketchanim.reducer.swing import check_bounds, outside
 
 #: Window constraint variants of the paper's figures 1 and 2.
@@ -172,6 +173,23 @@ class _Rows:
     def array(self) -> np.ndarray:
         """The rows so far (a copy)."""
         return self._store[: self.n].copy()
+
+
+def _with_knot(knots: np.ndarray, coef: np.ndarray, order: int, at: float, multiplicity: int
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """The same curve with the knot ``at`` raised to ``multiplicity`` (knot insertion;
+    the knot vector need not be clamped).
+
+    >>> t, c = _with_knot(np.r_[[0.0] * 4, [2.0] * 4], np.c_[[0.0, 1.0, 3.0, 2.0]], 4, 1.0, 3)
+    >>> t.tolist()
+    [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 2.0]
+    """
+    missing = multiplicity - int(np.count_nonzero(knots == at))
+    if missing <= 0:
+        return knots, coef
+    refined = insert(at, BSpline(knots, coef, order - 1), m=missing)
+    t = np.asarray(refined.t)
+    return t, np.asarray(refined.c)[: len(t) - order]                 # scipy pads c to len(t)
 
 
 class StreamReducer:
@@ -344,6 +362,7 @@ class StreamReducer:
         self._next_knot = k // 2
         self._free_tail = k - k // 2                # the last held samples not yet knots
         self._held: tuple[np.ndarray, np.ndarray] | None = None
+        self._joint: np.ndarray | None = None         # the value a cut segment ended on
         self._final_knots = _Rows(None)
         self._final_coef = _Rows(self.dim)
 
@@ -504,7 +523,11 @@ class StreamReducer:
         if restarted:
             self.stats.start_misses += 1
             out = self._restart(a, b, final)
-        knots, coef, removed, fits, start, advance, done, err, piece_knots, piece_coef = out
+        knots, coef, removed, fits, start, advance, done, err, piece_knots, piece_coef, lo, hi, swings = out
+        n_final = len(swings) if final else done
+        if np.any(swings[:n_final] > window_kernel.SWING_SLACK):
+            knots, coef, advance, piece_knots, piece_coef = self._straighten(knots, coef, lo, hi, n_final, advance,
+                                                                             final)
         if final:
             # The piece ends exactly at its last sample (origin + (t - origin) need not
             # be t), where a neighbour after a feature starts.
@@ -525,6 +548,54 @@ class StreamReducer:
         if advance > 0 and (self.keep or self.on_piece is not None):
             self._emit(piece_knots, piece_coef, final)
         self.stats.record(time.perf_counter() - clock, removed, fits)
+
+    def _straighten(self, knots: np.ndarray, coef: np.ndarray, lo: np.ndarray, hi: np.ndarray, n_final: int,
+                    advance: int, final: bool) -> tuple:
+        """The window's curve with its finished intervals that swing made straight
+        (:mod:`.straighten`; rare: where no smooth curve through the knots can stay in
+        range, as next to a step). Returns ``(knots, coef, advance, piece_knots,
+        piece_coef)`` as :meth:`_run_window` uses them.
+
+        A straight interval within ``order - 1`` knots of the window's start changes
+        coefficients the piece before already handed out; the curve is then cut at the
+        window's start (a C0 join, the curve unchanged) and goes on as a new segment.
+        """
+        k = self.order
+        ts = self._bt[: len(lo) + 1]
+        start = knots[k - 1]
+        fixed = [start] + ([ts[-1]] if final and self._end_value is not None else [])
+        end = knots[k - 1 + advance]
+        rk, rc = straightened(knots, coef, k, ts, lo, hi, n_final, fixed)
+        if not (np.array_equal(rk[: 2 * k - 1], knots[: 2 * k - 1]) and np.array_equal(rc[: k - 1], coef[: k - 1])):
+            self._cut(knots, start)
+            # From the window's start on, clamped there (a nodal coefficient), behind the
+            # k - 1 coefficients of zero support that a segment's first window starts with.
+            rk, rc = _with_knot(rk, rc, k, start, k - 1)
+            r = int(np.searchsorted(rk, start, side="right"))
+            rk = np.r_[[start] * (2 * k - 1), rk[r:]]
+            rc = np.vstack([np.repeat(rc[r - k : r - k + 1], k - 1, axis=0), rc[r - k :]])
+        stop = len(rc) if final else int(np.searchsorted(rk, end, side="left"))
+        piece_coef = rc[:stop] * self.tol + self._center
+        if self._joint is not None:                    # the cut segment ends on it, exactly
+            piece_coef[: k] = self._joint
+            self._joint = None
+        return rk, rc, stop - (k - 1), rk[: stop + k] + self._origin, piece_coef
+
+    def _cut(self, knots: np.ndarray, start: float) -> None:
+        """End the kept segment at the window's ``start`` (local time), where the curve
+        handed out so far ends: its kept coefficients on the kept knots and the window's
+        next ``order`` knots, clamped there."""
+        k = self.order
+        self._held = None                              # it only closed intervals of zero length
+        if self.keep and self._final_coef.n:
+            kt, kc = _with_knot(np.r_[self._final_knots.array(), knots[k - 1 : 2 * k - 1] + self._origin],
+                                self._final_coef.array(), k, start + self._origin, k)
+            i = int(np.searchsorted(kt, start + self._origin, side="left"))
+            if i > k - 1:
+                self._segments.append(BSpline(kt[: i + k], kc[:i], k - 1))
+                self._joint = kc[i - 1].copy()
+        self._final_knots = _Rows(None)
+        self._final_coef = _Rows(self.dim)
 
     def _drop(self, done: int) -> None:
         """Forget the first ``done`` held samples (they are finished)."""

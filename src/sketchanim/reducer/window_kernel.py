@@ -461,9 +461,10 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     With ``reference_curve`` (the paper's own check) fits and checks are against the
     window's starting curve at the sample times instead of the samples.
 
-    Returns ``(T, coef, removed, fits, start_error)``: the reduced knots and fit, the
-    number of knots removed, the number of least-squares fits, and the starting
-    curve's error (> ``PASS`` means even the window's starting curve misses).
+    Returns ``(T, coef, removed, fits, start_error, start_swing)``: the reduced knots
+    and fit, the number of knots removed, the number of least-squares fits, the starting
+    curve's error (> ``PASS`` means even the window's starting curve misses), and how far
+    the starting curve leaves each interval's range (the most the result does).
     """
     n = len(ts)
     fits = 0
@@ -484,12 +485,12 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     cand = np.zeros(len(T), dtype=np.bool_)
     cand[cand_lo:cand_hi] = True
     removed = 0
+    allowed = interval_excess(T, k, c, ts, low, high, 0)
     if start > PASS:
-        return T, c, removed, fits, start
+        return T, c, removed, fits, start, allowed
     s0 = max(0, np.searchsorted(ts, T[f0], side="right") - 1)
-    allowed = interval_excess(T, k, c, ts, low, high, s0)
     for s in range(len(allowed)):
-        allowed[s] = max(allowed[s], 0.0) + SWING_SLACK
+        allowed[s] += SWING_SLACK
     while cand.any():
         counts = np.zeros(len(T), dtype=np.int64)
         span = k - 1
@@ -532,7 +533,9 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
         cand = cand[keep]
         T, c = best_T, best_c
         removed += best_j
-    return T, c, removed, fits, start
+    for s in range(len(allowed)):
+        allowed[s] -= SWING_SLACK
+    return T, c, removed, fits, start, allowed
 
 
 @njit(cache=True, error_model="numpy")
@@ -567,12 +570,14 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     final one takes all of them and ends the curve at the last sample.
 
     Returns ``(knots, coef, removed, fits, start_error, advance, done, max_error,
-    piece_knots, piece_coef)``: the window's reduced knots and coefficients (clamped at
+    piece_knots, piece_coef, lo, hi, start_swing)``: the window's reduced knots and coefficients (clamped at
     the last sample used), the knots removed, the fits made, the starting curve's
     error, how many window coefficients became final, how many held samples are
     finished (the first ``done``) and their largest error per channel, and the
     finished curve: the window's coefficients up to the last final one, with their
-    knots. The error and the finished curve are in the caller's units (times
+    knots; the ranges of the no-swing rule over the intervals between the samples used,
+    and how far the window's starting curve left them (the most its result can). The
+    error and the finished curve are in the caller's units (times
     ``origin + t``, values ``center + scale * x``); ``angle`` > 0 bounds the rotation
     angle of quaternion samples instead of each channel (see :func:`fit`). A final
     window with one row of ``end`` (scaled) ends the curve on that value. ``before``
@@ -601,7 +606,7 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
             if ts[s] >= knots[cand_hi]:
                 lim[s] = end_tol
     lo, hi = local_ranges(xs, before, widen, low, high)
-    knots, coef, removed, fits, start = reduce_window(
+    knots, coef, removed, fits, start, start_swing = reduce_window(
         knots, k, coef, f0, f_back, f1, ts, xs, lim, cand_lo, cand_hi, max_span, exhaustive_below,
         minimax_iterations, reference_curve, metric, lo, hi)
     if final:
@@ -614,4 +619,5 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     stop = k - 1 + advance
     piece_knots = knots[: stop + k] + origin
     piece_coef = coef[:stop] * scale + center
-    return knots, coef, removed, fits, start, advance, done, max_error, piece_knots, piece_coef
+    return (knots, coef, removed, fits, start, advance, done, max_error, piece_knots, piece_coef, lo, hi,
+            start_swing)
