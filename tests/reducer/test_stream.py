@@ -66,8 +66,10 @@ def test_every_sample_within_tolerance(sig, order: int, window: int, constraints
     r = sr.finish()
     assert within(r.spline(sig.times), sig.values, sig.tol)
     assert np.all(r.max_error <= sig.tol)
-    # Each restart (a C0 join, see StreamReducer._restart) adds order - 2 knots.
-    assert r.n_coefficients <= max(len(sig.times), order) + (order - 2) * r.report["start_misses"]
+    # Each restart or cut (a C0 join, see StreamReducer._restart, _cut) adds order - 2 knots,
+    # each straight interval (reducer/straighten.py) at most 2 (order - 2).
+    extra = r.report["start_misses"] + r.report["cuts"] + 2 * r.report["straightened"]
+    assert r.n_coefficients <= max(len(sig.times), order) + (order - 2) * extra
 
 
 def test_spiral_within_tolerance_and_close_to_global() -> None:

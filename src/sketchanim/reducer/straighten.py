@@ -18,7 +18,7 @@ swings.
 >>> lo, hi = local_ranges(x, np.array([0.01]))
 >>> int(window_kernel.interval_excess(s.t, 4, s.c, t, lo, hi, 0).max() > 0.01)
 1
->>> knots, coef = straightened(s.t, s.c, 4, t, lo, hi, 7, ())
+>>> knots, coef, count = straightened(s.t, s.c, 4, t, lo, hi, 7, ())
 >>> float(window_kernel.interval_excess(knots, 4, coef, t, lo, hi, 0).max())
 0.0
 """
@@ -34,12 +34,13 @@ from sketchanim.reducer import window_kernel
 
 
 def straightened(knots: np.ndarray, coef: np.ndarray, order: int, times: np.ndarray, lo: np.ndarray,
-                 hi: np.ndarray, n_final: int, fixed: Collection[float]) -> tuple[np.ndarray, np.ndarray]:
+                 hi: np.ndarray, n_final: int, fixed: Collection[float]) -> tuple[np.ndarray, np.ndarray, int]:
     """The spline ``(knots, coef)`` of ``order`` with every interval ``times[s] ..
     times[s + 1]``, ``s < n_final``, that leaves ``[lo[s], hi[s]]`` (beyond
     :data:`window_kernel.SWING_SLACK`) made straight (see the module). Nodal values at
     the times in ``fixed`` are never moved (a value a neighbour already has). Returns the
-    new knots and coefficients; the same arrays if nothing swings.
+    new knots and coefficients (the same arrays if nothing swings) and the number of
+    intervals made straight.
 
     ``times`` must not hold knots strictly inside an interval (every knot is a sample
     time in the reducer).
@@ -50,7 +51,7 @@ def straightened(knots: np.ndarray, coef: np.ndarray, order: int, times: np.ndar
         ex = window_kernel.interval_excess(knots, k, coef, times, lo, hi, 0)[:n_final]
         new = [s for s in np.flatnonzero(ex > window_kernel.SWING_SLACK) if s not in straight]
         if not new:
-            return knots, coef
+            return knots, coef, len(straight)
         straight.update(int(s) for s in new)
         extra = []
         for s in new:

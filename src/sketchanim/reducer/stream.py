@@ -95,7 +95,9 @@ class StreamStats:
     """What the reducer did so far.
 
     Window times and removal counts are kept for the most recent ``history`` windows
-    (so memory stays flat on endless streams); the counters cover the whole stream.
+    (so memory stays flat on endless streams); the counters cover the whole stream:
+    ``straightened`` counts intervals made straight (:mod:`.straighten`), ``cuts`` the
+    segments cut for them.
     """
 
     history: int = 65536
@@ -105,6 +107,8 @@ class StreamStats:
     samples: int = 0
     duplicates_dropped: int = 0
     start_misses: int = 0
+    straightened: int = 0
+    cuts: int = 0
     max_window_seconds: float = 0.0
     total_window_seconds: float = 0.0
     _seconds: np.ndarray = field(init=False, repr=False)
@@ -429,12 +433,15 @@ class StreamReducer:
         kind = op[0]
         if kind == "samples":
             self._feed(op[1], op[2])
-        elif kind == "break":
-            self._end(op[2])
-            self._begin(op[2])
+            return
+        # A break's or a pause's value, in the bounds: closer to every sample there.
+        value = None if len(op) < 3 else op[2] if self.bounds is None else np.clip(op[2], *self.bounds)
+        if kind == "break":
+            self._end(value)
+            self._begin(value)
         elif kind == "hold":
-            self._end(op[2])
-            self._pause = (op[1], op[2])
+            self._end(value)
+            self._pause = (op[1], value)
         else:
             assert self._pause is not None
             start, value = self._pause
@@ -563,9 +570,12 @@ class StreamReducer:
         k = self.order
         ts = self._bt[: len(lo) + 1]
         start = knots[k - 1]
-        fixed = [start] + ([ts[-1]] if final and self._end_value is not None else [])
+        # The value at the start is the piece before's (or a held one); at a take's start it is free.
+        opening = start == 0.0 and self._start_value is None          # local time 0: the piece's first sample
+        fixed = ([] if opening else [start]) + ([ts[-1]] if final and self._end_value is not None else [])
         end = knots[k - 1 + advance]
-        rk, rc = straightened(knots, coef, k, ts, lo, hi, n_final, fixed)
+        rk, rc, count = straightened(knots, coef, k, ts, lo, hi, n_final, fixed)
+        self.stats.straightened += count
         if not (np.array_equal(rk[: 2 * k - 1], knots[: 2 * k - 1]) and np.array_equal(rc[: k - 1], coef[: k - 1])):
             self._cut(knots, start)
             # From the window's start on, clamped there (a nodal coefficient), behind the
@@ -587,6 +597,7 @@ class StreamReducer:
         next ``order`` knots, clamped there."""
         k = self.order
         self._held = None                              # it only closed intervals of zero length
+        self.stats.cuts += 1
         if self.keep and self._final_coef.n:
             kt, kc = _with_knot(np.r_[self._final_knots.array(), knots[k - 1 : 2 * k - 1] + self._origin],
                                 self._final_coef.array(), k, start + self._origin, k)
@@ -714,7 +725,12 @@ class StreamReducer:
             t, x = np.r_[t, t + 1.0], np.vstack([x, x])
         poly = held_interpolant(t, x, k, (self._start_value, self._end_value))
         assert poly is not None                         # a polynomial through < order samples
-        piece = Piece(np.asarray(poly.t), np.asarray(poly.c))
+        knots, coef = np.asarray(poly.t), np.asarray(poly.c)
+        low, high = self.bounds or (np.full(self.dim, -np.inf), np.full(self.dim, np.inf))
+        lo, hi = window_kernel.local_ranges(x, self._before * self.tol + self._center, self._widen, low, high)
+        knots, coef, count = straightened(knots, coef, k, t, lo, hi, len(t) - 1, (t[0], t[-1]))
+        self.stats.straightened += count
+        piece = Piece(knots, coef)
         if self.keep:
             self._final_knots.append(piece.knots)
             self._final_coef.append(piece.coef)
@@ -750,6 +766,8 @@ class StreamReducer:
             "knots_removed": s.removed,
             "duplicates_dropped": s.duplicates_dropped,
             "start_misses": s.start_misses,
+            "straightened": s.straightened,
+            "cuts": s.cuts,
             "max_span": self.max_span,
         }
         timings = {
