@@ -116,7 +116,7 @@ def test_kernel_excess_matches_the_reference_check(order: int, seed: int) -> Non
     coef = rng.normal(size=(len(knots) - order, 2))
     values = rng.normal(size=(len(times), 2))
     lo, hi = swing.local_ranges(values, np.array([0.1, 0.2]))
-    ours = window_kernel.interval_excess(knots, order, coef, times, lo, hi, 0)
+    ours = window_kernel.interval_excess(knots, order, coef, times, lo, hi, 0, window_kernel.power_form(order))
     theirs = swing.excess(BSpline(knots, coef, order - 1), times, lo, hi).max(axis=1)
     np.testing.assert_allclose(ours, theirs, atol=1e-9)
 

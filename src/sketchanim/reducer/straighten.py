@@ -16,10 +16,10 @@ swings.
 >>> t = np.arange(8.0); x = np.c_[[0.0, 0, 0, 0, 1, 1, 1, 1]]
 >>> s = make_interp_spline(t, x, k=3)
 >>> lo, hi = local_ranges(x, np.array([0.01]))
->>> int(window_kernel.interval_excess(s.t, 4, s.c, t, lo, hi, 0).max() > 0.01)
+>>> int(window_kernel.interval_excess(s.t, 4, s.c, t, lo, hi, 0, window_kernel.power_form(4)).max() > 0.01)
 1
 >>> knots, coef, count = straightened(s.t, s.c, 4, t, lo, hi, 7, ())
->>> float(window_kernel.interval_excess(knots, 4, coef, t, lo, hi, 0).max())
+>>> float(window_kernel.interval_excess(knots, 4, coef, t, lo, hi, 0, window_kernel.power_form(4)).max())
 0.0
 """
 
@@ -34,11 +34,14 @@ from sketchanim.reducer import window_kernel
 
 
 def straightened(knots: np.ndarray, coef: np.ndarray, order: int, times: np.ndarray, lo: np.ndarray,
-                 hi: np.ndarray, n_final: int, fixed: Collection[float]) -> tuple[np.ndarray, np.ndarray, int]:
+                 hi: np.ndarray, n_final: int, fixed: Collection[float], *, movable: bool = True
+                 ) -> tuple[np.ndarray, np.ndarray, int]:
     """The spline ``(knots, coef)`` of ``order`` with every interval ``times[s] ..
     times[s + 1]``, ``s < n_final``, that leaves ``[lo[s], hi[s]]`` (beyond
     :data:`window_kernel.SWING_SLACK`) made straight (see the module). Nodal values at
-    the times in ``fixed`` are never moved (a value a neighbour already has). Returns the
+    the times in ``fixed`` are never moved (a value a neighbour already has), none
+    without ``movable`` (a quaternion's: the line between two is the shortest turn
+    between their rotations, and moving one component would change its rotation). Returns the
     new knots and coefficients (the same arrays if nothing swings) and the number of
     intervals made straight.
 
@@ -48,7 +51,7 @@ def straightened(knots: np.ndarray, coef: np.ndarray, order: int, times: np.ndar
     k = order
     straight: set[int] = set()
     while True:
-        ex = window_kernel.interval_excess(knots, k, coef, times, lo, hi, 0)[:n_final]
+        ex = window_kernel.interval_excess(knots, k, coef, times, lo, hi, 0, window_kernel.power_form(k))[:n_final]
         new = [s for s in np.flatnonzero(ex > window_kernel.SWING_SLACK) if s not in straight]
         if not new:
             return knots, coef, len(straight)
@@ -63,7 +66,7 @@ def straightened(knots: np.ndarray, coef: np.ndarray, order: int, times: np.ndar
             spline = insert(at, spline, m=extra.count(at))
         knots = np.asarray(spline.t)
         coef = np.array(spline.c[: len(knots) - k], dtype=float)     # scipy pads c to len(t)
-        _place(knots, coef, k, times, lo, hi, sorted(straight), fixed)
+        _place(knots, coef, k, times, lo, hi, sorted(straight), fixed if movable else times)
 
 
 def _place(knots: np.ndarray, coef: np.ndarray, k: int, times: np.ndarray, lo: np.ndarray, hi: np.ndarray,

@@ -574,7 +574,7 @@ class StreamReducer:
         opening = start == 0.0 and self._start_value is None          # local time 0: the piece's first sample
         fixed = ([] if opening else [start]) + ([ts[-1]] if final and self._end_value is not None else [])
         end = knots[k - 1 + advance]
-        rk, rc, count = straightened(knots, coef, k, ts, lo, hi, n_final, fixed)
+        rk, rc, count = straightened(knots, coef, k, ts, lo, hi, n_final, fixed, movable=not self.angle)
         self.stats.straightened += count
         if not (np.array_equal(rk[: 2 * k - 1], knots[: 2 * k - 1]) and np.array_equal(rc[: k - 1], coef[: k - 1])):
             self._cut(knots, start)
@@ -728,7 +728,8 @@ class StreamReducer:
         knots, coef = np.asarray(poly.t), np.asarray(poly.c)
         low, high = self.bounds or (np.full(self.dim, -np.inf), np.full(self.dim, np.inf))
         lo, hi = window_kernel.local_ranges(x, self._before * self.tol + self._center, self._widen, low, high)
-        knots, coef, count = straightened(knots, coef, k, t, lo, hi, len(t) - 1, (t[0], t[-1]))
+        knots, coef, count = straightened(knots, coef, k, t, lo, hi, len(t) - 1, (t[0], t[-1]),
+                                          movable=not self.angle)
         self.stats.straightened += count
         piece = Piece(knots, coef)
         if self.keep:

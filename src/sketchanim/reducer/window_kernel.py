@@ -253,23 +253,37 @@ def _beyond(v: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
 
 
 @njit(cache=True, error_model="numpy")
+def power_form(k: int) -> np.ndarray:
+    """The matrix that takes a polynomial of order ``k``'s values at ``k`` equally spaced
+    points of [0, 1] (ends included) to its coefficients in powers of the parameter."""
+    z = np.linspace(0.0, 1.0, k)
+    return np.linalg.inv(np.vander(z, k, increasing=True))
+
+
+@njit(cache=True, error_model="numpy")
 def interval_excess(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo: np.ndarray, hi: np.ndarray,
-                    s0: int) -> np.ndarray:
+                    s0: int, vinv: np.ndarray) -> np.ndarray:
     """How far the curve leaves ``[lo[s], hi[s]]`` anywhere on ``[ts[s], ts[s + 1]]``,
     for the intervals ``s >= s0`` (earlier ones: 0), in its worst channel; exactly: on
     each polynomial piece the curve is sampled at ``k`` points, which give its power
-    form, and checked at the ends and at the real roots of its derivative."""
+    form (``vinv``: :func:`power_form`), and checked at the ends and at the real roots
+    of its derivative."""
     n = len(ts)
     d = coef.shape[1]
     out = np.zeros(max(n - 1, 0))
     z = np.linspace(0.0, 1.0, k)
-    vinv = np.linalg.inv(np.vander(z, k, increasing=True))
     vals = np.empty((k, d))
+    p = np.zeros((k, d))
     b = np.empty(k)
     scratch = np.empty((2, k))
     v = np.empty(d)
+    roots = np.empty(max(k - 2, 1) * d)                  # the derivative's roots on the span, in z
+    nr = 0
     last = len(T) - k - 1
     span = k - 1
+    formed = -1                                          # the span whose power form p holds
+    a = 0.0
+    h = 1.0
     for s in range(s0, n - 1):
         u0 = ts[s]
         end = ts[s + 1]
@@ -278,31 +292,68 @@ def interval_excess(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo:
             while span < last and T[span + 1] <= u0:
                 span += 1
             u1 = end if span == last else min(end, T[span + 1])
-            h = u1 - u0
-            for m in range(k):
-                basis_values(T, k, span, u0 + h * z[m], b, scratch)
-                for c in range(d):
-                    acc = 0.0
-                    for r in range(k):
-                        acc += b[r] * coef[span - k + 1 + r, c]
-                    vals[m, c] = acc
-            worst = max(worst, _beyond(vals[0], lo[s], hi[s]), _beyond(vals[k - 1], lo[s], hi[s]))
-            if k >= 3:
-                p = vinv @ vals                                  # power form in z, (k, d)
-                for c in range(d):
-                    # roots in (0, 1) of the derivative sum_q (q + 1) p[q + 1] z^q
-                    roots = _derivative_roots(p[:, c])
-                    for zr in roots:
-                        if 0.0 < zr < 1.0:
-                            for cc in range(d):
-                                acc = 0.0
-                                for q in range(k - 1, -1, -1):
-                                    acc = acc * zr + p[q, cc]
-                                v[cc] = acc
-                            worst = max(worst, _beyond(v, lo[s], hi[s]))
+            if formed != span:                            # once per polynomial piece
+                a = T[span]
+                h = max(T[span + 1], end) - a if span == last else T[span + 1] - a
+                for m in range(k):
+                    basis_values(T, k, span, a + h * z[m], b, scratch)
+                    for c in range(d):
+                        acc = 0.0
+                        for r in range(k):
+                            acc += b[r] * coef[span - k + 1 + r, c]
+                        vals[m, c] = acc
+                p[:] = vinv @ vals                        # power form in z = (u - a) / h, (k, d)
+                nr = 0
+                if k >= 3:
+                    for c in range(d):
+                        # roots of the derivative sum_q (q + 1) p[q + 1] z^q
+                        if k == 4:                        # quadratic: no allocation
+                            r1, r2 = _quadratic_roots(p[1, c], 2.0 * p[2, c], 3.0 * p[3, c])
+                            roots[nr] = r1
+                            roots[nr + 1] = r2
+                            nr += 2
+                        else:
+                            for zr in _derivative_roots(p[:, c]):
+                                roots[nr] = zr
+                                nr += 1
+                formed = span
+            z0 = (u0 - a) / h
+            z1 = (u1 - a) / h
+            worst = max(worst, _at(p, z0, lo[s], hi[s], v, -1.0, 2.0), _at(p, z1, lo[s], hi[s], v, -1.0, 2.0))
+            for q in range(nr):
+                worst = max(worst, _at(p, roots[q], lo[s], hi[s], v, z0, z1))
             u0 = u1
         out[s] = worst
     return out
+
+
+@njit(cache=True, error_model="numpy")
+def _at(p: np.ndarray, z: float, lo: np.ndarray, hi: np.ndarray, v: np.ndarray, z0: float, z1: float) -> float:
+    """How far the polynomial of power form ``p`` (k, d) is outside ``[lo, hi]`` at
+    ``z`` if ``z0 < z < z1`` (else 0; NaN: 0); ``v`` is workspace."""
+    if not z0 < z < z1:
+        return 0.0
+    for c in range(p.shape[1]):
+        acc = 0.0
+        for q in range(p.shape[0] - 1, -1, -1):
+            acc = acc * z + p[q, c]
+        v[c] = acc
+    return _beyond(v, lo, hi)
+
+
+@njit(cache=True, error_model="numpy")
+def _quadratic_roots(c0: float, c1: float, c2: float) -> tuple[float, float]:
+    """The real roots of ``c0 + c1 z + c2 z^2`` (NaN where there are fewer)."""
+    scale = max(abs(c0), abs(c1), abs(c2))
+    if scale == 0.0:
+        return np.nan, np.nan
+    if abs(c2) <= 1e-14 * scale:
+        return (-c0 / c1 if abs(c1) > 1e-14 * scale else np.nan), np.nan
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return np.nan, np.nan
+    q = -0.5 * (c1 + np.copysign(np.sqrt(disc), c1))
+    return q / c2, (c0 / q if q != 0.0 else np.nan)
 
 
 @njit(cache=True, error_model="numpy")
@@ -323,14 +374,8 @@ def _derivative_roots(p: np.ndarray) -> np.ndarray:
     if top == 1:
         return np.array([-dq[0] / dq[1]])
     if top == 2:
-        c0, c1, c2 = dq[0], dq[1], dq[2]
-        disc = c1 * c1 - 4.0 * c2 * c0
-        if disc < 0.0:
-            return np.empty(0)
-        q = -0.5 * (c1 + np.copysign(np.sqrt(disc), c1))
-        if q == 0.0:
-            return np.array([0.0])
-        return np.array([q / c2, c0 / q])
+        r1, r2 = _quadratic_roots(dq[0], dq[1], dq[2])
+        return np.array([r1, r2])
     r = np.roots(dq[: top + 1][::-1].astype(np.complex128))
     out = np.empty(len(r))
     m = 0
@@ -429,9 +474,9 @@ def _without(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int,
 
 @njit(cache=True, error_model="numpy")
 def _within(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo: np.ndarray, hi: np.ndarray, s0: int,
-            allowed: np.ndarray) -> bool:
+            allowed: np.ndarray, vinv: np.ndarray) -> bool:
     """Whether the curve leaves no interval's range by more than ``allowed`` there."""
-    ex = interval_excess(T, k, coef, ts, lo, hi, s0)
+    ex = interval_excess(T, k, coef, ts, lo, hi, s0, vinv)
     for s in range(s0, len(ex)):
         if ex[s] > allowed[s]:
             return False
@@ -485,7 +530,8 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     cand = np.zeros(len(T), dtype=np.bool_)
     cand[cand_lo:cand_hi] = True
     removed = 0
-    allowed = interval_excess(T, k, c, ts, low, high, 0)
+    vinv = power_form(k)
+    allowed = interval_excess(T, k, c, ts, low, high, 0, vinv)
     if start > PASS:
         return T, c, removed, fits, start, allowed
     s0 = max(0, np.searchsorted(ts, T[f0], side="right") - 1)
@@ -510,7 +556,7 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
             T2, c2 = _without(T, k, c, f0, f1, order[:j])
             fits += 1
             if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, minimax_iterations, metric) <= PASS \
-                    and _within(T2, k, c2, ts, low, high, s0, allowed):
+                    and _within(T2, k, c2, ts, low, high, s0, allowed, vinv):
                 best_j, best_T, best_c = j, T2, c2
                 lo = j
                 if exhaustive:
@@ -522,7 +568,7 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
                 T2, c2 = _without(T, k, c, f0, f1, order[q:q + 1])
                 fits += 1
                 if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, 0, metric) <= PASS \
-                        and _within(T2, k, c2, ts, low, high, s0, allowed):
+                        and _within(T2, k, c2, ts, low, high, s0, allowed, vinv):
                     best_j, best_T, best_c = 1, T2, c2
                     order = order[q:q + 1]
                     break
