@@ -66,8 +66,10 @@ def test_every_sample_within_tolerance(sig, order: int, window: int, constraints
     r = sr.finish()
     assert within(r.spline(sig.times), sig.values, sig.tol)
     assert np.all(r.max_error <= sig.tol)
-    # Each restart (a C0 join, see StreamReducer._restart) adds order - 2 knots.
-    assert r.n_coefficients <= max(len(sig.times), order) + (order - 2) * r.report["start_misses"]
+    # Each restart or cut (a C0 join, see StreamReducer._restart, _cut) adds order - 2 knots,
+    # each straight interval (reducer/straighten.py) at most order - 1 at each end.
+    extra = (order - 2) * (r.report["start_misses"] + r.report["cuts"]) + 2 * (order - 1) * r.report["straightened"]
+    assert r.n_coefficients <= max(len(sig.times), order) + extra
 
 
 def test_spiral_within_tolerance_and_close_to_global() -> None:
@@ -132,8 +134,9 @@ def test_splices_keep_the_curve_continuity(sig, order: int, window: int) -> None
         at = a.end
         if b.end == at:
             continue
-        # C^(order-2) at every splice; a restart (StreamReducer._restart), a break or
-        # either end of a pause joins with C0, and says so with a repeated knot there.
+        # C^(order-2) at every splice; a restart (StreamReducer._restart), a cut
+        # (StreamReducer._cut), a straight interval's ends, a break or either end of a
+        # pause joins with C0, and says so with a repeated knot there.
         repeats = int(np.count_nonzero(b.knots == at))
         joins += repeats > 1
         for der in range(max(1, order - repeats)):
@@ -142,7 +145,7 @@ def test_splices_keep_the_curve_continuity(sig, order: int, window: int) -> None
             span = b.end - at
             assert np.allclose(left, right, rtol=1e-6, atol=1e-6 * scale / span**der)
     features = sum(2 if f.kind == "pause" else 1 for f in sr.found)
-    assert joins <= sr.stats.start_misses + features
+    assert joins <= sr.stats.start_misses + sr.stats.cuts + 2 * sr.stats.straightened + features
 
 
 # -- bounded memory --------------------------------------------------------------------------

@@ -18,6 +18,20 @@ from sketchanim.motion.rotations import MIN_NORM
 #: Kinds of discrete attribute.
 DISCRETE = ("bool", "enum", "event")
 
+#: The closed range every channel of these attributes keeps (the others are unbounded):
+#: a colour channel is a fraction; an intensity is no negative light; a field of view
+#: is a perspective camera's only between 0 and 180 degrees (tan(fov / 2) is finite
+#: and positive), and 1 to 179 keeps its zoom within 1/115 .. 115 of a 90-degree view;
+#: a scale of 0 is a singular transform (no inverse, no normals), and 1e-3 (a
+#: thousandth of the object, a fifth of the default tolerance) is the least that
+#: keeps it invertible in float32 with room to spare.
+BOUNDS: dict[str, tuple[float, float]] = {
+    "color": (0.0, 1.0),
+    "intensity": (0.0, np.inf),
+    "fov": (1.0, 179.0),
+    "scale": (1e-3, np.inf),
+}
+
 
 @dataclass(frozen=True)
 class AttributeType:
@@ -66,6 +80,15 @@ class AttributeType:
         return self.default if self.continuous else self.default[0]
 
     @property
+    def bounds(self) -> tuple[float, float] | None:
+        """The closed range of every channel (:data:`BOUNDS`), or None: unbounded.
+
+        >>> COLOR.bounds, POSITION.bounds
+        ((0.0, 1.0), None)
+        """
+        return BOUNDS.get(self.name)
+
+    @property
     def is_rotation(self) -> bool:
         """A unit quaternion, bounded by the geodesic angle."""
         return self.name == "orientation"
@@ -93,13 +116,18 @@ class AttributeType:
             raise ArgumentError("choices", f"must be distinct non-empty strings, got {choices!r}")
         return AttributeType("enum", 0, 0.0, "", (names[0],), names)
 
-    def check(self, value: object, where: str = "value") -> object:
+    def check(self, value: object, where: str = "value", *, bounded: bool = True) -> object:
         """``value`` in this type's canonical form (a float array of shape (dim,), a
         unit quaternion, or a discrete value); :class:`ArgumentError` naming ``where``
-        if it does not fit.
+        if it does not fit, or (with ``bounded``; an additive take's offsets are not)
+        if it leaves the type's :attr:`bounds`.
 
         >>> ORIENTATION.check([0, 0, 0, 2]).tolist()
         [0.0, 0.0, 0.0, 1.0]
+        >>> COLOR.check([1.0, 0.5, 1.2], "lamp.color")
+        Traceback (most recent call last):
+        ...
+        sketchanim.errors.ArgumentError: lamp.color: a color keeps every channel in [0.0, 1.0], got [1.0, 0.5, 1.2]
         >>> BOOL.check(1)
         Traceback (most recent call last):
         ...
@@ -130,6 +158,10 @@ class AttributeType:
             if norm < MIN_NORM:                          # what the rotation reducers refuse too
                 raise ArgumentError(where, f"a zero quaternion is no orientation (norm {norm:.3g})")
             v = v / norm
+        limits = self.bounds
+        if bounded and limits is not None and (np.any(v < limits[0]) or np.any(v > limits[1])):
+            raise ArgumentError(where, f"a {self.name} keeps every channel in [{limits[0]}, {limits[1]}], "
+                                       f"got {v.tolist()}")
         return v
 
 

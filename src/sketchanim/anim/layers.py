@@ -46,8 +46,10 @@ def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, t
     """
     if type.is_rotation:
         r = reduce_rotations(times, values, tol, order=order)
-    else:
+    elif type.bounds is None:
         r = reduce(times, values, tol, order=order)
+    else:
+        r = reduce(times, values, tol, order=order, bounds=type.bounds)
     return r.columns
 
 
@@ -64,10 +66,12 @@ def _weights(times: np.ndarray, a: float, b: float, blend: float, left: bool, ri
 
 
 def _targets(type: AttributeType, old: np.ndarray, values: np.ndarray, mode: str, w: np.ndarray) -> np.ndarray:
-    """What the curve must keep at a take's times: its ``values`` faded onto ``old``."""
+    """What the curve must keep at a take's times: its ``values`` faded onto ``old``
+    (clamped to the type's bounds: an offset may carry a target past them)."""
     x = np.asarray(values, dtype=float)
     if not type.is_rotation:
-        return old + w[:, None] * (x - old if mode == "replace" else x)
+        targets = old + w[:, None] * (x - old if mode == "replace" else x)
+        return targets if type.bounds is None else np.clip(targets, *type.bounds)
     if mode == "additive":
         x = (Rotation.from_rotvec(w[:, None] * Rotation.from_quat(x).as_rotvec()) * Rotation.from_quat(old)).as_quat()
         w = np.ones(len(w))

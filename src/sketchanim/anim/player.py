@@ -35,15 +35,19 @@ class _Packed:
     orders: np.ndarray
     dims: np.ndarray
     rotation: np.ndarray
+    low: np.ndarray                                   # each track's bounds (±inf: unbounded)
+    high: np.ndarray
     oofs: np.ndarray
     bounds: list[int]                                 # oofs as Python ints (fast to slice with)
 
 
 @njit(cache=True)
 def _evaluate(t: float, knots: np.ndarray, kofs: np.ndarray, coef: np.ndarray, cofs: np.ndarray,
-              orders: np.ndarray, dims: np.ndarray, rotation: np.ndarray, oofs: np.ndarray,
-              out: np.ndarray) -> None:
-    """Every packed spline at ``t`` (clamped to its span) into ``out``."""
+              orders: np.ndarray, dims: np.ndarray, rotation: np.ndarray, low: np.ndarray, high: np.ndarray,
+              oofs: np.ndarray, out: np.ndarray) -> None:
+    """Every packed spline at ``t`` (clamped to its span) into ``out``, each channel
+    clamped to its track's ``low`` and ``high`` (a bounded curve keeps them but for
+    rounding)."""
     work = np.empty(32)
     for j in range(len(orders)):
         k = orders[j]
@@ -70,7 +74,7 @@ def _evaluate(t: float, knots: np.ndarray, kofs: np.ndarray, coef: np.ndarray, c
                     idx = i - deg + s
                     alpha = (x - tk[idx]) / (tk[idx + k - r] - tk[idx])
                     work[s] = (1.0 - alpha) * work[s - 1] + alpha * work[s]
-            out[oofs[j] + ch] = work[deg]
+            out[oofs[j] + ch] = min(max(work[deg], low[j]), high[j])
             norm += work[deg] * work[deg]
         if rotation[j]:
             norm = np.sqrt(norm)
@@ -169,6 +173,8 @@ class Player:
                 np.array([c.spline.k + 1 for c in curves], dtype=np.int64),
                 dims,
                 np.array([c.type.is_rotation for c in curves], dtype=np.bool_),
+                np.array([(c.type.bounds or (-np.inf, np.inf))[0] for c in curves], dtype=float),
+                np.array([(c.type.bounds or (-np.inf, np.inf))[1] for c in curves], dtype=float),
                 oofs,
                 oofs.tolist(),
             )
@@ -181,7 +187,8 @@ class Player:
         them end to end, and where each one's values start in that array."""
         p = self._pack()
         out = np.empty(int(p.oofs[-1]))
-        _evaluate(float(t), p.knots, p.kofs, p.coef, p.cofs, p.orders, p.dims, p.rotation, p.oofs, out)
+        _evaluate(float(t), p.knots, p.kofs, p.coef, p.cofs, p.orders, p.dims, p.rotation, p.low, p.high, p.oofs,
+                  out)
         return p.paths, out, p.oofs
 
     def evaluate(self, t: float) -> dict[str, object]:

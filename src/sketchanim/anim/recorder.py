@@ -200,6 +200,11 @@ class Recorder:
         # per column: the tolerance that bounds its range (a quaternion's: none)
         self._range_tol = np.concatenate([np.full(b - a, np.inf if r else self.armed[p].tol)
                                           for (p, a, b), r in zip(self._frame, self._is_rotation)] or [np.zeros(0)])
+        # per column: the bounds of its values (an additive take's offsets have none)
+        limits = [(self.armed[p].type.bounds if self.armed[p].mode != "additive" else None) or (-np.inf, np.inf)
+                  for p, _, _ in self._frame]
+        self._low, self._high = (np.concatenate([np.full(b - a, lim[i]) for (_, a, b), lim in zip(self._frame, limits)]
+                                                or [np.zeros(0)]) for i in (0, 1))
         self._single_last = -np.inf
         for a in self.armed.values():
             a.times, a.values, a.columns, a.worker = [], [], None, None
@@ -261,7 +266,7 @@ class Recorder:
         index = len(a.times) + (self._frames.n if framed else 0)
         t = self._time(t, last, index, path)
         try:
-            value = a.type.check(value, path)
+            value = a.type.check(value, path, bounded=a.mode != "additive")    # offsets are not values
         except ArgumentError as err:
             raise SampleError(str(err), index=index, field=path) from None
         if a.type.continuous and not a.type.is_rotation and a.values:
@@ -290,6 +295,11 @@ class Recorder:
                               index=frames.n, field="frame")
         if frames.n:
             _in_range(x, frames.x[0], self._range_tol, frames.n, "frame")
+        out = np.flatnonzero((x < self._low) | (x > self._high))
+        if len(out):
+            bad = next(p for p, a, b in self._frame if a <= out[0] < b)
+            raise SampleError(f"value {float(x[out[0]])!r} is outside the bounds [{self._low[out[0]]}, "
+                              f"{self._high[out[0]]}] of {bad}", index=frames.n, field=bad)
         if len(self._rotations):
             norms = np.linalg.norm(x[self._rotations], axis=1)
             if norms.min() < MIN_NORM:

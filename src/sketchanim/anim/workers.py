@@ -124,7 +124,8 @@ class _Shard:
 
         self._guarded(lambda: self.streams.update({
             s.path: RotationStream(s.tol, order=order, window=window, on_piece=sender(s.path)) if s.type.is_rotation
-            else StreamReducer(s.type.dim, s.tol, order=order, window=window, on_piece=sender(s.path))
+            else StreamReducer(s.type.dim, s.tol, order=order, window=window, on_piece=sender(s.path),
+                               bounds=s.type.bounds)
             for s in specs
         }))
 

@@ -34,6 +34,8 @@ from sketchanim.reducer.metric import max_errors
 from sketchanim.reducer.result import Reduction
 from sketchanim.reducer.splice import hold, join
 from sketchanim.reducer.starts import held_interpolant
+from sketchanim.reducer.straighten import straightened
+from sketchanim.reducer.swing import check_bounds, outside
 
 #: Window constraint variants of the paper's figures 1 and 2.
 CONSTRAINTS = ("end", "none", "pin", "pin+end")
@@ -93,7 +95,9 @@ class StreamStats:
     """What the reducer did so far.
 
     Window times and removal counts are kept for the most recent ``history`` windows
-    (so memory stays flat on endless streams); the counters cover the whole stream.
+    (so memory stays flat on endless streams); the counters cover the whole stream:
+    ``straightened`` counts intervals made straight (:mod:`.straighten`), ``cuts`` the
+    segments cut for them.
     """
 
     history: int = 65536
@@ -103,6 +107,8 @@ class StreamStats:
     samples: int = 0
     duplicates_dropped: int = 0
     start_misses: int = 0
+    straightened: int = 0
+    cuts: int = 0
     max_window_seconds: float = 0.0
     total_window_seconds: float = 0.0
     _seconds: np.ndarray = field(init=False, repr=False)
@@ -173,6 +179,23 @@ class _Rows:
         return self._store[: self.n].copy()
 
 
+def _with_knot(knots: np.ndarray, coef: np.ndarray, order: int, at: float, multiplicity: int
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """The same curve with the knot ``at`` raised to ``multiplicity`` (knot insertion;
+    the knot vector need not be clamped).
+
+    >>> t, c = _with_knot(np.r_[[0.0] * 4, [2.0] * 4], np.c_[[0.0, 1.0, 3.0, 2.0]], 4, 1.0, 3)
+    >>> t.tolist()
+    [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 2.0]
+    """
+    missing = multiplicity - int(np.count_nonzero(knots == at))
+    if missing <= 0:
+        return knots, coef
+    refined = insert(at, BSpline(knots, coef, order - 1), m=missing)
+    t = np.asarray(refined.t)
+    return t, np.asarray(refined.c)[: len(t) - order]                 # scipy pads c to len(t)
+
+
 class StreamReducer:
     """Reduce samples while they arrive, a window of knots at a time.
 
@@ -224,6 +247,16 @@ class StreamReducer:
         default thresholds, False: off). The take is cut there: a pause comes out as a
         constant piece, a break as a corner (a knot of multiplicity ``order - 1``).
         Samples then reach the windows up to ``min_pause`` seconds late.
+    bounds : (low, high) or None
+        Bounds of the channels (each a number or ``dim`` numbers; ±inf: unbounded). A
+        sample outside them is refused (:class:`~sketchanim.errors.SampleError`).
+
+    A removal is accepted only if, besides every sample staying within tolerance, the
+    window's curve leaves the no-swing range of no interval between samples
+    (:func:`sketchanim.reducer.swing.local_ranges`: the four samples around it widened
+    by the tolerance, cut to ``bounds``; with ``angle``, widened by ``2 sin(angle / 4)``
+    per component, the most a unit quaternion within ``angle`` of a sample differs from
+    it) further than the window's starting curve, its interpolant, does there.
 
     Examples
     --------
@@ -257,10 +290,14 @@ class StreamReducer:
         on_piece: Callable[[Piece], object] | None = None,
         angle: float | None = None,
         features: bool | FeatureOptions = True,
+        bounds: tuple[ArrayLike, ArrayLike] | None = None,
     ) -> None:
         self.dim = check_count("dim", dim, 1)
         self.tol = check_tolerance(tol, self.dim)
         self.angle = check_angle(angle, self.dim)
+        self.bounds = check_bounds(bounds, self.dim)
+        #: how far a curve may leave its samples' range between them (the tolerance)
+        self._widen = np.full(self.dim, 2.0 * np.sin(self.angle / 4.0)) if self.angle else self.tol
         self.order = k = check_order(order)
         self.window = check_count("window", window, max(1, k // 2), MAX_WINDOW)
         if constraints not in CONSTRAINTS:
@@ -312,6 +349,7 @@ class StreamReducer:
         self._start_value = start
         #: window coefficients after the past context still holding the start value
         self._start_held = 0 if start is None else 1
+        self._before = np.zeros((0, self.dim))       # the sample before the held ones (scaled)
         self._end_value: np.ndarray | None = None
         self._seg_n = 0
         self._last_t = 0.0
@@ -328,6 +366,7 @@ class StreamReducer:
         self._next_knot = k // 2
         self._free_tail = k - k // 2                # the last held samples not yet knots
         self._held: tuple[np.ndarray, np.ndarray] | None = None
+        self._joint: np.ndarray | None = None         # the value a cut segment ended on
         self._final_knots = _Rows(None)
         self._final_coef = _Rows(self.dim)
 
@@ -361,6 +400,12 @@ class StreamReducer:
         keep, error = scan_samples(t, x, offset=self._pushed, previous=self._previous, tol=self.tol,
                            reference=self._reference)
         good = len(keep)
+        bad = outside(x[:good], self.bounds)
+        if bad is not None:
+            assert self.bounds is not None
+            good, keep = bad, keep[:bad]
+            error = SampleError(f"value {x[bad].tolist()} is outside the bounds [{self.bounds[0].tolist()}, "
+                                f"{self.bounds[1].tolist()}]", index=self._pushed + bad, field="values")
         if good:
             self._pushed += good
             self._previous = (float(t[good - 1]), x[good - 1].copy())
@@ -388,12 +433,15 @@ class StreamReducer:
         kind = op[0]
         if kind == "samples":
             self._feed(op[1], op[2])
-        elif kind == "break":
-            self._end(op[2])
-            self._begin(op[2])
+            return
+        # A break's or a pause's value, in the bounds: closer to every sample there.
+        value = None if len(op) < 3 else op[2] if self.bounds is None else np.clip(op[2], *self.bounds)
+        if kind == "break":
+            self._end(value)
+            self._begin(value)
         elif kind == "hold":
-            self._end(op[2])
-            self._pause = (op[1], op[2])
+            self._end(value)
+            self._pause = (op[1], value)
         else:
             assert self._pause is not None
             start, value = self._pause
@@ -457,10 +505,12 @@ class StreamReducer:
         end = np.zeros((0, self.dim))
         if final and self._end_value is not None:
             end = ((self._end_value - self._center) / self.tol).reshape(1, -1)
+        low, high = (np.full(self.dim, -np.inf), np.full(self.dim, np.inf)) if self.bounds is None else \
+            ((b - self._center) / self.tol for b in self.bounds)
         return window_kernel.window_step(
             self.order, kt, kc, self._bt, self._bx, self._bn, a, b, self.window, f0, f_back, self.end_tol, final,
             self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
-            self._origin, self.tol, self._center, self.angle, end)
+            self._origin, self.tol, self._center, self.angle, end, self._before, self._widen / self.tol, low, high)
 
     def _needed(self) -> int:
         """Sample knots the next window takes (the future context is ``order`` knots)."""
@@ -480,7 +530,11 @@ class StreamReducer:
         if restarted:
             self.stats.start_misses += 1
             out = self._restart(a, b, final)
-        knots, coef, removed, fits, start, advance, done, err, piece_knots, piece_coef = out
+        knots, coef, removed, fits, start, advance, done, err, piece_knots, piece_coef, lo, hi, swings = out
+        n_final = len(swings) if final else done
+        if np.any(swings[:n_final] > window_kernel.SWING_SLACK):
+            knots, coef, advance, piece_knots, piece_coef = self._straighten(knots, coef, lo, hi, n_final, advance,
+                                                                             final)
         if final:
             # The piece ends exactly at its last sample (origin + (t - origin) need not
             # be t), where a neighbour after a feature starts.
@@ -502,8 +556,61 @@ class StreamReducer:
             self._emit(piece_knots, piece_coef, final)
         self.stats.record(time.perf_counter() - clock, removed, fits)
 
+    def _straighten(self, knots: np.ndarray, coef: np.ndarray, lo: np.ndarray, hi: np.ndarray, n_final: int,
+                    advance: int, final: bool) -> tuple:
+        """The window's curve with its finished intervals that swing made straight
+        (:mod:`.straighten`; rare: where no smooth curve through the knots can stay in
+        range, as next to a step). Returns ``(knots, coef, advance, piece_knots,
+        piece_coef)`` as :meth:`_run_window` uses them.
+
+        A straight interval within ``order - 1`` knots of the window's start changes
+        coefficients the piece before already handed out; the curve is then cut at the
+        window's start (a C0 join, the curve unchanged) and goes on as a new segment.
+        """
+        k = self.order
+        ts = self._bt[: len(lo) + 1]
+        start = knots[k - 1]
+        # The value at the start is the piece before's (or a held one); at a take's start it is free.
+        opening = start == 0.0 and self._start_value is None          # local time 0: the piece's first sample
+        fixed = ([] if opening else [start]) + ([ts[-1]] if final and self._end_value is not None else [])
+        end = knots[k - 1 + advance]
+        rk, rc, count = straightened(knots, coef, k, ts, lo, hi, n_final, fixed, movable=not self.angle)
+        self.stats.straightened += count
+        if not (np.array_equal(rk[: 2 * k - 1], knots[: 2 * k - 1]) and np.array_equal(rc[: k - 1], coef[: k - 1])):
+            self._cut(knots, start)
+            # From the window's start on, clamped there (a nodal coefficient), behind the
+            # k - 1 coefficients of zero support that a segment's first window starts with.
+            rk, rc = _with_knot(rk, rc, k, start, k - 1)
+            r = int(np.searchsorted(rk, start, side="right"))
+            rk = np.r_[[start] * (2 * k - 1), rk[r:]]
+            rc = np.vstack([np.repeat(rc[r - k : r - k + 1], k - 1, axis=0), rc[r - k :]])
+        stop = len(rc) if final else int(np.searchsorted(rk, end, side="left"))
+        piece_coef = rc[:stop] * self.tol + self._center
+        if self._joint is not None:                    # the cut segment ends on it, exactly
+            piece_coef[: k] = self._joint
+            self._joint = None
+        return rk, rc, stop - (k - 1), rk[: stop + k] + self._origin, piece_coef
+
+    def _cut(self, knots: np.ndarray, start: float) -> None:
+        """End the kept segment at the window's ``start`` (local time), where the curve
+        handed out so far ends: its kept coefficients on the kept knots and the window's
+        next ``order`` knots, clamped there."""
+        k = self.order
+        self._held = None                              # it only closed intervals of zero length
+        self.stats.cuts += 1
+        if self.keep and self._final_coef.n:
+            kt, kc = _with_knot(np.r_[self._final_knots.array(), knots[k - 1 : 2 * k - 1] + self._origin],
+                                self._final_coef.array(), k, start + self._origin, k)
+            i = int(np.searchsorted(kt, start + self._origin, side="left"))
+            if i > k - 1:
+                self._segments.append(BSpline(kt[: i + k], kc[:i], k - 1))
+                self._joint = kc[i - 1].copy()
+        self._final_knots = _Rows(None)
+        self._final_coef = _Rows(self.dim)
+
     def _drop(self, done: int) -> None:
         """Forget the first ``done`` held samples (they are finished)."""
+        self._before = self._bx[done - 1 : done].copy()
         self._bn -= done
         self._b0 += done
         if self._b0 > self.buffer_bound:
@@ -618,7 +725,13 @@ class StreamReducer:
             t, x = np.r_[t, t + 1.0], np.vstack([x, x])
         poly = held_interpolant(t, x, k, (self._start_value, self._end_value))
         assert poly is not None                         # a polynomial through < order samples
-        piece = Piece(np.asarray(poly.t), np.asarray(poly.c))
+        knots, coef = np.asarray(poly.t), np.asarray(poly.c)
+        low, high = self.bounds or (np.full(self.dim, -np.inf), np.full(self.dim, np.inf))
+        lo, hi = window_kernel.local_ranges(x, self._before * self.tol + self._center, self._widen, low, high)
+        knots, coef, count = straightened(knots, coef, k, t, lo, hi, len(t) - 1, (t[0], t[-1]),
+                                          movable=not self.angle)
+        self.stats.straightened += count
+        piece = Piece(knots, coef)
         if self.keep:
             self._final_knots.append(piece.knots)
             self._final_coef.append(piece.coef)
@@ -654,6 +767,8 @@ class StreamReducer:
             "knots_removed": s.removed,
             "duplicates_dropped": s.duplicates_dropped,
             "start_misses": s.start_misses,
+            "straightened": s.straightened,
+            "cuts": s.cuts,
             "max_span": self.max_span,
         }
         timings = {

@@ -23,6 +23,8 @@ from sketchanim.reducer.approximate import PASS
 
 #: Lawson re-weighting only starts when a fit misses by at most this (in tolerances).
 MINIMAX_REACH = 1.5
+#: Swing a removal may add on an interval, in tolerances (rounding of the evaluation).
+SWING_SLACK = 1e-7
 #: Knots whose removal weight is above this (in tolerances) are not tried: the window's
 #: refit seldom absorbs them, and trying costs a fit each (measured by bench_stream).
 WEIGHT_REACH = 2.5
@@ -214,6 +216,177 @@ def fit_minimax(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int, ts: n
 
 
 @njit(cache=True, error_model="numpy")
+def local_ranges(xs: np.ndarray, before: np.ndarray, widen: np.ndarray, low: np.ndarray,
+                 high: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The range each interval between samples ``xs`` must stay in (the rule of
+    :func:`sketchanim.reducer.swing.local_ranges`): the least and greatest of the samples
+    ``s - 1 .. s + 2`` around interval ``s``, widened by ``widen``, cut to ``low``,
+    ``high``; ``before`` (zero or one row) is the sample before ``xs[0]``. Shape (n - 1, d)."""
+    n, d = xs.shape
+    lo = np.empty((max(n - 1, 0), d))
+    hi = np.empty((max(n - 1, 0), d))
+    for s in range(n - 1):
+        for c in range(d):
+            a = min(xs[s, c], xs[s + 1, c])
+            b = max(xs[s, c], xs[s + 1, c])
+            if s > 0:
+                a = min(a, xs[s - 1, c])
+                b = max(b, xs[s - 1, c])
+            elif len(before):
+                a = min(a, before[0, c])
+                b = max(b, before[0, c])
+            if s + 2 < n:
+                a = min(a, xs[s + 2, c])
+                b = max(b, xs[s + 2, c])
+            lo[s, c] = max(a - widen[c], low[c])
+            hi[s, c] = min(b + widen[c], high[c])
+    return lo, hi
+
+
+@njit(cache=True, error_model="numpy")
+def _beyond(v: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """How far the point ``v`` is outside the box ``[lo, hi]`` in its worst channel (0 inside)."""
+    e = 0.0
+    for c in range(len(v)):
+        e = max(e, v[c] - hi[c], lo[c] - v[c])
+    return e
+
+
+@njit(cache=True, error_model="numpy")
+def power_form(k: int) -> np.ndarray:
+    """The matrix that takes a polynomial of order ``k``'s values at ``k`` equally spaced
+    points of [0, 1] (ends included) to its coefficients in powers of the parameter."""
+    z = np.linspace(0.0, 1.0, k)
+    return np.linalg.inv(np.vander(z, k, increasing=True))
+
+
+@njit(cache=True, error_model="numpy")
+def interval_excess(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                    s0: int, vinv: np.ndarray) -> np.ndarray:
+    """How far the curve leaves ``[lo[s], hi[s]]`` anywhere on ``[ts[s], ts[s + 1]]``,
+    for the intervals ``s >= s0`` (earlier ones: 0), in its worst channel; exactly: on
+    each polynomial piece the curve is sampled at ``k`` points, which give its power
+    form (``vinv``: :func:`power_form`), and checked at the ends and at the real roots
+    of its derivative."""
+    n = len(ts)
+    d = coef.shape[1]
+    out = np.zeros(max(n - 1, 0))
+    z = np.linspace(0.0, 1.0, k)
+    vals = np.empty((k, d))
+    p = np.zeros((k, d))
+    b = np.empty(k)
+    scratch = np.empty((2, k))
+    v = np.empty(d)
+    roots = np.empty(max(k - 2, 1) * d)                  # the derivative's roots on the span, in z
+    nr = 0
+    last = len(T) - k - 1
+    span = k - 1
+    formed = -1                                          # the span whose power form p holds
+    a = 0.0
+    h = 1.0
+    for s in range(s0, n - 1):
+        u0 = ts[s]
+        end = ts[s + 1]
+        worst = 0.0
+        while u0 < end:
+            while span < last and T[span + 1] <= u0:
+                span += 1
+            u1 = end if span == last else min(end, T[span + 1])
+            if formed != span:                            # once per polynomial piece
+                a = T[span]
+                h = max(T[span + 1], end) - a if span == last else T[span + 1] - a
+                for m in range(k):
+                    basis_values(T, k, span, a + h * z[m], b, scratch)
+                    for c in range(d):
+                        acc = 0.0
+                        for r in range(k):
+                            acc += b[r] * coef[span - k + 1 + r, c]
+                        vals[m, c] = acc
+                p[:] = vinv @ vals                        # power form in z = (u - a) / h, (k, d)
+                nr = 0
+                if k >= 3:
+                    for c in range(d):
+                        # roots of the derivative sum_q (q + 1) p[q + 1] z^q
+                        if k == 4:                        # quadratic: no allocation
+                            r1, r2 = _quadratic_roots(p[1, c], 2.0 * p[2, c], 3.0 * p[3, c])
+                            roots[nr] = r1
+                            roots[nr + 1] = r2
+                            nr += 2
+                        else:
+                            for zr in _derivative_roots(p[:, c]):
+                                roots[nr] = zr
+                                nr += 1
+                formed = span
+            z0 = (u0 - a) / h
+            z1 = (u1 - a) / h
+            worst = max(worst, _at(p, z0, lo[s], hi[s], v, -1.0, 2.0), _at(p, z1, lo[s], hi[s], v, -1.0, 2.0))
+            for q in range(nr):
+                worst = max(worst, _at(p, roots[q], lo[s], hi[s], v, z0, z1))
+            u0 = u1
+        out[s] = worst
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _at(p: np.ndarray, z: float, lo: np.ndarray, hi: np.ndarray, v: np.ndarray, z0: float, z1: float) -> float:
+    """How far the polynomial of power form ``p`` (k, d) is outside ``[lo, hi]`` at
+    ``z`` if ``z0 < z < z1`` (else 0; NaN: 0); ``v`` is workspace."""
+    if not z0 < z < z1:
+        return 0.0
+    for c in range(p.shape[1]):
+        acc = 0.0
+        for q in range(p.shape[0] - 1, -1, -1):
+            acc = acc * z + p[q, c]
+        v[c] = acc
+    return _beyond(v, lo, hi)
+
+
+@njit(cache=True, error_model="numpy")
+def _quadratic_roots(c0: float, c1: float, c2: float) -> tuple[float, float]:
+    """The real roots of ``c0 + c1 z + c2 z^2`` (NaN where there are fewer)."""
+    scale = max(abs(c0), abs(c1), abs(c2))
+    if scale == 0.0:
+        return np.nan, np.nan
+    if abs(c2) <= 1e-14 * scale:
+        return (-c0 / c1 if abs(c1) > 1e-14 * scale else np.nan), np.nan
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return np.nan, np.nan
+    q = -0.5 * (c1 + np.copysign(np.sqrt(disc), c1))
+    return q / c2, (c0 / q if q != 0.0 else np.nan)
+
+
+@njit(cache=True, error_model="numpy")
+def _derivative_roots(p: np.ndarray) -> np.ndarray:
+    """Real roots of the derivative of the polynomial ``sum_q p[q] z^q``."""
+    k = len(p)
+    dq = np.empty(k - 1)
+    for q in range(k - 1):
+        dq[q] = (q + 1) * p[q + 1]
+    top = k - 2
+    scale = 0.0
+    for q in range(k - 1):
+        scale = max(scale, abs(dq[q]))
+    while top > 0 and abs(dq[top]) <= 1e-14 * scale:
+        top -= 1
+    if top == 0 or scale == 0.0:
+        return np.empty(0)
+    if top == 1:
+        return np.array([-dq[0] / dq[1]])
+    if top == 2:
+        r1, r2 = _quadratic_roots(dq[0], dq[1], dq[2])
+        return np.array([r1, r2])
+    r = np.roots(dq[: top + 1][::-1].astype(np.complex128))
+    out = np.empty(len(r))
+    m = 0
+    for x in r:
+        if abs(x.imag) <= 1e-12 * max(1.0, abs(x.real)):
+            out[m] = x.real
+            m += 1
+    return out[:m]
+
+
+@njit(cache=True, error_model="numpy")
 def removal_weight(T: np.ndarray, k: int, coef: np.ndarray, j: int) -> float:
     """Lyche-Morken weight of knot ``T[j]`` (see :mod:`.rank`, whose closed form this is)."""
     a = np.ones(k)
@@ -300,10 +473,23 @@ def _without(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f1: int,
 
 
 @njit(cache=True, error_model="numpy")
+def _within(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo: np.ndarray, hi: np.ndarray, s0: int,
+            allowed: np.ndarray, vinv: np.ndarray) -> bool:
+    """Whether the curve leaves no interval's range by more than ``allowed`` there."""
+    ex = interval_excess(T, k, coef, ts, lo, hi, s0, vinv)
+    for s in range(s0, len(ex)):
+        if ex[s] > allowed[s]:
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
 def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int, f1: int, ts: np.ndarray,
                   xs: np.ndarray, lim: np.ndarray, cand_lo: int, cand_hi: int, max_span: int,
-                  exhaustive_below: int, minimax_iterations: int, reference_curve: bool, metric: tuple):
-    """Remove as many of the knots ``T[cand_lo:cand_hi]`` as the tolerance allows.
+                  exhaustive_below: int, minimax_iterations: int, reference_curve: bool, metric: tuple,
+                  low: np.ndarray, high: np.ndarray):
+    """Remove as many of the knots ``T[cand_lo:cand_hi]`` as the tolerance and the
+    no-swing rule allow.
 
     ``coef[:f0]`` is held (the curve left of the window, and pinned coefficients);
     ``coef[f0:f_back]`` holds the previous window's values, used as held coefficients
@@ -312,14 +498,18 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     the remaining candidates on the current fit; find the largest count ``j`` whose
     ``j`` lightest knots can go (every count below ``exhaustive_below`` candidates, else
     bisection); if none, try the knots one by one; stop when a round removes nothing.
-    Every accepted fit keeps every sample within ``lim`` tolerances.
+    Every accepted fit keeps every sample within ``lim`` tolerances, and on every
+    interval between samples ``s`` the curve goes no further outside ``[low[s], high[s]]``
+    (:func:`local_ranges`) than the window's starting curve does (:func:`interval_excess`;
+    only the intervals after ``T[f0]`` change).
 
     With ``reference_curve`` (the paper's own check) fits and checks are against the
     window's starting curve at the sample times instead of the samples.
 
-    Returns ``(T, coef, removed, fits, start_error)``: the reduced knots and fit, the
-    number of knots removed, the number of least-squares fits, and the starting
-    curve's error (> ``PASS`` means even the window's starting curve misses).
+    Returns ``(T, coef, removed, fits, start_error, start_swing)``: the reduced knots
+    and fit, the number of knots removed, the number of least-squares fits, the starting
+    curve's error (> ``PASS`` means even the window's starting curve misses), and how far
+    the starting curve leaves each interval's range (the most the result does).
     """
     n = len(ts)
     fits = 0
@@ -340,8 +530,13 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     cand = np.zeros(len(T), dtype=np.bool_)
     cand[cand_lo:cand_hi] = True
     removed = 0
+    vinv = power_form(k)
+    allowed = interval_excess(T, k, c, ts, low, high, 0, vinv)
     if start > PASS:
-        return T, c, removed, fits, start
+        return T, c, removed, fits, start, allowed
+    s0 = max(0, np.searchsorted(ts, T[f0], side="right") - 1)
+    for s in range(len(allowed)):
+        allowed[s] += SWING_SLACK
     while cand.any():
         counts = np.zeros(len(T), dtype=np.int64)
         span = k - 1
@@ -360,7 +555,8 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
             j = hi if exhaustive else (lo + hi + 1) // 2
             T2, c2 = _without(T, k, c, f0, f1, order[:j])
             fits += 1
-            if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, minimax_iterations, metric) <= PASS:
+            if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, minimax_iterations, metric) <= PASS \
+                    and _within(T2, k, c2, ts, low, high, s0, allowed, vinv):
                 best_j, best_T, best_c = j, T2, c2
                 lo = j
                 if exhaustive:
@@ -371,7 +567,8 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
             for q in range(1, len(order)):
                 T2, c2 = _without(T, k, c, f0, f1, order[q:q + 1])
                 fits += 1
-                if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, 0, metric) <= PASS:
+                if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, 0, metric) <= PASS \
+                        and _within(T2, k, c2, ts, low, high, s0, allowed, vinv):
                     best_j, best_T, best_c = 1, T2, c2
                     order = order[q:q + 1]
                     break
@@ -382,7 +579,9 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
         cand = cand[keep]
         T, c = best_T, best_c
         removed += best_j
-    return T, c, removed, fits, start
+    for s in range(len(allowed)):
+        allowed[s] -= SWING_SLACK
+    return T, c, removed, fits, start, allowed
 
 
 @njit(cache=True, error_model="numpy")
@@ -406,7 +605,8 @@ def errors(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, xs: np.ndarr
 def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.ndarray, bn: int, a: int,
                 b: int, m: int, f0: int, f_back: int, end_tol: float, final: bool, max_span: int,
                 exhaustive_below: int, minimax_iterations: int, reference_curve: bool, origin: float,
-                scale: np.ndarray, center: np.ndarray, angle: float, end: np.ndarray):
+                scale: np.ndarray, center: np.ndarray, angle: float, end: np.ndarray, before: np.ndarray,
+                widen: np.ndarray, low: np.ndarray, high: np.ndarray):
     """One window of the stream, from the held state to the next.
 
     ``kt`` are the knots from the first that acts on the window through the end of
@@ -416,15 +616,19 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     final one takes all of them and ends the curve at the last sample.
 
     Returns ``(knots, coef, removed, fits, start_error, advance, done, max_error,
-    piece_knots, piece_coef)``: the window's reduced knots and coefficients (clamped at
+    piece_knots, piece_coef, lo, hi, start_swing)``: the window's reduced knots and coefficients (clamped at
     the last sample used), the knots removed, the fits made, the starting curve's
     error, how many window coefficients became final, how many held samples are
     finished (the first ``done``) and their largest error per channel, and the
     finished curve: the window's coefficients up to the last final one, with their
-    knots. The error and the finished curve are in the caller's units (times
+    knots; the ranges of the no-swing rule over the intervals between the samples used,
+    and how far the window's starting curve left them (the most its result can). The
+    error and the finished curve are in the caller's units (times
     ``origin + t``, values ``center + scale * x``); ``angle`` > 0 bounds the rotation
     angle of quaternion samples instead of each channel (see :func:`fit`). A final
-    window with one row of ``end`` (scaled) ends the curve on that value.
+    window with one row of ``end`` (scaled) ends the curve on that value. ``before``
+    (zero or one row), ``widen``, ``low`` and ``high`` (scaled) give the ranges of the
+    no-swing rule (:func:`local_ranges`).
     """
     metric = (angle, scale, center)
     f1 = len(end) if final else 0
@@ -447,9 +651,10 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
         for s in range(used):
             if ts[s] >= knots[cand_hi]:
                 lim[s] = end_tol
-    knots, coef, removed, fits, start = reduce_window(
+    lo, hi = local_ranges(xs, before, widen, low, high)
+    knots, coef, removed, fits, start, start_swing = reduce_window(
         knots, k, coef, f0, f_back, f1, ts, xs, lim, cand_lo, cand_hi, max_span, exhaustive_below,
-        minimax_iterations, reference_curve, metric)
+        minimax_iterations, reference_curve, metric, lo, hi)
     if final:
         advance = len(coef) - (k - 1)
         done = bn
@@ -460,4 +665,5 @@ def window_step(k: int, kt: np.ndarray, kc: np.ndarray, bt: np.ndarray, bx: np.n
     stop = k - 1 + advance
     piece_knots = knots[: stop + k] + origin
     piece_coef = coef[:stop] * scale + center
-    return knots, coef, removed, fits, start, advance, done, max_error, piece_knots, piece_coef
+    return (knots, coef, removed, fits, start, advance, done, max_error, piece_knots, piece_coef, lo, hi,
+            start_swing)

@@ -40,8 +40,8 @@ def track_info(track: Track) -> p.CurveInfo | p.StepsInfo:
     >>> from sketchanim.anim.tracks import ContinuousTrack
     >>> line = BSpline(np.r_[[0.0] * 2, [2.0] * 2], np.c_[[1.0, 3.0]], 1)
     >>> m = p.wire(track_info(ContinuousTrack("lamp.intensity", INTENSITY, line, 0.01)))
-    >>> m["order"], m["knots"], m["coef"], m["rotation"], m["start"], m["end"]
-    (2, [0.0, 0.0, 2.0, 2.0], [[1.0], [3.0]], False, 0.0, 2.0)
+    >>> m["order"], m["knots"], m["coef"], m["rotation"], m["start"], m["end"], m["bounds"]
+    (2, [0.0, 0.0, 2.0, 2.0], [[1.0], [3.0]], False, 0.0, 2.0, [0.0, None])
     """
     if isinstance(track, DiscreteTrack):
         return p.StepsInfo(path=track.path, times=list(track.times), values=list(track.values))
@@ -49,7 +49,9 @@ def track_info(track: Track) -> p.CurveInfo | p.StepsInfo:
     return p.CurveInfo(path=track.path, dim=track.type.dim, order=s.k + 1, rotation=track.type.is_rotation,
                        tol=track.tol, knots=np.asarray(s.t).tolist(), coef=np.asarray(s.c).tolist(),
                        start=track.start, end=track.end,
-                       takes=[p.TakeSpan(start=t.start, end=t.end, mode=t.mode, n=len(t.times)) for t in track.takes])
+                       takes=[p.TakeSpan(start=t.start, end=t.end, mode=t.mode, n=len(t.times)) for t in track.takes],
+                       bounds=None if track.type.bounds is None else
+                       [float(b) if np.isfinite(b) else None for b in track.type.bounds])
 
 
 def objects_info(scene: Scene) -> list[p.ObjectInfo]:

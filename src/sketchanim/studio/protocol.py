@@ -224,6 +224,8 @@ class CurveInfo(_Outbound):
     start: float
     end: float
     takes: list[TakeSpan]
+    #: the attribute's bounds (low, high; None: that side unbounded), or None: unbounded
+    bounds: list[float | None] | None = None
 
 
 class StepsInfo(_Outbound):

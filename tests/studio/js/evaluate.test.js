@@ -52,3 +52,23 @@ test('sampleCurve samples evenly over the range', () => {
   assert.deepEqual([...times], [0, 0.5, 1, 1.5, 2]);
   assert.deepEqual([...values[1]], [0, 1, 2, 3, 4]);
 });
+
+test('a bounded track never leaves its bounds, whatever its coefficients', () => {
+  // A colour channel whose control points overshoot (the curve peaks at 1.125), and an
+  // intensity dipping below 0: played clamped to [0, 1] and [0, inf).
+  const knots = [0, 0, 0, 0, 1, 1, 1, 1];
+  const colour = { path: 'lamp.color', order: 4, knots, coef: [[0.9], [1.2], [1.2], [0.9]], bounds: [0, 1] };
+  const dip = { path: 'lamp.intensity', order: 4, knots, coef: [[0.1], [-0.2], [-0.2], [0.1]], bounds: [0, null] };
+  const free = { path: 'x.float', order: 4, knots, coef: [[0.9], [1.2], [1.2], [0.9]] };
+  const p = pack([colour, dip, free]);
+  let top = 0;
+  for (let i = 0; i <= 1000; i++) {
+    const v = evaluate(p, i / 1000);
+    assert.ok(v[0] >= 0 && v[0] <= 1, `colour ${v[0]} at ${i / 1000}`);
+    assert.ok(v[1] >= 0, `intensity ${v[1]} at ${i / 1000}`);
+    top = Math.max(top, v[2]);
+  }
+  assert.ok(Math.abs(top - 1.125) < 1e-3);                        // unbounded: not clamped
+  assert.equal(evaluate(p, 0.5)[0], 1);
+  assert.equal(evaluate(p, 0.5)[1], 0);
+});

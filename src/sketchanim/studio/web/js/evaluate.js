@@ -7,8 +7,10 @@
  * The continuous tracks are packed end to end once (again only when the tracks change):
  * knots, coefficients (row-major, n x dim) and each track's offsets. Each frame, one pass
  * evaluates them all at a time by de Boor's algorithm, the time clamped to each track's
- * span (a track holds its end values outside it), orientations normalised. Discrete tracks
- * step: the value of the last time <= t, or null before the first.
+ * span (a track holds its end values outside it), orientations normalised, a bounded
+ * attribute's channels clamped to its bounds (the curve keeps them; this guards against
+ * rounding, and the float32 the values go to keeps them too, rounding being monotone).
+ * Discrete tracks step: the value of the last time <= t, or null before the first.
  */
 
 /**
@@ -18,6 +20,7 @@
  * @property {number[]} knots
  * @property {number[][]} coef   n rows of dim numbers.
  * @property {boolean} [rotation] A quaternion curve (normalised when played).
+ * @property {(number|null)[] | null} [bounds] The attribute's low and high (null: that side unbounded).
  */
 
 /**
@@ -37,6 +40,8 @@
  * @property {Int32Array} orders
  * @property {Int32Array} dims
  * @property {Uint8Array} rotation
+ * @property {Float64Array} low  Each track's least value (-Infinity: unbounded).
+ * @property {Float64Array} high Each track's greatest value (Infinity: unbounded).
  * @property {Int32Array} oofs   Where each track's values start in the output (length + 1).
  * @property {Float64Array} out  The values of the last evaluation, end to end.
  * @property {Float64Array} work Scratch for de Boor.
@@ -56,6 +61,8 @@ export function pack(curves) {
   const orders = new Int32Array(n);
   const dims = new Int32Array(n);
   const rotation = new Uint8Array(n);
+  const low = new Float64Array(n).fill(-Infinity);
+  const high = new Float64Array(n).fill(Infinity);
   let maxOrder = 1;
   curves.forEach((c, j) => {
     const dim = c.coef.length ? c.coef[0].length : 0;
@@ -68,6 +75,8 @@ export function pack(curves) {
     orders[j] = c.order;
     dims[j] = dim;
     rotation[j] = c.rotation ? 1 : 0;
+    low[j] = c.bounds?.[0] ?? -Infinity;
+    high[j] = c.bounds?.[1] ?? Infinity;
     maxOrder = Math.max(maxOrder, c.order);
   });
   const knots = new Float64Array(kofs[n]);
@@ -83,7 +92,7 @@ export function pack(curves) {
     span = span ? [Math.min(span[0], start), Math.max(span[1], end)] : [start, end];
   });
   return {
-    paths: curves.map((c) => c.path), knots, kofs, coef, cofs, orders, dims, rotation, oofs,
+    paths: curves.map((c) => c.path), knots, kofs, coef, cofs, orders, dims, rotation, low, high, oofs,
     out: new Float64Array(oofs[n]), work: new Float64Array(maxOrder), span,
   };
 }
@@ -96,7 +105,7 @@ export function pack(curves) {
  * @returns {Float64Array}
  */
 export function evaluate(p, t) {
-  const { knots, kofs, coef, cofs, orders, dims, rotation, oofs, out, work } = p;
+  const { knots, kofs, coef, cofs, orders, dims, rotation, low, high, oofs, out, work } = p;
   for (let j = 0; j < orders.length; j++) {
     const k = orders[j];
     const deg = k - 1;
@@ -123,7 +132,7 @@ export function evaluate(p, t) {
           work[s] = (1.0 - alpha) * work[s - 1] + alpha * work[s];
         }
       }
-      out[oofs[j] + ch] = work[deg];
+      out[oofs[j] + ch] = Math.min(Math.max(work[deg], low[j]), high[j]);
       norm += work[deg] * work[deg];
     }
     if (rotation[j]) {

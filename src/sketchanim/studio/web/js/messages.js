@@ -356,7 +356,8 @@
 /**
  * A continuous track (a B-spline), as the page evaluates it, with the takes it was made of.
  * @typedef {{path: string, kind: 'curve', dim: number, order: number, rotation: boolean, tol: number, knots: number[],
- *   coef: number[][], start: number, end: number, takes: {start: number, end: number, mode: string, n: number}[]}} CurveTrack
+ *   coef: number[][], start: number, end: number, takes: {start: number, end: number, mode: string, n: number}[],
+ *   bounds?: (number|null)[] | null}} CurveTrack
  */
 
 /**
