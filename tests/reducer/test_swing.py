@@ -20,7 +20,7 @@ def splines_and_samples(draw):
     return BSpline(knots, coef, degree), times, rng
 
 
-def _dense_excess(spline, times, lo, hi, per=400):
+def _dense_excess(spline, times, lo, hi, per=20000):
     out = np.zeros_like(lo)
     for i in range(len(times) - 1):
         knots = spline.t[(spline.t > times[i]) & (spline.t < times[i + 1])]
@@ -29,7 +29,7 @@ def _dense_excess(spline, times, lo, hi, per=400):
     return out
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(splines_and_samples())
 def test_excess_never_misses_what_dense_sampling_finds_and_finds_no_more(case):
     spline, times, rng = case
@@ -38,7 +38,7 @@ def test_excess_never_misses_what_dense_sampling_finds_and_finds_no_more(case):
     exact = excess(spline, times, lo, hi)
     dense = _dense_excess(spline, times, lo, hi)
     assert np.all(exact >= dense - 1e-12)
-    assert np.all(exact <= dense + 1e-3 * (1 + np.abs(spline.c).max()))
+    assert np.all(exact <= dense + 1e-4 * (1 + np.abs(spline.c).max()))
 
 
 @settings(max_examples=60, deadline=None)

@@ -46,8 +46,6 @@ def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, t
     """
     if type.is_rotation:
         r = reduce_rotations(times, values, tol, order=order)
-    elif type.bounds is None:
-        r = reduce(times, values, tol, order=order)
     else:
         r = reduce(times, values, tol, order=order, bounds=type.bounds)
     return r.columns
