@@ -12,39 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from studio_browser import drag, drew_something, last_take, launch, open_page, studio_server, viewport_drew
+from studio_browser import drag, drew_something, last_take
 
-playwright_api = pytest.importorskip("playwright.sync_api", reason="playwright is a dev dependency (scripts/setup)")
-
-
-@pytest.fixture(scope="module")
-def browser():  # noqa: ANN201
-    with playwright_api.sync_playwright() as p:
-        b = launch(p)
-        yield b
-        b.close()
-
-
-@pytest.fixture
-def studio(tmp_path: Path):  # noqa: ANN201
-    with studio_server(tmp_path / "studio.sketchanim") as url:
-        yield url
-
-
-@pytest.fixture
-def _page(browser):  # noqa: ANN001, ANN201
-    """Opens pages on a studio (checking they drew something); closes them after the test."""
-    pages = []
-
-    def opener(url: str):  # noqa: ANN202
-        page = open_page(browser, url)
-        pages.append(page)
-        assert drew_something(page) > 5 and viewport_drew(page) > 5, "the page drew nothing"
-        return page
-
-    yield opener
-    for page in pages:
-        page.close()
 
 
 #: Where the second page's screenshots go (to look at; not compared).

@@ -11,41 +11,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from studio_browser import curve, drag, drew_something, held, last_take, launch, open_page, project, studio_server
+from studio_browser import curve, drag, drew_something, held, last_take, project, studio_server
 from studio_browser import viewport_drew
 
-playwright_api = pytest.importorskip("playwright.sync_api", reason="playwright is a dev dependency (scripts/setup)")
-
-
-@pytest.fixture(scope="module")
-def browser():  # noqa: ANN201
-    with playwright_api.sync_playwright() as p:
-        b = launch(p)
-        yield b
-        b.close()
-
-
-@pytest.fixture
-def studio(tmp_path: Path):  # noqa: ANN201
-    with studio_server(tmp_path / "studio.sketchanim") as url:
-        yield url
-
-
-@pytest.fixture
-def _page(browser):  # noqa: ANN001, ANN201
-    """Opens pages on a studio (checking they drew something); closes them after the test,
-    so no page reconnects to the next test's server."""
-    pages = []
-
-    def opener(url: str, init_script: str | None = None):  # noqa: ANN202
-        page = open_page(browser, url, init_script)
-        pages.append(page)
-        assert drew_something(page) > 5 and viewport_drew(page) > 5, "the page drew nothing"
-        return page
-
-    yield opener
-    for page in pages:
-        page.close()
 
 
 def _record_drag(page, name: str, offsets: list[tuple[float, float]]) -> dict:  # noqa: ANN001
