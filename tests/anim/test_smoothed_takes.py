@@ -4,6 +4,8 @@ smoothed."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -99,7 +101,9 @@ def test_the_recorder_streams_the_smoothed_samples_and_keeps_the_raw(over):
     rec.start(below)
     for i, ti in enumerate(t):
         rec.push_frame(ti, x[i]) if i % 2 else rec.push("box.position", ti, x[i])
-    track = rec.stop()["box.position"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                            # the streamed curve, not a fallback
+        track = rec.stop()["box.position"]
     take = track.takes[-1]
     assert take.smoothing == 0.04 and np.array_equal(take.values, x)
     assert len(track.takes) == 1 + over
