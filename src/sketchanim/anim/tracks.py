@@ -1,10 +1,11 @@
 """Tracks: how an attribute changes over time.
 
 A :class:`Take` is one recording of one attribute, raw (with the smoothing its curve is
-reduced after, so that can be changed later). A :class:`ContinuousTrack` holds a reduced B-spline of the attribute's channels (an
-orientation's is a quaternion spline, normalised when evaluated, as glTF plays it); a
-:class:`DiscreteTrack` holds time-stamped values with step semantics. Before its first
-time and after its last, a track holds its end values.
+reduced after, so that can be changed later). A :class:`ContinuousTrack` holds a reduced
+B-spline of the attribute's channels (an orientation's is a quaternion spline, normalised
+when evaluated, as glTF plays it); a :class:`DiscreteTrack` holds time-stamped values
+with step semantics. Before its first time and after its last, a track holds its end
+values.
 """
 
 from __future__ import annotations
