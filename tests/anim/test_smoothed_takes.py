@@ -134,3 +134,23 @@ def test_real_pen_recording_smoothed_at_50_ms(data_dir):
           f"{smoothed.n_coefficients} smoothed at 0.05 s (error {err:.4g} <= {tol})")
     assert err <= tol
     assert smoothed.n_coefficients < raw.n_coefficients
+
+
+def test_the_recorder_streams_a_smoothed_orientation_as_the_batch_smooths_it():
+    scene = Scene()
+    scene.add("box")
+    rec = Recorder(scene)
+    rec.arm("box.orientation", tol=0.2, smoothing=0.03)
+    t = np.arange(300) / 120
+    rng = np.random.default_rng(5)
+    q = Rotation.from_rotvec(np.c_[np.sin(t), 0.5 * t, 0 * t] + rng.normal(0, 0.004, (300, 3))).as_quat()
+    q[1::3] *= -1                                                 # signs flipping as a device may send them
+    rec.start()
+    for ti, qi in zip(t, q):
+        rec.push_frame(ti, qi)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        track = rec.stop()["box.orientation"]
+    assert np.array_equal(track.takes[0].values, q)
+    angle = np.degrees(rotation_angle(track.evaluate(t), smoothed_samples(ORIENTATION, t, q, 0.03)))
+    assert angle.max() <= 0.2 + 1e-9
