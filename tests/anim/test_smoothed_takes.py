@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from sketchanim.anim.attributes import FLOAT, ORIENTATION, POSITION
+from sketchanim.anim.attributes import EVENT, FLOAT, ORIENTATION, POSITION
 from sketchanim.anim.layers import compose, recorded_over, resmoothed
 from sketchanim.anim.recorder import Recorder
 from sketchanim.anim.scene import Scene
@@ -117,6 +117,9 @@ def test_bad_smoothing_names_the_field():
     scene.add("box")
     with pytest.raises(ArgumentError, match="smoothing"):
         Recorder(scene).arm("box.position", smoothing=float("nan"))
+    scene.objects["box"].add("hit", EVENT)
+    with pytest.raises(ArgumentError, match="smoothing"):
+        Recorder(scene).arm("box.hit", smoothing=0.05)
     track = recorded_over("a.x", FLOAT, None, Take(np.array([0.0, 1.0]), np.zeros((2, 1))), 0.01, 4)
     with pytest.raises(ArgumentError, match="index"):
         resmoothed(track, 0.05, 4, index=3)

@@ -163,7 +163,10 @@ class Recorder:
             raise ArgumentError("tol", f"{path}: must be > 0, got {tol!r}")
         if not (np.isfinite(blend) and blend >= 0):
             raise ArgumentError("blend", f"{path}: must be >= 0 seconds, got {blend!r}")
-        self.armed[path] = _Armed(path, kind, tol, mode, float(blend), check_sigma(smoothing, "smoothing"))
+        smoothing = check_sigma(smoothing, "smoothing")
+        if smoothing and not kind.continuous:
+            raise ArgumentError("smoothing", f"{path}: a {kind.name} attribute cannot be smoothed")
+        self.armed[path] = _Armed(path, kind, tol, mode, float(blend), smoothing)
 
     def disarm(self, path: str) -> None:
         """Stop recording ``path`` in the next take."""
@@ -381,7 +384,8 @@ class Recorder:
         for a in self.armed.values():
             times, values, _ = self._samples(a)
             if len(times) >= (2 if a.type.continuous else 1):     # one sample is no curve: left as it was
-                raw[a.path] = Take(times, values, a.mode, a.blend, a.smoothing) if a.type.continuous else (times, values)
+                raw[a.path] = (Take(times, values, a.mode, a.blend, a.smoothing) if a.type.continuous
+                               else (times, values))
         if self._journaling is not None:
             self._journaling.join()
             self._journaling = None

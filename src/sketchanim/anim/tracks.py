@@ -57,7 +57,7 @@ class Take:
             raise ArgumentError("mode", f"must be one of {', '.join(MODES)}, got {self.mode!r}")
         if not (np.isfinite(self.blend) and self.blend >= 0):
             raise ArgumentError("blend", f"must be >= 0 seconds, got {self.blend!r}")
-        check_sigma(self.smoothing, "smoothing")
+        object.__setattr__(self, "smoothing", check_sigma(self.smoothing, "smoothing"))     # a float, 0.0 for None
         t = np.asarray(self.times, dtype=float)
         if t.ndim != 1 or len(t) < 2 or not np.all(np.diff(t) > 0):
             raise ArgumentError("times", f"a take needs 2 or more increasing times, got {len(t)}")
