@@ -511,4 +511,6 @@ def test_a_smoothed_take_from_the_smooth_menu(_page, studio: str) -> None:  # no
         error = np.abs(held(spline, t) - smooth(t, x, 0.05)).max(axis=1)
         assert error[settled].max() <= entry["tol"] * (1 + 1e-6)
     assert page.input_value("[data-testid=smoothing]") == "0.05"
+    page.wait_for_function("document.querySelector('.curve-title').textContent.includes('smoothed 0.05 s')",
+                           timeout=10_000)                   # the curve view says what its tolerance is against
     assert drew_something(page) > 5 and not page.errors
