@@ -26,8 +26,8 @@ const BLEND = 0.1;
  * The smoothing menu, in seconds (the Gaussian's width in time; it halves the power of
  * motion at about 0.13 / s Hz): light keeps gestures and takes out hand tremor and pointer
  * jitter (8-12 Hz and up: half power at 6.6 Hz), medium keeps deliberate motion (half power
- * at 2.7 Hz, the range of the paper's 20 Hz low-pass sampling), strong keeps only sweeping
- * motion (1.3 Hz). Off by default: a take is the performance as it was.
+ * at 2.7 Hz), strong keeps only sweeping motion (1.3 Hz). Off by default: a take is the
+ * performance as it was.
  */
 export const SMOOTHING = /** @type {const} */ ([[0, 'off'], [0.02, 'light'], [0.05, 'medium'], [0.1, 'strong']]);
 /** Milliseconds without an event after which a pointer is at rest, at least (one in motion reports at 60 Hz or more). */
