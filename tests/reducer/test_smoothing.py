@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sketchanim.errors import ArgumentError
@@ -110,3 +110,14 @@ def test_bad_samples_name_the_argument():
         s.push([0.5], [[0.0]])
     with pytest.raises(ArgumentError, match="values"):
         s.push([2.0], [[0.0, 1.0]])
+
+
+@settings(max_examples=20)
+@given(st.floats(0.01, 0.1), st.sampled_from([120.0, 240.0, 1000.0]))
+def test_half_power_at_0_13_over_sigma(sigma, rate):
+    """The width the docs give: motion at 0.1325 / sigma Hz keeps half its power."""
+    t = np.arange(int(40 * sigma * rate)) / rate
+    x = np.c_[np.sin(2 * np.pi * 0.1325 / sigma * t)]
+    inner = slice(int(4 * sigma * rate), -int(4 * sigma * rate))
+    ratio = np.sqrt(np.mean(smooth(t, x, sigma)[inner] ** 2) / np.mean(x[inner] ** 2))
+    assert abs(ratio - np.sqrt(0.5)) < 0.02
