@@ -358,7 +358,7 @@ def test_a_take_over_an_attribute_with_a_value_keeps_it_before_the_take(tmp_path
         ease = min(0.1, start / 2) if mode == "replace" else 0.0
         earlier = np.linspace(min(0.0, start - 1), t[0] - ease, 50)
         assert np.abs(track.evaluate(earlier) - colour).max() <= track.tol, "the value before the take changed"
-        target = picked if mode == "replace" else colour + picked
+        target = picked if mode == "replace" else np.clip(colour + picked, *track.type.bounds)   # kept in [0, 1]
         settled = t >= t[0] + (0.1 if mode == "additive" else 0.0) - 1e-12
         assert not settled.any() or np.abs(track.evaluate(t[settled]) - target[settled]).max() <= track.tol
         again = compose(track.type, track.takes, track.tol, track.spline.k + 1)       # from the raw takes
