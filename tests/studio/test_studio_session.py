@@ -127,6 +127,17 @@ def test_every_take_is_one_undo_step_and_redo_restores_it(session):
                                                                            "take box.position"])
 
 
+def test_undoing_a_take_shows_the_scene_value_of_the_path_it_leaves_without_a_track(session):
+    t = np.arange(0, 2, 1 / 60)
+    before = session.scene.get("lamp.intensity").tolist()
+    take(session, "a", ["lamp.intensity"], t, np.c_[1 + t])
+    out = session.undo()
+    values = [m["values"] for who, m in out if m["type"] == "values" and who == "all"]
+    assert values and values[-1]["lamp.intensity"] == before        # every page shows it again
+    out = session.redo()
+    assert not any("lamp.intensity" in m.get("values", {}) for _, m in out)   # the track plays it
+
+
 def test_scene_edits_are_undoable_steps(session):
     t = np.arange(0, 1, 1 / 60)
     take(session, "a", ["ball.position"], t, np.c_[t, t, t])
