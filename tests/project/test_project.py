@@ -3,6 +3,7 @@ and malformed or hostile files."""
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import sqlite3
@@ -45,6 +46,7 @@ def recorded(tmp: Path) -> tuple[Scene, dict]:
     rec.disarm("lamp.color")
     rec.disarm("box.hit")
     rec.disarm("box.orientation")
+    rec.arm("box.position", smoothing=0.03)
     rec.start(tracks)
     for ti in t[(t > 0.5) & (t < 1.5)]:
         rec.push("box.position", ti, [np.sin(ti) + 0.2 * np.sin(np.pi * (ti - 0.5)), ti, 0])
@@ -66,14 +68,14 @@ def same(a: tuple[Scene, dict], b: tuple[Scene, dict]) -> None:
             assert x.tol == y.tol and len(x.takes) == len(y.takes)
             for u, v in zip(x.takes, y.takes):
                 assert np.array_equal(u.times, v.times) and np.array_equal(u.values, v.values)
-                assert (u.mode, u.blend) == (v.mode, v.blend)
+                assert (u.mode, u.blend, u.smoothing) == (v.mode, v.blend, v.smoothing)
         else:
             assert (x.times, x.values) == (y.times, y.values)
 
 
 def test_save_load_and_json_round_trips(tmp_path) -> None:
     scene, tracks = recorded(tmp_path)
-    assert len(tracks["box.position"].takes) == 2
+    assert [t.smoothing for t in tracks["box.position"].takes] == [0.0, 0.03]
     with Project(tmp_path / "a.sketchanim") as project:
         project.save(scene, tracks)
         project.export_json(tmp_path / "a.json")
@@ -85,6 +87,19 @@ def test_save_load_and_json_round_trips(tmp_path) -> None:
     with Project(tmp_path / "new.sketchanim") as project:
         empty_scene, empty = project.load()
         assert empty == {} and empty_scene.paths() == []
+
+
+def test_a_document_from_before_smoothing_loads_its_takes_unsmoothed(tmp_path) -> None:
+    scene, tracks = recorded(tmp_path)
+    with Project(tmp_path / "a.sketchanim") as project:
+        project.save(scene, tracks)
+        project.export_json(tmp_path / "a.json")
+    body = json.loads((tmp_path / "a.json").read_text())
+    assert list(body.pop("smoothing").values()) == [0.03]
+    (tmp_path / "old.json").write_text(json.dumps(body))
+    with Project(tmp_path / "b.sketchanim") as project:
+        project.import_json(tmp_path / "old.json")
+        assert [t.smoothing for t in project.load()[1]["box.position"].takes] == [0.0, 0.0]
 
 
 CHILD = textwrap.dedent("""

@@ -212,20 +212,21 @@ def test_a_reload_shows_the_transport_as_it_is(_page, studio: str) -> None:  # n
     page.select_option("[data-testid=count-in]", "2")
     page.select_option("[data-testid=capture-speed]", "0.25")
     page.select_option("[data-testid=mode]", "additive")
+    page.select_option("[data-testid=smoothing]", "0.05")
     page.click("[data-testid=loop-record]")
     page.click("[data-testid=loop]")
     page.click("[data-testid=play]")
     page.wait_for_timeout(300)
     page.reload()
     page.wait_for_selector("body[data-ready=true]", timeout=60_000)
-    controls = page.evaluate("""() => Object.fromEntries(['speed', 'count-in', 'capture-speed', 'mode'].map(
+    controls = page.evaluate("""() => Object.fromEntries(['speed', 'count-in', 'capture-speed', 'mode', 'smoothing'].map(
         (k) => [k, document.querySelector(`[data-testid=${k}]`).value]))""")
-    assert controls == {"speed": "0.5", "count-in": "2", "capture-speed": "0.25", "mode": "additive"}
+    assert controls == {"speed": "0.5", "count-in": "2", "capture-speed": "0.25", "mode": "additive", "smoothing": "0.05"}
     assert page.evaluate("document.querySelector('[data-testid=loop-record]').checked") is True
     assert page.evaluate("document.querySelector('[data-testid=loop]').classList.contains('on')") is True
     t = page.evaluate("[studio.transport.playSpeed, studio.transport.countIn, studio.transport.captureSpeed, "
-                      "studio.performer.mode, studio.performer.loopRecord]")
-    assert t == [0.5, 2, 0.25, "additive", True]
+                      "studio.performer.mode, studio.performer.loopRecord, studio.performer.smoothing]")
+    assert t == [0.5, 2, 0.25, "additive", True, 0.05]
     # a reloaded page starts paused, and its play button says so
     assert page.evaluate("studio.transport.clock.playing") is False
     assert page.locator("[data-testid=play]").inner_text() == "▶"

@@ -441,3 +441,44 @@ def test_the_inspector_sets_a_tolerance_the_project_keeps(_page, studio: str, tm
     _, entry = curve(project(studio), "box.position")
     assert entry["tol"] == 0.05 and take["label"]
     assert drew_something(page) > 5 and not page.errors
+
+
+def test_a_smoothed_take_from_the_smooth_menu(_page, studio: str) -> None:  # noqa: ANN001
+    """The smooth menu's width goes with take.begin: the status says the take is smoothed,
+    the project keeps the raw samples and the smoothing, and the curve is within its
+    tolerance of the smoothed samples."""
+    from sketchanim.reducer.smoothing import smooth
+
+    page = _page(studio)
+    page.select_option("[data-testid=smoothing]", "0.05")
+    page.click("[data-testid=record]")
+    page.wait_for_timeout(100)
+    start = page.evaluate("viewport.screenOf('box')")
+    page.mouse.move(start["x"], start["y"])
+    page.mouse.down()
+    status = ""
+    for i, (dx, dy) in enumerate(_sweep()):
+        page.wait_for_timeout(16)
+        page.mouse.move(start["x"] + dx, start["y"] + dy)
+        if i == 20:
+            status = page.text_content("[data-testid=take-status]")
+    page.wait_for_timeout(16)
+    page.mouse.up()
+    take = last_take(page)
+    assert "smoothed 0.05 s" in status, status
+    doc = project(studio)
+    spline, entry = curve(doc, "box.position")
+    times, rows = np.array(take["times"]), np.array(take["rows"])
+    parts = [doc["takes"][i] for i in entry["takes"]]          # one, or one per part between stalls
+    assert doc["smoothing"] == {str(i): 0.05 for i in entry["takes"]}
+    assert np.array_equal(np.concatenate([p["times"] for p in parts]), times)
+    assert np.array_equal(np.vstack([p["values"] for p in parts]), rows)
+    for k, part in enumerate(parts):
+        t, x = np.array(part["times"]), np.array(part["values"])
+        settled = t >= t[0] + (BLEND if k else 0)               # a part after a stall fades in
+        error = np.abs(held(spline, t) - smooth(t, x, 0.05)).max(axis=1)
+        assert error[settled].max() <= entry["tol"] * (1 + 1e-6)
+    assert page.input_value("[data-testid=smoothing]") == "0.05"
+    page.wait_for_function("document.querySelector('.curve-title').textContent.includes('smoothed 0.05 s')",
+                           timeout=10_000)                   # the curve view says what its tolerance is against
+    assert drew_something(page) > 5 and not page.errors

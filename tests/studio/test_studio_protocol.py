@@ -171,7 +171,8 @@ def test_autosave_and_relays(client, tmp_path):
         previews = [m["value"][0] for m in before if m["type"] == "preview"]
         assert previews and previews[-1] == 49 and previews == sorted(previews)     # newest kept, never older after newer
         assert transport == {"type": "transport", "time": 1.5, "playing": True, "speed": 0.5, "loop": [1.0, 3.0],
-                             "count_in": 0.0, "capture_speed": 1.0, "mode": "replace", "loop_record": False}
+                             "count_in": 0.0, "capture_speed": 1.0, "mode": "replace", "loop_record": False,
+                             "smoothing": 0.0}
         time.sleep(1.0)                                                  # autosave: half a second after a change
         with Project(tmp_path / "p.sketchanim", create=False) as project:
             scene, _ = project.load()

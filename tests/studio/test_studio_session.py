@@ -127,6 +127,17 @@ def test_every_take_is_one_undo_step_and_redo_restores_it(session):
                                                                            "take box.position"])
 
 
+def test_undoing_a_take_shows_the_scene_value_of_the_path_it_leaves_without_a_track(session):
+    t = np.arange(0, 2, 1 / 60)
+    before = session.scene.get("lamp.intensity").tolist()
+    take(session, "a", ["lamp.intensity"], t, np.c_[1 + t])
+    out = session.undo()
+    values = [m["values"] for who, m in out if m["type"] == "values" and who == "all"]
+    assert values and values[-1]["lamp.intensity"] == before        # every page shows it again
+    out = session.redo()
+    assert not any("lamp.intensity" in m.get("values", {}) for _, m in out)   # the track plays it
+
+
 def test_scene_edits_are_undoable_steps(session):
     t = np.arange(0, 1, 1 / 60)
     take(session, "a", ["ball.position"], t, np.c_[t, t, t])
@@ -358,7 +369,7 @@ def test_a_take_over_an_attribute_with_a_value_keeps_it_before_the_take(tmp_path
         ease = min(0.1, start / 2) if mode == "replace" else 0.0
         earlier = np.linspace(min(0.0, start - 1), t[0] - ease, 50)
         assert np.abs(track.evaluate(earlier) - colour).max() <= track.tol, "the value before the take changed"
-        target = picked if mode == "replace" else colour + picked
+        target = picked if mode == "replace" else np.clip(colour + picked, *track.type.bounds)   # kept in [0, 1]
         settled = t >= t[0] + (0.1 if mode == "additive" else 0.0) - 1e-12
         assert not settled.any() or np.abs(track.evaluate(t[settled]) - target[settled]).max() <= track.tol
         again = compose(track.type, track.takes, track.tol, track.spline.k + 1)       # from the raw takes

@@ -13,18 +13,22 @@ reachable within tolerance, the take fades in and out over ``blend`` seconds at 
 seam (smoothstep weights, as an NLA strip's blend in and out): its targets are
 ``S + w (take - S)``. An *additive* take's samples are offsets added to ``S`` (vectors),
 or rotations applied on top of it (orientations: ``offset * S`` in the world frame),
-faded the same way. Every target is kept within the tolerance.
+faded the same way. Every target is kept within the tolerance. A take with
+``smoothing`` is reduced from its samples smoothed (:mod:`.smoothed`), so the tolerance
+holds against those; its raw samples stay in the take (:func:`resmoothed` changes it).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 from scipy.interpolate import BSpline
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.attributes import AttributeType
+from sketchanim.anim.smoothed import smoothed_samples
 from sketchanim.anim.tracks import ContinuousTrack, Take, held_values
 from sketchanim.errors import ArgumentError
 from sketchanim.motion.rotations import reduce_rotations
@@ -213,9 +217,10 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     [1.0, 1.0]
     """
     times = np.asarray(take.times, dtype=float)
+    values = smoothed_samples(type, times, take.values, take.smoothing)
     a, b = take.start, take.end
     if old is None and take.mode == "replace":
-        return reduce_samples(type, times, np.asarray(take.values, dtype=float), tol, order)
+        return reduce_samples(type, times, values, tol, order)
     base = hold(a, b, type.default, order) if old is None else old
     if base.k + 1 < order:
         base = elevate_degree(base, order - base.k - 1)
@@ -234,7 +239,7 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     bound = np.array([angle]) if angle else np.full(type.dim, tol)
     old_values = held_values(base, times, type.is_rotation)
     seams = (left is not None, right is not None)
-    targets = _targets(type, old_values, take.values, take.mode, _weights(times, a, b, take.blend, *seams))
+    targets = _targets(type, old_values, values, take.mode, _weights(times, a, b, take.blend, *seams))
     for side, i, seam in (("start", 0, left), ("end", -1, right)):
         gap = max_errors(old_values[[i]], targets[[i]], angle)
         if seam is not None and np.any(gap > bound):
@@ -297,3 +302,25 @@ def compose(type: AttributeType, takes: Sequence[Take], tol: float, order: int) 
     for take in takes:
         curve = punch_in(type, curve, take, tol, order)
     return curve
+
+
+def resmoothed(track: ContinuousTrack, smoothing: float, order: int, index: int = -1) -> ContinuousTrack:
+    """``track`` rebuilt from its raw takes (:func:`compose`, at its tolerance) with
+    take ``index`` (the last by default) smoothed over ``smoothing`` seconds (0: not).
+
+    >>> from sketchanim.anim.attributes import FLOAT
+    >>> t = np.linspace(0, 1, 101)
+    >>> track = recorded_over("a.x", FLOAT, None, Take(t, np.c_[t + 0.01 * (-1) ** np.arange(101)]), 0.002, 4)
+    >>> smooth = resmoothed(track, 0.05, 4)
+    >>> smooth.takes[0].smoothing, smooth.n_coefficients < track.n_coefficients
+    (0.05, True)
+    """
+    if not track.takes:
+        raise ArgumentError("track", f"{track.path}: has no takes to re-reduce")
+    takes = list(track.takes)
+    try:
+        takes[index] = replace(takes[index], smoothing=smoothing)
+    except IndexError:
+        raise ArgumentError("index", f"{track.path}: has {len(takes)} takes, got {index}") from None
+    return ContinuousTrack(track.path, track.type, compose(track.type, takes, track.tol, order), track.tol,
+                           tuple(takes))

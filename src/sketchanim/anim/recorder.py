@@ -9,6 +9,8 @@ track (a punch-in) or added onto it is streamed as its targets (:class:`.layers.
 and joined to the track when it stops (:func:`.layers.punch_in`). So when the take
 stops, each curve needs only its last windows finished, whatever the take's length. An
 attribute whose reducer process failed is reduced from its raw samples, with a warning.
+An attribute armed with ``smoothing`` is streamed smoothed (:class:`.smoothed.SampleSmoother`,
+in its reducer process); its take keeps the raw samples.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer.stream import Piece
 from sketchanim.motion.rotations import MIN_NORM
 from sketchanim.reducer.conditioning import TIME_RANGE, VALUE_RANGE
+from sketchanim.reducer.smoothing import check_sigma
 
 #: Called from the recorder's journal thread about every :data:`JOURNAL_PERIOD` seconds
 #: with the samples queued since the last call: (path, times (n,), values (n, dim) or a
@@ -58,6 +61,7 @@ class _Armed:
     tol: float
     mode: str
     blend: float
+    smoothing: float = 0.0
     times: list[float] = field(default_factory=list)      # pushed one at a time
     values: list = field(default_factory=list)
     columns: tuple[int, int] | None = None          # where it is in a frame
@@ -141,9 +145,12 @@ class Recorder:
 
     # -- arming ----------------------------------------------------------------------------
 
-    def arm(self, path: str, *, tol: float | None = None, mode: str = "replace", blend: float = BLEND) -> None:
+    def arm(self, path: str, *, tol: float | None = None, mode: str = "replace", blend: float = BLEND,
+            smoothing: float = 0.0) -> None:
         """Record ``path`` in the next take: a continuous one within ``tol`` (its type's
-        default if None, in its unit), replacing or added onto its track (``mode``)."""
+        default if None, in its unit) of its samples smoothed over ``smoothing`` seconds
+        (0: not smoothed; :attr:`.tracks.Take.smoothing`), replacing or added onto its
+        track (``mode``)."""
         if self.recording:
             raise ArgumentError("arm", "cannot arm while recording")
         kind = self.scene.type(path)
@@ -156,7 +163,10 @@ class Recorder:
             raise ArgumentError("tol", f"{path}: must be > 0, got {tol!r}")
         if not (np.isfinite(blend) and blend >= 0):
             raise ArgumentError("blend", f"{path}: must be >= 0 seconds, got {blend!r}")
-        self.armed[path] = _Armed(path, kind, tol, mode, float(blend))
+        smoothing = check_sigma(smoothing, "smoothing")
+        if smoothing and not kind.continuous:
+            raise ArgumentError("smoothing", f"{path}: a {kind.name} attribute cannot be smoothed")
+        self.armed[path] = _Armed(path, kind, tol, mode, float(blend), smoothing)
 
     def disarm(self, path: str) -> None:
         """Stop recording ``path`` in the next take."""
@@ -233,7 +243,7 @@ class Recorder:
             over = (below, a.mode, a.blend) if below is not None or a.mode == "additive" else None
             a.worker = w
             self._workers.setdefault(w, None)
-            specs.setdefault(w, []).append(Spec(a.path, a.type, a.tol, columns, over))
+            specs.setdefault(w, []).append(Spec(a.path, a.type, a.tol, columns, over, a.smoothing))
 
         for w, run in enumerate(np.array_split(np.arange(len(framed)), pool.size)):
             if len(run):
@@ -384,7 +394,8 @@ class Recorder:
         for a in self.armed.values():
             times, values, _ = self._samples(a)
             if len(times) >= (2 if a.type.continuous else 1):     # one sample is no curve: left as it was
-                raw[a.path] = Take(times, values, a.mode, a.blend) if a.type.continuous else (times, values)
+                raw[a.path] = (Take(times, values, a.mode, a.blend, a.smoothing) if a.type.continuous
+                               else (times, values))
         if self._journaling is not None:
             self._journaling.join()
             self._journaling = None

@@ -1,9 +1,11 @@
 """Tracks: how an attribute changes over time.
 
-A :class:`Take` is one recording of one attribute, raw. A :class:`ContinuousTrack` holds a reduced B-spline of the attribute's channels (an
-orientation's is a quaternion spline, normalised when evaluated, as glTF plays it); a
-:class:`DiscreteTrack` holds time-stamped values with step semantics. Before its first
-time and after its last, a track holds its end values.
+A :class:`Take` is one recording of one attribute, raw (with the smoothing its curve is
+reduced after, so that can be changed later). A :class:`ContinuousTrack` holds a reduced
+B-spline of the attribute's channels (an orientation's is a quaternion spline, normalised
+when evaluated, as glTF plays it); a :class:`DiscreteTrack` holds time-stamped values
+with step semantics. Before its first time and after its last, a track holds its end
+values.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from scipy.interpolate import BSpline
 
 from sketchanim.anim.attributes import AttributeType
 from sketchanim.errors import ArgumentError
+from sketchanim.reducer.smoothing import check_sigma
 
 
 MODES = ("replace", "additive")
@@ -37,18 +40,24 @@ class Take:
     mode : {"replace", "additive"}
     blend : float
         Seconds of fade at each seam with existing motion.
+    smoothing : float
+        Seconds: the width its samples are smoothed over before they are reduced
+        (:mod:`sketchanim.reducer.smoothing`; 0: not smoothed). ``values`` stay raw; the
+        tolerance holds against the smoothed samples.
     """
 
     times: np.ndarray
     values: np.ndarray
     mode: str = "replace"
     blend: float = BLEND
+    smoothing: float = 0.0
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
             raise ArgumentError("mode", f"must be one of {', '.join(MODES)}, got {self.mode!r}")
         if not (np.isfinite(self.blend) and self.blend >= 0):
             raise ArgumentError("blend", f"must be >= 0 seconds, got {self.blend!r}")
+        object.__setattr__(self, "smoothing", check_sigma(self.smoothing, "smoothing"))     # a float, 0.0 for None
         t = np.asarray(self.times, dtype=float)
         if t.ndim != 1 or len(t) < 2 or not np.all(np.diff(t) > 0):
             raise ArgumentError("times", f"a take needs 2 or more increasing times, got {len(t)}")

@@ -44,6 +44,7 @@ from scipy.interpolate import BSpline
 
 from sketchanim.anim.attributes import AttributeType
 from sketchanim.anim.layers import Overlay
+from sketchanim.anim.smoothed import SampleSmoother
 from sketchanim.motion.rotations import RotationStream
 from sketchanim.reducer import StreamReducer
 from sketchanim.reducer.stream import Piece
@@ -70,6 +71,9 @@ class Spec:
         For a take recorded over a track or added onto one: the track's curve, the
         take's mode and blend; the worker then reduces the take's targets
         (:class:`~sketchanim.anim.layers.Overlay`).
+    smoothing : float
+        Seconds its samples are smoothed over before all that
+        (:class:`~sketchanim.anim.smoothed.SampleSmoother`; 0: not smoothed).
     """
 
     path: str
@@ -77,6 +81,7 @@ class Spec:
     tol: float
     columns: tuple[int, int] | None = None
     over: tuple[BSpline | None, str, float] | None = None
+    smoothing: float = 0.0
 
 
 @dataclass
@@ -117,6 +122,7 @@ class _Shard:
         self.framed = [s for s in specs if s.columns is not None]
         self.streams: dict[str, StreamReducer | RotationStream] = {}
         self.overlays = {s.path: Overlay(s.type, *s.over) for s in specs if s.over is not None}
+        self.smoothers = {s.path: SampleSmoother(s.type, s.smoothing) for s in specs if s.smoothing > 0}
         self.pending: list[tuple] = []
         self.fed: set[str] = set()                      # streams that got samples
         def sender(path: str) -> Callable[[Piece], None]:
@@ -174,11 +180,17 @@ class _Shard:
         self.result.lags.append((time.perf_counter() - self.pending[0][2], samples))
         for path, (ts, xs) in parts.items():
             t, x = (ts[0], xs[0]) if len(ts) == 1 else (np.concatenate(ts), np.vstack(xs))
-            if path in self.overlays:
-                t, x = self.overlays[path].push(t, x)
-            if len(t):
-                self.streams[path].extend(t, x)
+            if path in self.smoothers:
+                t, x = self.smoothers[path].push(t, x)
+            self._extend(path, t, x)
             self.fed.add(path)
+
+    def _extend(self, path: str, t: np.ndarray, x: np.ndarray) -> None:
+        """Feed samples (smoothed, if so) to the path's stream, as targets if overlaid."""
+        if len(t) and path in self.overlays:
+            t, x = self.overlays[path].push(t, x)
+        if len(t):
+            self.streams[path].extend(t, x)
 
     def finish(self) -> Result:
         """Feed what is pending and finish every stream that got two samples or more (one
@@ -187,6 +199,8 @@ class _Shard:
 
         def finish_all() -> None:
             for path in self.fed:
+                if path in self.smoothers:
+                    self._extend(path, *self.smoothers[path].close())
                 over = self.overlays.get(path)
                 if over is not None:
                     t, x = over.close()

@@ -5,6 +5,7 @@ versioned JSON, validated with pydantic when loaded (a take's samples live in th
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Annotated, Literal
 
 import numpy as np
@@ -78,8 +79,10 @@ class ToleranceDoc(_Doc):
 
 class ProjectDoc(_Doc):
     """The scene and its tracks (a take's samples live in the ``takes`` table and are
-    referenced by id), and the take tolerances by attribute path (none in a document
-    from before them)."""
+    referenced by id), the take tolerances by attribute path (none in a document
+    from before them), and the smoothing of each smoothed take, in seconds by take id
+    (:attr:`~sketchanim.anim.tracks.Take.smoothing`; a take not there, as in a
+    document from before smoothing, is not smoothed)."""
 
     format: Literal["sketchanim-project"] = FORMAT
     version: Literal[1] = FORMAT_VERSION
@@ -88,6 +91,8 @@ class ProjectDoc(_Doc):
     steps: list[StepsDoc] = Field(max_length=100_000)
     tolerances: dict[Annotated[str, Field(max_length=200)], ToleranceDoc] = Field(default_factory=dict,
                                                                                   max_length=100_000)
+    smoothing: dict[int, Annotated[float, Field(gt=0, allow_inf_nan=False)]] = Field(default_factory=dict,
+                                                                                     max_length=100_000)
 
 
 def load_document(text: str, source: str) -> ProjectDoc:
@@ -132,7 +137,8 @@ def to_document(scene: Scene, tracks: dict[str, Track],
                                knots=np.asarray(track.spline.t).tolist(), coef=np.asarray(track.spline.c).tolist(),
                                takes=ids))
     kept = {path: t for path, t in (tolerances or {}).items() if _holds(scene, path)}
-    return ProjectDoc(objects=objects, curves=curves, steps=steps, tolerances=kept), takes
+    smoothing = {i: float(t.smoothing) for i, t in enumerate(takes) if t.smoothing > 0}
+    return ProjectDoc(objects=objects, curves=curves, steps=steps, tolerances=kept, smoothing=smoothing), takes
 
 
 def _holds(scene: Scene, path: str) -> bool:
@@ -154,7 +160,9 @@ def document_tolerances(doc: ProjectDoc, scene: Scene, source: str) -> dict[str,
 
 def from_document(doc: ProjectDoc, takes: dict[int, Take], source: str) -> tuple[Scene, dict[str, Track]]:
     """The scene and tracks of a validated document; :class:`FileFormatError` naming
-    what does not fit (a value of the wrong type, a track for no attribute...)."""
+    what does not fit (a value of the wrong type, a track for no attribute...). The
+    takes get their smoothing from the document."""
+    takes = {i: replace(t, smoothing=doc.smoothing[i]) if i in doc.smoothing else t for i, t in takes.items()}
     scene = Scene()
     tracks: dict[str, Track] = {}
     try:

@@ -40,7 +40,7 @@ def notes_path(project: str | os.PathLike[str]) -> Path:
 
 def note_take(project: str | os.PathLike[str], settings: Mapping[str, object]) -> None:
     """Note the settings of the take starting (``paths``, ``mode``, ``blend``, ``tol``,
-    ``speed``, ``gap``, ``loop``) for a recovery."""
+    ``speed``, ``gap``, ``loop``, ``smoothing``) for a recovery."""
     write_atomic(notes_path(project), json.dumps(dict(settings)))
 
 
@@ -82,6 +82,7 @@ def recovered_tracks(project: Project, scene: Scene, tracks: Mapping[str, Track]
     notes = _notes(project.path)
     tol, mode = notes.get("tol", {}), notes.get("mode", "replace")
     blend = float(notes.get("blend", BLEND))
+    smoothing = float(notes.get("smoothing", 0.0))
     stall = float(notes.get("gap", GAP)) * float(notes.get("speed", 1.0))
     made: dict[str, Track] = {}
     for path, (times, values) in project.recovered().items():
@@ -92,7 +93,7 @@ def recovered_tracks(project: Project, scene: Scene, tracks: Mapping[str, Track]
         track = old if isinstance(old, ContinuousTrack) else None
         for part in split_at_stalls(times, stall):
             if part.stop - part.start >= 2:
-                take = Take(times[part], np.asarray(values[part], dtype=float), mode, blend)
+                take = Take(times[part], np.asarray(values[part], dtype=float), mode, blend, smoothing)
                 track = recorded_over(path, kind, track, take, float(tol.get(path, kind.tol)), order)
         if track is not None and track is not old:
             made[path] = track

@@ -216,7 +216,7 @@ def reduce(
     widening = np.full(samples.dim, 2 * np.sin(angle / 4)) if angle else samples.tol
     lo, hi = local_ranges(samples.values, widening, limits)
     spline, found = without_swing(samples.times, samples.values, samples.tol, order, options.jumps, options.gap, lo,
-                                  hi, lambda: run(samples.times, samples.values), part)
+                                  hi, lambda: run(samples.times, samples.values), part, normalised=bool(angle))
     for kind in ("gap", "jump"):
         if any(f.kind == kind for f in found):
             report[kind + "s"] = sum(f.kind == kind for f in found)

@@ -121,7 +121,8 @@ def _end_slopes(spline: BSpline) -> tuple[np.ndarray, np.ndarray]:
 
 
 def reduce_across(times: np.ndarray, values: np.ndarray, cuts: np.ndarray, order: int, reduce_part: ReducePart,
-                  jumps: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[BSpline, list[Feature]]:
+                  jumps: np.ndarray, lo: np.ndarray, hi: np.ndarray, normalised: bool = False
+                  ) -> tuple[BSpline, list[Feature]]:
     """Reduce each run of samples between the cuts (after samples ``cuts``, sorted) with
     ``reduce_part`` and bridge them; one spline (each run's own curve on its span) and
     the features: a ``"jump"`` at the cuts in ``jumps``, a ``"gap"`` at the others.
@@ -159,7 +160,7 @@ def reduce_across(times: np.ndarray, values: np.ndarray, cuts: np.ndarray, order
             piece = bridge(t0, t1, end[0], first, order)
             if end[1] is not None and slopes[0] is not None and order >= 4:
                 smooth = bridge(t0, t1, end[0], first, order, (end[1], slopes[0]))
-                room = excess(smooth, times[a - 1 : a + 1], lo[a - 1 : a], hi[a - 1 : a])
+                room = excess(smooth, times[a - 1 : a + 1], lo[a - 1 : a], hi[a - 1 : a], normalised=normalised)
                 if np.all(room <= SLACK * _magnitude(lo[a - 1], hi[a - 1])):
                     piece = smooth
                     # one knot fewer at each C1 join, but beside a pause (kept exactly still)
@@ -208,12 +209,13 @@ def _magnitude(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 def without_swing(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order: int, jumps: bool,
                   gap: float | None, lo: np.ndarray, hi: np.ndarray, whole: Callable[[], tuple[BSpline, list[Feature]]],
-                  reduce_part: ReducePart) -> tuple[BSpline, list[Feature]]:
+                  reduce_part: ReducePart, normalised: bool = False) -> tuple[BSpline, list[Feature]]:
     """The take reduced with ``whole()`` (no cuts) or, cut at its jumps (with
     ``jumps``; and, with ``gap``, at intervals over ``gap`` median intervals), run by run with
     ``reduce_part``; then cut and bridged further wherever it leaves ``lo``, ``hi``
-    between samples (:func:`~sketchanim.reducer.swing.swinging`), until it does not.
-    Runs already reduced are not reduced again.
+    between samples (:func:`~sketchanim.reducer.swing.swinging`; ``normalised``: a
+    quaternion spline, checked as played), until it does not. Runs already reduced are
+    not reduced again.
 
     >>> from sketchanim.reducer.swing import local_ranges
     >>> t = np.linspace(0, 1, 11); x = np.c_[(t > 0.5) * 1.0]      # a step
@@ -238,8 +240,9 @@ def without_swing(times: np.ndarray, values: np.ndarray, tol: np.ndarray, order:
 
     last = len(times) - 2                                         # the last interval
     while True:
-        spline, found = reduce_across(times, values, cuts, order, part, steps, lo, hi) if len(cuts) else whole()
-        bad = swinging(spline, times, lo, hi)
+        spline, found = (reduce_across(times, values, cuts, order, part, steps, lo, hi, normalised) if len(cuts)
+                         else whole())
+        bad = swinging(spline, times, lo, hi, normalised)
         # A bridge beyond its range: the runs beside it end off the samples; cut them there.
         stuck = np.intersect1d(bad, cuts)
         more = np.setdiff1d(np.union1d(bad, np.clip(np.r_[stuck - 1, stuck + 1], 0, max(last, 0))), cuts)

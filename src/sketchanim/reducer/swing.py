@@ -124,11 +124,16 @@ def _critical_points(spline: BSpline, a: float, b: float) -> np.ndarray:
     return np.r_[knots, start[inside] + s[inside]]
 
 
-def excess(spline: BSpline, times: np.ndarray, lo: np.ndarray, hi: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
+def excess(spline: BSpline, times: np.ndarray, lo: np.ndarray, hi: np.ndarray, chunk: int = 1 << 16,
+           normalised: bool = False) -> np.ndarray:
     """How far ``spline`` goes beyond ``[lo[i], hi[i]]`` anywhere on
     ``[times[i], times[i + 1]]``: per interval and channel, ``max(curve - hi, lo - curve)``
     over the interval where that is positive, else 0. Shape (n - 1, d); ``chunk``
     intervals are checked at a time, so memory stays bounded on long takes.
+
+    With ``normalised`` the curve is a quaternion spline, played normalised: its values,
+    normalised, are compared at the raw curve's extremes (where the normalised curve's
+    extremes are, to second order in the norm's drift over the interval).
 
     >>> t = np.arange(3.0)
     >>> s = BSpline(np.r_[[0.0] * 3, [2.0] * 3], np.c_[[0.0, 2.0, 0.0]], 2)     # peaks at 1 in t = 1
@@ -144,6 +149,8 @@ def excess(spline: BSpline, times: np.ndarray, lo: np.ndarray, hi: np.ndarray, c
         where = np.clip(np.searchsorted(times, inner, side="right") - 1, a, b - 1)
         points = np.r_[times[a : b + 1], inner]
         values = np.asarray(spline(points)).reshape(len(points), -1)
+        if normalised:
+            values = values / np.linalg.norm(values, axis=1, keepdims=True)
         # A sample time belongs to the intervals on both sides of it.
         owners = (np.r_[np.arange(a, b + 1), where], np.r_[np.arange(a - 1, b), where])
         for owner in owners:
@@ -155,9 +162,11 @@ def excess(spline: BSpline, times: np.ndarray, lo: np.ndarray, hi: np.ndarray, c
     return out
 
 
-def swinging(spline: BSpline, times: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+def swinging(spline: BSpline, times: np.ndarray, lo: np.ndarray, hi: np.ndarray, normalised: bool = False
+             ) -> np.ndarray:
     """Intervals ``i`` where ``spline`` leaves ``[lo[i], hi[i]]`` (:func:`local_ranges`)
-    anywhere between ``times[i]`` and ``times[i + 1]``, beyond rounding.
+    anywhere between ``times[i]`` and ``times[i + 1]``, beyond rounding (``normalised``:
+    as :func:`excess`).
 
     >>> t = np.arange(3.0)
     >>> s = BSpline(np.r_[[0.0] * 3, [2.0] * 3], np.c_[[0.0, 2.0, 0.0]], 2)
@@ -165,4 +174,4 @@ def swinging(spline: BSpline, times: np.ndarray, lo: np.ndarray, hi: np.ndarray)
     []
     """
     finite = np.maximum(np.abs(np.where(np.isfinite(lo), lo, 0.0)), np.abs(np.where(np.isfinite(hi), hi, 0.0)))
-    return np.flatnonzero(np.any(excess(spline, times, lo, hi) > SLACK * finite, axis=1))
+    return np.flatnonzero(np.any(excess(spline, times, lo, hi, normalised=normalised) > SLACK * finite, axis=1))

@@ -128,7 +128,8 @@ class Editor:
         return done
 
     def changes(self) -> Changes:
-        """What changed since the last call (values of attributes that still exist)."""
+        """What changed since the last call (values of attributes that still exist: those
+        set, and those whose track went, which show their scene value again)."""
         scene_changes, self._scene_changes = self._scene_changes, []
         history, self._history_changed = self._history_changed, False
         now = self.player.tracks
@@ -136,8 +137,9 @@ class Editor:
                   if now.get(p) is not self._shown.get(p)}
         self._shown = dict(now)
         restructured = any(what != "set" for what, _, _ in scene_changes)
-        values = {} if restructured else {p: plain(self.scene.get(p))
-                                          for p in dict.fromkeys(s for _, s, _ in scene_changes) if self._exists(p)}
+        changed = (*(s for _, s, _ in scene_changes), *(p for p, t in tracks.items() if t is None))
+        values = {} if restructured else {p: plain(self.scene.get(p)) for p in dict.fromkeys(changed)
+                                          if self._exists(p)}
         return Changes(restructured, values, tracks, history)
 
     def _exists(self, path: str) -> bool:

@@ -28,7 +28,7 @@ HANDLERS: dict[str, Handler] = {
     "object.remove": lambda s, m, client: s.remove_object(m.name),
     "object.rename": lambda s, m, client: s.rename_object(m.name, m.to),
     "take.begin": lambda s, m, client: s.begin_take(client, m.take, m.paths, m.mode, m.blend, m.time, m.speed,
-                                                    m.tol, m.loop, m.gap),
+                                                    m.tol, m.loop, m.gap, m.smoothing),
     "take.samples": lambda s, m, client: s.samples(client, m.take, np.asarray(m.t, dtype=float), m.values),
     "take.end": lambda s, m, client: s.end_take(client, m.take, m.label),
     "take.cancel": lambda s, m, client: s.cancel_take(client, m.take),

@@ -49,7 +49,8 @@ def track_info(track: Track) -> p.CurveInfo | p.StepsInfo:
     return p.CurveInfo(path=track.path, dim=track.type.dim, order=s.k + 1, rotation=track.type.is_rotation,
                        tol=track.tol, knots=np.asarray(s.t).tolist(), coef=np.asarray(s.c).tolist(),
                        start=track.start, end=track.end,
-                       takes=[p.TakeSpan(start=t.start, end=t.end, mode=t.mode, n=len(t.times)) for t in track.takes],
+                       takes=[p.TakeSpan(start=t.start, end=t.end, mode=t.mode, n=len(t.times),
+                                         smoothing=t.smoothing) for t in track.takes],
                        bounds=None if track.type.bounds is None else
                        [float(b) if np.isfinite(b) else None for b in track.type.bounds])
 

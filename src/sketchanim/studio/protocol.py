@@ -25,6 +25,8 @@ MAX_MESSAGE_BYTES = 2**20
 MAX_BATCH = 10_000
 #: Most attributes armed in one take.
 MAX_PATHS = 64
+#: Widest smoothing of a take, in seconds (wider, a gesture's own shape is averaged away).
+MAX_SMOOTHING = 0.5
 
 Number = Annotated[float, Field(allow_inf_nan=False)]
 #: An attribute's path, ``object.attribute``.
@@ -86,7 +88,9 @@ class ObjectRename(_Message):
 
 
 class TakeBegin(_Message):
-    """Start a take of ``paths`` at transport time ``time``."""
+    """Start a take of ``paths`` at transport time ``time``, its samples smoothed over
+    ``smoothing`` seconds before they are reduced (0: not smoothed; the raw samples are
+    kept)."""
 
     type: Literal["take.begin"]
     take: Key
@@ -98,6 +102,7 @@ class TakeBegin(_Message):
     tol: Annotated[dict[AttributePath, Annotated[float, Field(gt=0, allow_inf_nan=False)]], Field(max_length=MAX_PATHS)] = {}
     loop: Key | None = None
     gap: Annotated[float, Field(gt=0, le=60, allow_inf_nan=False)] = 0.25
+    smoothing: Annotated[float, Field(ge=0, le=MAX_SMOOTHING, allow_inf_nan=False)] = 0.0
 
 
 class TakeSamples(_Message):
@@ -142,6 +147,7 @@ class Transport(_Message):
     capture_speed: Annotated[float, Field(gt=0, le=4, allow_inf_nan=False)] = 1.0
     mode: Literal[MODES] = "replace"  # type: ignore[valid-type]
     loop_record: bool = False
+    smoothing: Annotated[float, Field(ge=0, le=MAX_SMOOTHING, allow_inf_nan=False)] = 0.0
 
 
 class ToleranceSet(_Message):
@@ -202,12 +208,14 @@ class ObjectInfo(_Outbound):
 
 
 class TakeSpan(_Outbound):
-    """One take of a curve: its span, mode and number of samples."""
+    """One take of a curve: its span, mode, number of samples and the seconds they were
+    smoothed over before the reduction (0: not smoothed)."""
 
     start: float
     end: float
     mode: str
     n: int
+    smoothing: float
 
 
 class CurveInfo(_Outbound):
@@ -251,6 +259,7 @@ class TransportInfo(_Outbound):
     capture_speed: float = 1.0
     mode: str = "replace"
     loop_record: bool = False
+    smoothing: float = 0.0
 
 
 class TakeInfo(_Outbound):
@@ -349,7 +358,9 @@ class TakePiece(_Outbound):
 
 class TakeEnded(_Outbound):
     """The take is over: the History step it made (``label`` None if none), the paths
-    it changed, the milliseconds the end took, and the stalls that cut it."""
+    it changed, the milliseconds the end took, the stalls that cut it, and the seconds
+    its samples were smoothed over (0: not smoothed; the curve is within tolerance of
+    the smoothed samples)."""
 
     type: Literal["take.ended"] = "take.ended"
     take: str
@@ -357,6 +368,7 @@ class TakeEnded(_Outbound):
     paths: list[str]
     ms: float
     gaps: list[tuple[float, float]]
+    smoothing: float = 0.0
 
 
 class Pong(_Outbound):

@@ -227,11 +227,12 @@ class Session:
     # -- takes -----------------------------------------------------------------------------
 
     def begin_take(self, owner: int, take: str, paths: list[str], mode: str, blend: float, time: float,
-                   speed: float, tol: dict[str, float], loop: str | None, gap: float) -> list[p.Out]:
+                   speed: float, tol: dict[str, float], loop: str | None, gap: float,
+                   smoothing: float = 0.0) -> list[p.Out]:
         """Start a take of ``paths`` (continuous attributes) for client ``owner`` (see
         :mod:`.takes`)."""
         self.save()                     # the last take leaves the journal before this one streams into it
-        started = self.takes.begin(owner, take, paths, mode, blend, time, speed, tol, loop, gap)
+        started = self.takes.begin(owner, take, paths, mode, blend, time, speed, tol, loop, gap, smoothing)
         note_take(self.path, self.takes.settings())
         running = p.TakeRunning(**self.takes.take.info(self.editor).model_dump())
         return [("self", p.wire(started)), ("others", p.wire(running))]

@@ -70,6 +70,7 @@ class RunningTake:
     loop: str | None
     time: float                                # the transport's time at the press
     over: dict[str, Track]                     # what the take is recorded over
+    smoothing: float = 0.0                     # seconds its samples are smoothed over
     recorder: Recorder | None = None
     result: dict[str, Track] = field(default_factory=dict)   # parts before the last stall
     last: float = -np.inf
@@ -148,8 +149,9 @@ class TakeRecorder:
             raise ArgumentError(what, f"not while take {self.take.id!r} is being recorded")
 
     def begin(self, owner: int, take: str, paths: list[str], mode: str, blend: float, time: float, speed: float,
-              tol: dict[str, float], loop: str | None, gap: float) -> p.TakeStarted:
-        """Start a take of ``paths`` (continuous attributes) for client ``owner``."""
+              tol: dict[str, float], loop: str | None, gap: float, smoothing: float = 0.0) -> p.TakeStarted:
+        """Start a take of ``paths`` (continuous attributes) for client ``owner``, its
+        samples smoothed over ``smoothing`` seconds before they are reduced (0: not)."""
         if self.take is not None:
             raise ArgumentError("take", f"take {self.take.id!r} is being recorded")
         scene = self.editor.scene
@@ -165,7 +167,8 @@ class TakeRecorder:
         if loop is not None and (last_pass := self.editor.history.replaced_by_last(loop)) is not None:
             over.update(last_pass)                      # the next pass of a loop: over what was there before
             over = {path: t for path, t in over.items() if t is not None}
-        self.take = RunningTake(take, owner, list(paths), mode, blend, speed, gap, dict(tol), loop, time, over)
+        self.take = RunningTake(take, owner, list(paths), mode, blend, speed, gap, dict(tol), loop, time, over,
+                                smoothing)
         rows = layout(scene, paths)
         return p.TakeStarted(take=take, layout=rows, width=rows[-1][2])
 
@@ -173,7 +176,7 @@ class TakeRecorder:
         """The running take's settings, as a recovery needs them."""
         tk = self.take
         return {"paths": tk.paths, "mode": tk.mode, "blend": tk.blend, "tol": tk.tol, "speed": tk.speed,
-                "gap": tk.gap, "loop": tk.loop}
+                "gap": tk.gap, "loop": tk.loop, "smoothing": tk.smoothing}
 
     def _hold_values(self, tk: RunningTake, time: float, row: np.ndarray) -> None:
         """Put into ``tk.over`` the scene's value of each armed attribute without a track
@@ -204,7 +207,8 @@ class TakeRecorder:
         rec = Recorder(self.editor.scene, order=ORDER, journal=self.journal())
         for path in take.paths:
             eased = path in take.eased and not take.result          # the first part joins the ease unfaded
-            rec.arm(path, tol=take.tol.get(path), mode=take.mode, blend=0.0 if eased else take.blend)
+            rec.arm(path, tol=take.tol.get(path), mode=take.mode, blend=0.0 if eased else take.blend,
+                    smoothing=take.smoothing)
         rec.start({**take.over, **take.result})
         take.recorder = rec
 
@@ -270,7 +274,7 @@ class TakeRecorder:
         self.editor.dirty = True                    # saved soon after (the journal holds the take until then)
         ms = 1000 * (time.perf_counter() - clock)
         return [*notices, p.TakeEnded(take=take, label=self.editor.history.labels[0][-1] if made else None,
-                                      paths=list(made), ms=ms, gaps=tk.gaps)]
+                                      paths=list(made), ms=ms, gaps=tk.gaps, smoothing=tk.smoothing)]
 
     def cancel(self, owner: int, take: str) -> list[p.TakeEnded | p.Notice]:
         """Drop the take: nothing changes."""

@@ -33,7 +33,7 @@ function studio() {
   const s = new Studio(c);
   c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null, tolerances: {},
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
-    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false },
+    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false, smoothing: 0 },
     objects: [{ name: 'box', kind: 'object', attributes: [{ name: 'position', value: [0, 0.5, 0], type: POSITION }] }] });
   return { s, c };
 }
@@ -198,7 +198,7 @@ test("the studio's operations emit their signals: an attribute shown, an object 
   assert.deepEqual(heard, ['selection box', 'attribute position']);
   c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null, tolerances: {},
     history: { undo: [], redo: [], can_undo: false, can_redo: false },
-    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false },
+    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false, smoothing: 0 },
     objects: [{ name: 'object1', kind: 'object', attributes: [] }, { name: 'object3', kind: 'object', attributes: [] }] });
   s.addObject();
   assert.deepEqual(c.of('object.add').at(-1), { type: 'object.add', name: 'object2', kind: 'object' });
@@ -271,7 +271,7 @@ test("another page's take: shown from its pieces, no take begins here, a hold in
   s.performer.release();
   assert.equal(c.of('take.begin').length, 0, 'a take began while another page records');
   assert.deepEqual(s.values.get('box.position'), [0, 0.5, 0], 'the hold left a value the server does not hold');
-  c.receive({ type: 'take.ended', take: 'a1', label: 'take box.position', paths: ['box.position'], ms: 1, gaps: [] });
+  c.receive({ type: 'take.ended', take: 'a1', label: 'take box.position', paths: ['box.position'], ms: 1, gaps: [], smoothing: 0 });
   assert.equal(s.remoteTake, null);
   s.transport.setRecord(false);
   s.transport.setRecord(true);
@@ -283,7 +283,7 @@ test('record mode stays off while another page records; a refused take.begin put
   c.receive({ type: 'take.running', take: 'a1', paths: ['cam.position'], mode: 'replace', time: 0, layout: [['cam.position', 0, 3]] });
   s.transport.setRecord(true);
   assert.equal(s.transport.record, false);
-  c.receive({ type: 'take.ended', take: 'a1', label: null, paths: [], ms: 0, gaps: [] });
+  c.receive({ type: 'take.ended', take: 'a1', label: null, paths: [], ms: 0, gaps: [], smoothing: 0 });
   s.transport.setRecord(true);
   const t0 = performance.now();
   s.performer.hold(['box.position'], 'move box');
@@ -307,11 +307,12 @@ test('the transport and record settings go to the server and come back from it',
   s.transport.setCaptureSpeed(0.25);
   s.performer.setMode('additive');
   s.performer.setLoopRecord(true);
+  s.performer.setSmoothing(0.05);
   const last = c.of('transport').at(-1);
   assert.deepEqual({ ...last, time: 0 }, { type: 'transport', time: 0, playing: false, speed: 0.5, loop: null, count_in: 2,
-    capture_speed: 0.25, mode: 'additive', loop_record: true });
+    capture_speed: 0.25, mode: 'additive', loop_record: true, smoothing: 0.05 });
   const fresh = studio().s;
   fresh.transport.receive(last);
   assert.deepEqual([fresh.transport.playSpeed, fresh.transport.countIn, fresh.transport.captureSpeed, fresh.performer.mode,
-    fresh.performer.loopRecord], [0.5, 2, 0.25, 'additive', true]);
+    fresh.performer.loopRecord, fresh.performer.smoothing], [0.5, 2, 0.25, 'additive', true, 0.05]);
 });

@@ -22,6 +22,14 @@ import { TakeSampler } from './take.js';
 const GAP = 0.25;
 /** Seconds of fade at a punch-in's seams. */
 const BLEND = 0.1;
+/**
+ * The smoothing menu, in seconds (the Gaussian's width in time; it halves the power of
+ * motion at about 0.13 / s Hz): light keeps gestures and takes out hand tremor and pointer
+ * jitter (8-12 Hz and up: half power at 6.6 Hz), medium keeps deliberate motion (half power
+ * at 2.7 Hz), strong keeps only sweeping motion (1.3 Hz). Off by default: a take is the
+ * performance as it was.
+ */
+export const SMOOTHING = /** @type {const} */ ([[0, 'off'], [0.02, 'light'], [0.05, 'medium'], [0.1, 'strong']]);
 /** Milliseconds without an event after which a pointer is at rest, at least (one in motion reports at 60 Hz or more). */
 export const REST = 25;
 /** Events a hold keeps the intervals of (the pointer's own rate). */
@@ -54,6 +62,8 @@ export class Performer {
     this.mode = 'replace';
     /** While looping, each pass is a take (the last one is kept). */
     this.loopRecord = false;
+    /** Seconds a take's samples are smoothed over before the server reduces them (0: off; SMOOTHING). */
+    this.smoothing = 0;
     this.takeCount = 0;
     this.lastFrame = -Infinity;
     /** @type {number[]} the last frame intervals, ms */
@@ -68,6 +78,13 @@ export class Performer {
     this.mode = mode;
     this.studio.signals.emit('settings');
     this.studio.transport.send();                              // a record setting the server keeps
+  }
+
+  /** @param {number} seconds how much the next takes are smoothed (0: off) */
+  setSmoothing(seconds) {
+    this.smoothing = seconds;
+    this.studio.signals.emit('settings');
+    this.studio.transport.send();
   }
 
   /** @param {boolean} on */
@@ -184,11 +201,13 @@ export class Performer {
     grab.take = new TakeSampler(id, grab.paths, dims);
     grab.take.gap = this.stallGap();
     grab.take.tolerance = this.tolerances(grab);
+    grab.take.smoothing = this.smoothing;
     const tol = Object.fromEntries(Object.entries(grab.take.tolerance).map(([path, t]) => [path, t.tol]));
     if (this.loopRecord && s.transport.clock.loop && !grab.loopKey) grab.loopKey = `loop ${id}`;
     s.beganTake();
     s.send({ type: 'take.begin', take: id, paths: grab.paths, mode: this.mode, blend: BLEND, time,
-      speed: s.transport.captureSpeed, tol, loop: grab.loopKey, gap: grab.take.gap });
+      speed: s.transport.captureSpeed, tol, loop: grab.loopKey, gap: grab.take.gap,
+      smoothing: this.smoothing });
   }
 
   /**

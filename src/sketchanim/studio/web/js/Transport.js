@@ -50,6 +50,7 @@ export class Transport {
     this.captureSpeed = m.capture_speed;
     this.studio.performer.mode = m.mode;
     this.studio.performer.loopRecord = m.loop_record;
+    this.studio.performer.smoothing = m.smoothing;
     this.studio.signals.emit('transport');
     this.studio.signals.emit('settings');
   }
@@ -59,7 +60,7 @@ export class Transport {
     const p = this.studio.performer;
     this.studio.send({ type: 'transport', time: this.time, playing: this.clock.playing, speed: this.playSpeed,
       loop: this.clock.loop, count_in: this.countIn, capture_speed: this.captureSpeed, mode: p.mode,
-      loop_record: p.loopRecord });
+      loop_record: p.loopRecord, smoothing: p.smoothing });
     this.studio.signals.emit('transport');
   }
 

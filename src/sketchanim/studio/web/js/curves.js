@@ -133,7 +133,7 @@ export class CurveView {
     const sent = trail?.sampler.tolerance[path];
     const tol = sent ? formatTolerance(sent, sent.input, sent.unit) : `tol ${curve ? Number(curve.tol.toPrecision(2)) : '?'}`;
     const what = trail?.live ? `recording · ${samples.times.length} samples (dots) · ${pieces.length} reduced pieces (thick) · ${tol}`
-      : curve ? `curve: ${curve.coef.length} control points for ${curve.takes.reduce((n, t) => n + t.n, 0)} samples in ${curve.takes.length} take${curve.takes.length === 1 ? '' : 's'} · ${sent && Math.abs(sent.tol - curve.tol) <= 1e-12 * curve.tol ? tol : `tol ${Number(curve.tol.toPrecision(2))}`}`
+      : curve ? `curve: ${curve.coef.length} control points for ${curve.takes.reduce((n, t) => n + t.n, 0)} samples in ${curve.takes.length} take${curve.takes.length === 1 ? '' : 's'} · ${sent && Math.abs(sent.tol - curve.tol) <= 1e-12 * curve.tol ? tol : `tol ${Number(curve.tol.toPrecision(2))}`}${smoothing(curve)}`
         : 'no track yet: record a take';
     const html = `<span class="path">${path}</span> ${legend} <span class="what">${what}</span>`;
     if (this.lastTitle !== html) {
@@ -141,4 +141,17 @@ export class CurveView {
       this.lastTitle = html;
     }
   }
+}
+
+/**
+ * How a curve's takes were smoothed, as its title shows it (" · smoothed 0.05 s", " · 1 of 2
+ * takes smoothed 0.02 s"; nothing when none was): its tolerance holds against those samples.
+ * @param {import('./messages.js').CurveTrack} curve
+ */
+function smoothing(curve) {
+  const smoothed = curve.takes.filter((t) => t.smoothing > 0);
+  if (!smoothed.length) return '';
+  const widths = [...new Set(smoothed.map((t) => t.smoothing))].join(' / ');
+  const which = smoothed.length === curve.takes.length ? '' : `${smoothed.length} of ${curve.takes.length} takes `;
+  return ` · ${which}smoothed ${widths} s`;
 }

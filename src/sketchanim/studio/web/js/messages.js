@@ -75,7 +75,8 @@
 
 /**
  * Start a take of `paths` at transport time `time` (at `speed` transport seconds per real
- * second; a step of more than `gap` real seconds between samples is a stall).
+ * second; a step of more than `gap` real seconds between samples is a stall), its samples
+ * smoothed over `smoothing` seconds before they are reduced (0: not; the raw are kept).
  * @typedef {object} TakeBegin
  * @property {'take.begin'} type
  * @property {number | string | null} [id]
@@ -88,6 +89,7 @@
  * @property {Record<string, number>} [tol]
  * @property {string | null} [loop]
  * @property {number} [gap]
+ * @property {number} [smoothing]
  */
 
 /**
@@ -152,7 +154,8 @@
 /**
  * The transport and the record settings: a page's (kept for a reload), relayed to the other
  * pages. `count_in` seconds of pre-roll, `capture_speed` transport seconds per real second
- * while recording, the layer `mode`, `loop_record` (each pass of the loop a take).
+ * while recording, the layer `mode`, `loop_record` (each pass of the loop a take), the
+ * `smoothing` of the next takes (seconds, 0: off).
  * @typedef {object} TransportState
  * @property {'transport'} type
  * @property {number | string | null} [id]
@@ -164,6 +167,7 @@
  * @property {number} capture_speed
  * @property {LayerMode} mode
  * @property {boolean} loop_record
+ * @property {number} smoothing
  */
 
 // -- server to page -----------------------------------------------------------------------------
@@ -257,7 +261,8 @@
 
 /**
  * A take ended: its History label (null: nothing made, or cancelled), the paths it made,
- * the server's milliseconds from the end's message to the final curve, its stalls.
+ * the server's milliseconds from the end's message to the final curve, its stalls, and the
+ * seconds its samples were smoothed over (0: not smoothed).
  * @typedef {object} TakeEnded
  * @property {'take.ended'} type
  * @property {string} take
@@ -265,6 +270,7 @@
  * @property {string[]} paths
  * @property {number} ms
  * @property {[number, number][]} gaps
+ * @property {number} smoothing
  */
 
 /**
@@ -356,8 +362,8 @@
 /**
  * A continuous track (a B-spline), as the page evaluates it, with the takes it was made of.
  * @typedef {{path: string, kind: 'curve', dim: number, order: number, rotation: boolean, tol: number, knots: number[],
- *   coef: number[][], start: number, end: number, takes: {start: number, end: number, mode: string, n: number}[],
- *   bounds?: (number|null)[] | null}} CurveTrack
+ *   coef: number[][], start: number, end: number, takes: {start: number, end: number, mode: string, n: number,
+ *   smoothing: number}[], bounds?: (number|null)[] | null}} CurveTrack
  */
 
 /**

@@ -39,6 +39,8 @@ export class TakeSampler {
     this.gap = 0.25;
     /** @type {Record<string, SentTolerance>} the tolerance sent, by path (set at the take's start) */
     this.tolerance = {};
+    /** Seconds the server smooths the samples over before it reduces them (0: off; set at the take's start). */
+    this.smoothing = 0;
   }
 
   /** The last sample's transport time (-Infinity before the first). */

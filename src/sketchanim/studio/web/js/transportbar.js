@@ -1,9 +1,10 @@
 // @ts-check
 /**
- * The transport bar: record, punch-in or additive, count-in, capture speed, loop recording;
+ * The transport bar: record, punch-in or additive, smoothing, count-in, capture speed, loop recording;
  * stop, play / pause, the time, speed, loop; what is being recorded; undo and redo.
  */
 import { choice, el } from './dom.js';
+import { SMOOTHING } from './Performer.js';
 import { formatTolerance } from './resolution.js';
 import { formatTime } from './timescale.js';
 
@@ -32,6 +33,10 @@ export class TransportBar {
     const mode = choice('layer', [['replace', 'punch-in'], ['additive', 'additive']], p.mode,
       (v) => p.setMode(/** @type {import('./messages.js').LayerMode} */ (v)), 'mode');
     this.mode = mode.select;
+    const smooth = choice('smooth', SMOOTHING.map(([s, name]) => [String(s), name]), String(p.smoothing),
+      (v) => p.setSmoothing(Number(v)), 'smoothing');
+    smooth.wrap.title = 'Smooth each take before it is reduced (the raw samples are kept; the tolerance holds against the smoothed ones)';
+    this.smooth = smooth.select;
     const countIn = choice('count-in', [['0', 'off'], ['1', '1 s'], ['2', '2 s'], ['4', '4 s']], '0',
       (v) => t.setCountIn(Number(v)), 'count-in');
     this.countIn = countIn.select;
@@ -49,7 +54,7 @@ export class TransportBar {
     this.redoButton.addEventListener('click', () => studio.redo());
     this.status = el('span', { class: 'take-status', 'data-testid': 'take-status' });
     const group = (/** @type {HTMLElement[]} */ ...items) => { const g = el('div', { class: 'group' }); g.append(...items); return g; };
-    bar.append(group(this.recordButton, mode.wrap, countIn.wrap, capture.wrap, loopRec),
+    bar.append(group(this.recordButton, mode.wrap, smooth.wrap, countIn.wrap, capture.wrap, loopRec),
       group(stopButton, this.playButton, this.clockText, speed.wrap, this.loopButton),
       this.status, group(this.undoButton, this.redoButton));
     const signals = studio.signals;
@@ -88,6 +93,7 @@ export class TransportBar {
   showSettings() {
     const { transport: t, performer: p } = this.studio;
     this.mode.value = p.mode;
+    this.smooth.value = String(p.smoothing);
     this.countIn.value = String(t.countIn);
     this.capture.value = String(t.captureSpeed);
     this.loopRecord.checked = p.loopRecord;
@@ -101,12 +107,20 @@ export class TransportBar {
     const take = p.grab?.take;
     const remote = this.studio.remoteTake;
     this.status.textContent = counting > 0 ? `count-in ${counting.toFixed(1)} s`
-      : take ? `● recording ${take.paths.join(', ')} · ${take.times.length} samples${tolerances(take)}`
+      : take ? `● recording ${take.paths.join(', ')} · ${take.times.length} samples${tolerances(take)}${smoothed(take)}`
         : remote ? `◌ recording in another tab: ${remote.paths.join(', ')} (shown here, read-only)`
         : t.record ? 'record mode: grab something to record it' : '';
     this.status.classList.toggle('live', !!take);
     this.status.classList.toggle('remote', !take && !!remote);
   }
+}
+
+/**
+ * Whether the server smooths the take, as the status shows it (" · smoothed 0.05 s").
+ * @param {import('./take.js').TakeSampler} take
+ */
+function smoothed(take) {
+  return take.smoothing > 0 ? ` · smoothed ${take.smoothing} s` : '';
 }
 
 /**
