@@ -162,10 +162,13 @@ class ToleranceSet(_Message):
 
 
 class Export(_Message):
-    """Write the scene (.glb) or the project (.json) into the project's folder."""
+    """Write the scene (.glb) or the project (.json) into the studio's export folder (the
+    project's, unless the studio was started with another); an existing file is replaced
+    only with ``overwrite``, and the project's own files never."""
 
     type: Literal["export"]
     file: Annotated[str, Field(min_length=1, max_length=128)]
+    overwrite: bool = False
 
 
 Message = Annotated[
@@ -297,6 +300,19 @@ class HistoryInfo(_Outbound):
     can_redo: bool
 
 
+class Saved(_Outbound):
+    """Whether everything the pages were told is on disk: ``ok``; otherwise ``error``
+    says why the last save failed (the disk is full, the folder cannot be written) and
+    ``since`` when (epoch seconds) the oldest change not on disk was made. What is not
+    saved is kept by the server and saved at the next chance; sent to every page when
+    this changes, and in every ``state``."""
+
+    type: Literal["saved"] = "saved"
+    ok: bool = True
+    error: str | None = None
+    since: float | None = None
+
+
 class State(_Outbound):
     """Everything a page needs to show the project: sent on connect, on ``state``, and
     when objects come or go."""
@@ -311,6 +327,9 @@ class State(_Outbound):
     transport: TransportInfo
     take: TakeInfo | None
     tolerances: dict[str, ToleranceInfo]
+    saved: Saved = Saved()
+    #: the project cannot be written (read-only media or file): it plays and exports, edits are refused
+    read_only: bool = False
 
 
 class Values(_Outbound):
@@ -356,11 +375,16 @@ class TakePiece(_Outbound):
     coef: list[list[float]]
 
 
+#: Why a take ended: its page ended it, cancelled it, went away, fell silent (no message
+#: for :data:`~sketchanim.studio.takes.SILENCE` seconds), or the server stopped.
+EndReason = Literal["end", "cancel", "gone", "silent", "shutdown"]
+
+
 class TakeEnded(_Outbound):
-    """The take is over: the History step it made (``label`` None if none), the paths
-    it changed, the milliseconds the end took, the stalls that cut it, and the seconds
-    its samples were smoothed over (0: not smoothed; the curve is within tolerance of
-    the smoothed samples)."""
+    """The take is over (``reason``): the History step it made (``label`` None if
+    none), the paths it changed, the milliseconds the end took, the stalls that cut it,
+    and the seconds its samples were smoothed over (0: not smoothed; the curve is within
+    tolerance of the smoothed samples)."""
 
     type: Literal["take.ended"] = "take.ended"
     take: str
@@ -369,6 +393,7 @@ class TakeEnded(_Outbound):
     ms: float
     gaps: list[tuple[float, float]]
     smoothing: float = 0.0
+    reason: EndReason = "end"
 
 
 class Pong(_Outbound):
@@ -386,8 +411,9 @@ class Ack(_Outbound):
 
 
 #: Why a message was not carried out: it was over the rate limit, over the size limit, did
-#: not parse, began a take while one runs, or the model refused it.
-ErrorCode = Literal["rate", "too_large", "bad_message", "busy", "refused"]
+#: not parse, began a take while one runs, the model refused it, it would edit a
+#: read-only project, its file exists (export without ``overwrite``), or the disk failed.
+ErrorCode = Literal["rate", "too_large", "bad_message", "busy", "refused", "read_only", "exists", "failed"]
 
 
 class Error(_Outbound):
@@ -424,13 +450,13 @@ class Notice(_Outbound):
 
 
 ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece | TakeEnded | Pong | Ack | Error
-                 | Ready | Exported | Notice | Preview | Transport | Tolerances | TakeRunning)
+                 | Ready | Exported | Notice | Preview | Transport | Tolerances | TakeRunning | Saved)
 #: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
 MESSAGES: tuple[type[BaseModel], ...] = (
     Ping, StateRequest, Set, Preview, ObjectAdd, ObjectRemove, ObjectRename, TakeBegin, TakeSamples, TakeEnd,
     TakeCancel, Undo, Redo, Transport, Export, ToleranceSet,
     State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice,
-    Tolerances, TakeRunning)
+    Tolerances, TakeRunning, Saved)
 
 
 #: Who gets a message: every page, every page but the sender's, or the sender's alone.

@@ -147,7 +147,7 @@ export class Studio {
         this.notices.push(m);
         this.signals.emit('notice', m);
         break;
-      case 'take.started': case 'pong': case 'ack': case 'exported': break;    // nothing to show
+      case 'take.started': case 'pong': case 'ack': case 'exported': case 'saved': break;    // nothing to show
       default: {
         /** @type {never} */
         const unknown = m;          // tsc: every server message is handled above

@@ -135,6 +135,7 @@
  * @property {'export'} type
  * @property {number | string | null} [id]
  * @property {string} file
+ * @property {boolean} [overwrite]  replace a file of that name (never the project's own)
  */
 
 /**
@@ -186,6 +187,19 @@
  * @property {TransportFields} transport
  * @property {TakeInProgress | null} take
  * @property {Record<string, ToleranceSetting>} tolerances  the animator's take tolerances, by path
+ * @property {Saved} [saved]  whether everything is on disk
+ * @property {boolean} [read_only]  the project cannot be written: it plays and exports, edits are refused
+ */
+
+/**
+ * Whether everything the pages were told is on disk: `ok`, else `error` says why the last
+ * save failed and `since` when (epoch seconds) the oldest unsaved change was made. The
+ * server keeps what is not saved and saves it at the next chance.
+ * @typedef {object} Saved
+ * @property {'saved'} type
+ * @property {boolean} ok
+ * @property {string | null} error
+ * @property {number | null} since
  */
 
 /**
@@ -271,6 +285,7 @@
  * @property {number} ms
  * @property {[number, number][]} gaps
  * @property {number} smoothing
+ * @property {'end' | 'cancel' | 'gone' | 'silent' | 'shutdown'} [reason]  why it ended
  */
 
 /**
@@ -290,7 +305,7 @@
 
 /**
  * A message was refused: `ref` is its type, `code` one of "rate", "too_large",
- * "bad_message", "busy", "refused".
+ * "bad_message", "busy", "refused", "read_only", "exists", "failed".
  * @typedef {object} ErrorReply
  * @property {'error'} type
  * @property {number | string | null} id
@@ -327,7 +342,8 @@
 /**
  * What the server sends.
  * @typedef {StateSnapshot | Ready | Values | Tracks | History | PreviewValue | TransportState | TakeStarted
- *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice | Tolerances | TakeRunning} ServerMessage
+ *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice | Tolerances | TakeRunning
+ *   | Saved} ServerMessage
  */
 
 /**
