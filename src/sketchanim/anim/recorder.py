@@ -289,9 +289,20 @@ class Recorder:
             self._pool.send(a.worker, ("sample", self._take, time.perf_counter(), path, np.array([t]),
                                        value[None, :]))
 
-    def push_frame(self, t: float, values: ArrayLike) -> None:
-        """Queue one frame of every armed continuous attribute at time ``t``: their
-        values end to end, as :attr:`layout` says (a device's frame, one call)."""
+    def check_frame(self, t: float, values: ArrayLike) -> tuple[float, np.ndarray]:
+        """The frame :meth:`push_frame` would queue at ``t`` (the time as a float, the
+        values as a row), checked as it checks them, without queueing it: a
+        :class:`~sketchanim.errors.SampleError` naming the field otherwise.
+
+        >>> from sketchanim.anim.scene import Scene
+        >>> scene = Scene(); _ = scene.add("box")
+        >>> rec = Recorder(scene); rec.arm("box.position"); rec.start()
+        >>> rec.check_frame(0.0, [1, 2, float("nan")])
+        Traceback (most recent call last):
+        ...
+        sketchanim.errors.SampleError: sample 0, frame: needs 3 finite numbers, got 3: [1.0, 2.0, nan]
+        >>> _ = rec.stop()
+        """
         if not self.recording:
             raise ArgumentError("push", "not recording: call start() first")
         frames = self._frames
@@ -316,7 +327,14 @@ class Recorder:
                 bad = self._frame[int(np.flatnonzero(self._is_rotation)[np.argmin(norms)])][0]
                 raise SampleError(f"a zero quaternion is no orientation (norm {norms.min():.3g})",
                                   index=frames.n, field=bad)
-        frames.append(t, x)
+        return t, x
+
+    def push_frame(self, t: float, values: ArrayLike) -> None:
+        """Queue one frame of every armed continuous attribute at time ``t``: their
+        values end to end, as :attr:`layout` says (a device's frame, one call), checked
+        first (:meth:`check_frame`)."""
+        t, x = self.check_frame(t, values)
+        self._frames.append(t, x)
         stamp, times = time.perf_counter(), np.array([t])
         for w, (lo, hi) in ((w, c) for w, c in self._workers.items() if c is not None):
             self._pool.send(w, ("frames", self._take, stamp, times, x[None, lo:hi]))

@@ -27,7 +27,7 @@ from pydantic import BaseModel
 
 from sketchanim.errors import InputError
 from sketchanim.studio import protocol
-from sketchanim.studio.handlers import handle
+from sketchanim.studio.handlers import error_code, handle
 from sketchanim.studio.session import Session
 
 WEB = Path(__file__).parent / "web"
@@ -141,7 +141,7 @@ class Hub:
         try:
             out = await self.call(handle, self.session, message, client.number)
         except InputError as err:
-            code = "busy" if message.type == "take.begin" and self.session.take is not None else "refused"
+            code = error_code(message, err, self.session)
             client.put(protocol.wire(protocol.Error(id=message.id, ref=message.type, code=code, message=str(err))))
             return
         self.send(out, client)

@@ -14,6 +14,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from sketchanim.errors import InputError, StorageError
+
 from sketchanim.studio import protocol as p
 from sketchanim.studio.session import Session
 
@@ -38,6 +40,22 @@ HANDLERS: dict[str, Handler] = {
     "tolerance.set": lambda s, m, client: s.set_tolerance(m.path, m.amount, m.unit),
     "export": lambda s, m, client: [("self", p.wire(p.Exported(file=s.export(m.file).name)))],
 }
+
+
+def error_code(message: p.Message, err: InputError, session: Session) -> p.ErrorCode:
+    """The code of the error reply when ``message`` was refused with ``err``.
+
+    >>> import tempfile, pathlib
+    >>> session = Session(pathlib.Path(tempfile.mkdtemp()) / "a.sketchanim")
+    >>> error_code(p.parse('{"type": "undo"}'), StorageError("the disk is full"), session)
+    'failed'
+    >>> session.close()
+    """
+    if isinstance(err, StorageError):
+        return "failed"
+    if message.type == "take.begin" and session.take is not None:
+        return "busy"
+    return "refused"
 
 
 def handle(session: Session, message: p.Message, client: int) -> list[p.Out]:
