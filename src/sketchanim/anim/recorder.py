@@ -377,23 +377,32 @@ class Recorder:
         return t, x, (n, m)
 
     def _journal_loop(self) -> None:
-        """Hand the journal what was queued since the last call, until stopped."""
+        """Hand the journal what was queued since the last call, until stopped; a batch
+        the journal refuses is tried again at the next call (with what came since), and
+        :attr:`journal_error` says why until one goes through."""
         sent = {path: (0, 0) for path in self.armed}
         while True:
             stopping = self._stopping.wait(JOURNAL_PERIOD)
-            batches = []
+            batches, upto = [], dict(sent)
             for a in self.armed.values():
-                t, x, sent[a.path] = self._samples(a, sent[a.path])
+                t, x, upto[a.path] = self._samples(a, sent[a.path])
                 if len(t):
                     batches.append((a.path, t, x))
             if batches:
                 try:
                     self.journal(batches)
-                except Exception as err:            # reported by stop(); the take goes on
+                except Exception as err:            # the take goes on; stop() warns if it never recovered
                     self._journal_error = err
-                    return
+                else:
+                    sent, self._journal_error = upto, None
             if stopping:
                 return
+
+    @property
+    def journal_error(self) -> BaseException | None:
+        """Why the journal refused the last batch (None: what was pushed is journalled, or
+        is about to be): samples since then are safe from a crash only when it recovers."""
+        return self._journal_error
 
     def stop(self, *, at: tuple[float, float] | None = None) -> dict[str, Track]:
         """End the take: the new tracks of the armed attributes that got samples (two

@@ -12,6 +12,8 @@ soon after), never while a take streams into the journal.
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import logging
 import os
 import time
@@ -78,7 +80,7 @@ class Session:
         self.tolerances: dict[str, ToleranceDoc] = self.project.tolerances(scene)
         fresh = not scene.objects
         self.editor = Editor(default_scene() if fresh else scene, tracks.values())
-        self.takes = TakeRecorder(self.editor, self.project.journal)
+        self.takes = TakeRecorder(self.editor, lambda: self.project.journal())
         #: Whether the compiled kernels are warm (the app says so; pages see it in ``state``).
         self.ready = True
         self.transport = p.TransportInfo()
@@ -299,6 +301,8 @@ class Session:
         at the next save that goes through), so nothing of it is recovered."""
         out = [("all", p.wire(m)) for m in self.takes.cancel(owner, take)]
         self._journal_stale = True
+        with contextlib.suppress(OSError):     # without its notes a journal is not recovered
+            forget_take(self.path)
         return out + self.save()
 
     # -- files -----------------------------------------------------------------------------
@@ -311,6 +315,7 @@ class Session:
         if self.takes.take is not None or self.project.read_only or not (self.editor.dirty or self._journal_stale):
             return []
         try:
+            self._reopen_if_gone()
             if self.editor.dirty:
                 self.project.save(self.scene, dict(self.player.tracks), self.tolerances)
             else:
@@ -320,6 +325,20 @@ class Session:
         except (OSError, FileFormatError) as err:
             return self.saving.failed(err)
         return self.saving.succeeded()
+
+    def _reopen_if_gone(self) -> None:
+        """If the project file was deleted or moved away (a save would go to a file no
+        one can open again), make it anew at its path with the whole model; if its
+        folder is gone too, :class:`FileNotFoundError` (tried again at the next save)."""
+        if self.path.exists():
+            return
+        if not self.path.parent.is_dir():
+            raise FileNotFoundError(errno.ENOENT, "the project's folder is gone", str(self.path.parent))
+        log.warning("%s was deleted or moved; writing it anew", self.path)
+        fresh = Project(self.path)
+        self.project.close()
+        self.project = fresh
+        self.editor.dirty = True
 
     def export_document(self) -> bytes:
         """The project as ``sketchanim export PROJECT -o X.json`` writes it: the model

@@ -58,6 +58,7 @@ from sketchanim.reducer.metric import max_errors
 from sketchanim.studio import protocol as p
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import layout, piece_info
+from sketchanim.studio.saving import reason
 
 #: Spline order of recorded curves.
 ORDER = 4
@@ -91,6 +92,7 @@ class RunningTake:
     samples: int = 0
     gaps: list[tuple[float, float]] = field(default_factory=list)
     eased: set[str] = field(default_factory=set)              # paths recorded over their value's ease
+    journal_fault: str | None = None                          # why its journal fails (the pages were told)
 
     def info(self, editor: Editor) -> p.TakeInfo:
         """The take as a ``state`` shows it."""
@@ -263,9 +265,28 @@ class TakeRecorder:
                     from None
             tk.last = float(t)
             tk.samples += 1
+        notices += self._journal_news(tk)
         scene = self.editor.scene
         return [*notices, *(piece_info(take, path, piece, scene.type(path).is_rotation)
                             for path, piece in tk.recorder.pieces())]
+
+    @staticmethod
+    def _journal_news(tk: RunningTake) -> list[p.Notice]:
+        """A notice when the take's journal starts failing (its samples are then kept in
+        memory only, until the take is saved) or writes again."""
+        err = tk.recorder.journal_error if tk.recorder is not None else None
+        fault = None if err is None else reason(err)
+        if fault == tk.journal_fault:
+            return []
+        tk.journal_fault = fault
+        if fault is None:
+            log.warning("take %r: its journal is written again", tk.id)
+            return [p.Notice(level="info", source="disk", text=f"take {tk.id}: safe from a crash again "
+                                                               "(its journal is written)")]
+        log.error("take %r: its journal cannot be written: %s", tk.id, fault)
+        return [p.Notice(level="error", source="disk",
+                         text=f"take {tk.id}: its journal cannot be written ({fault}). The take goes on and is "
+                              "kept when it ends, but a crash now would lose it.")]
 
     def _first_part(self, tk: RunningTake, time: float, row: object) -> None:
         """Start the take's first part at its first sample (``row`` at ``time``), over
