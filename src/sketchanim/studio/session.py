@@ -88,7 +88,7 @@ class Session:
         self._heard: dict[int, float] = {}            # client -> monotonic time of its last message
         #: Whether the project's saves go through (the pages see it in ``state`` and ``saved``).
         self.saving = SaveStatus(self.path.name)
-        self._journal_stale = False                   # a cancelled take's rows are still in the journal
+        self._journal_stale = True                    # journal rows to clear (a cancelled take's; at start, any)
         made = recovered_tracks(self.project, self.scene, self.player.tracks, ORDER)
         if made:
             self.editor.run(RecordTake(self.player, made, "recovered take"))
@@ -321,9 +321,10 @@ class Session:
             else:
                 self.project.clear_journal()
             self.editor.dirty = self._journal_stale = False
-            forget_take(self.path)
         except (OSError, FileFormatError) as err:
             return self.saving.failed(err)
+        with contextlib.suppress(OSError):     # notes left beside an empty journal recover nothing
+            forget_take(self.path)
         return self.saving.succeeded()
 
     def _reopen_if_gone(self) -> None:
