@@ -23,12 +23,12 @@ from sketchanim.anim.history import History
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.workers import shared_pool
-from sketchanim.atomic import write_atomic
 from sketchanim.errors import ArgumentError
 from sketchanim.project.document import ToleranceDoc
 from sketchanim.project.lock import ProjectLock
 from sketchanim.project.recovery import forget_take, note_take, recovered_tracks
 from sketchanim.project.store import Project
+from sketchanim.studio import exports as exporting
 from sketchanim.studio import protocol as p
 from sketchanim.studio.defaults import default_scene
 from sketchanim.studio.editor import Editor
@@ -44,6 +44,11 @@ class Session:
     path : path-like
         The project file; created with :func:`~.defaults.default_scene` if it does not
         exist (or holds no objects).
+    read_only : bool, optional
+        Open the project read-only (True), or as the project detects (None: read-only
+        if its file or folder cannot be written).
+    exports : path-like, optional
+        The folder exports go to (an existing one); the project's if None.
 
     Examples
     --------
@@ -59,13 +64,18 @@ class Session:
     >>> session.close()
     """
 
-    def __init__(self, path: str | os.PathLike[str]) -> None:
+    def __init__(self, path: str | os.PathLike[str], read_only: bool | None = None,
+                 exports: str | os.PathLike[str] | None = None) -> None:
         shared_pool()                   # the reducer processes forked now, before the app's threads exist
         self.path = Path(path).resolve()
         self.folder = self.path.parent
+        #: The folder exports are written to (the project's, unless given).
+        self.exports = self.folder if exports is None else Path(exports).resolve()
+        if exports is not None and not self.exports.is_dir():
+            raise ArgumentError("exports", f"{self.exports} is not a folder")
         self.lock = ProjectLock(self.path)
         try:
-            self.project = Project(self.path)
+            self.project = Project(self.path, read_only=read_only)
         except BaseException:
             self.lock.release()
             raise
@@ -79,14 +89,21 @@ class Session:
         self.ready = True
         self.transport = p.TransportInfo()
         self._previewed: dict[int, set[str]] = {}     # client -> paths it previewed since their last set
-        made = recovered_tracks(self.project, self.scene, self.player.tracks, ORDER)
+        # a read-only project shows what its file holds: a take left in its journal waits for a writable start
+        made = {} if self.read_only else recovered_tracks(self.project, self.scene, self.player.tracks, ORDER)
         if made:
             self.editor.run(RecordTake(self.player, made, "recovered take"))
         #: What was recovered from the journal (its paths), or None.
         self.recovered = ", ".join(made) or None
-        self.editor.dirty |= fresh
+        self.editor.dirty |= fresh and not self.read_only
         self.editor.changes()           # the pages get all of it in their first state
         self.save()
+
+    @property
+    def read_only(self) -> bool:
+        """Whether the project is open read-only (asked for, or its file or folder cannot
+        be written): it plays and exports, edits are refused (:mod:`.handlers`)."""
+        return self.project.read_only
 
     @property
     def scene(self) -> Scene:
@@ -119,7 +136,7 @@ class Session:
                               tracks=[track_info(t) for t in self.player.tracks.values()], span=self.player.span,
                               history=history_info(self.history), transport=self.transport,
                               take=None if take is None else take.info(self.editor),
-                              tolerances=self._tolerance_info()))
+                              tolerances=self._tolerance_info(), read_only=self.read_only))
 
     def _tolerance_info(self) -> dict[str, p.ToleranceInfo]:
         return {path: p.ToleranceInfo(amount=t.amount, unit=t.unit) for path, t in self.tolerances.items()}
@@ -271,24 +288,18 @@ class Session:
             self.project.export_json(out)
             return out.read_bytes()
 
-    def export(self, name: str) -> Path:
+    def export(self, name: str, overwrite: bool = False) -> Path:
         """Write the scene (``.glb``) or the project (``.json``) to ``name`` in the
-        project's folder; a name that would leave the folder is refused."""
+        exports folder (see :mod:`.exports`: a bare name, never the project's own
+        files, an existing file replaced only with ``overwrite``)."""
         from sketchanim.export.scene_gltf import scene_glb
 
-        if os.sep in name or "/" in name or "\\" in name or name in (".", "..") or name.startswith("."):
-            raise ArgumentError("file", f"{name!r}: a file name in the project's folder, not a path")
-        target = (self.folder / name).resolve()
-        if target.parent != self.folder or target == self.path:
-            raise ArgumentError("file", f"{name!r} is not a new file in the project's folder")
-        suffix = target.suffix.lower()
-        if suffix == ".json":
-            self.save()
-            return self.project.export_json(target)
-        if suffix == ".glb":
-            glb, _ = scene_glb(self.scene, dict(self.player.tracks), name=target.stem)
-            return write_atomic(target, glb)
-        raise ArgumentError("file", f"{name!r}: exports are .glb or .json")
+        path = exporting.target(self.exports, name, self.path, overwrite)
+        if path.suffix.lower() == ".json":
+            data = self.export_document()
+        else:
+            data, _ = scene_glb(self.scene, dict(self.player.tracks), name=path.stem)
+        return exporting.write(path, data, overwrite)
 
     def flush(self) -> list[p.Out]:
         """End a take still running (kept) and save; the messages of the take's end."""
