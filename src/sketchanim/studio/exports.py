@@ -122,4 +122,14 @@ def write(path: Path, data: bytes, overwrite: bool = False) -> Path:
     except FileExistsError:
         raise _exists(path.name) from None
     except OSError as err:
-        raise ExportFailed(f"file: {path.name!r}: cannot be written ({err.strerror or err})") from None
+        raise failed(path, err) from None
+
+
+def failed(path: Path, err: OSError) -> ExportFailed:
+    """The export to ``path`` could not be made: the system's reason, ``err``.
+
+    >>> import errno
+    >>> failed(Path("a.glb"), OSError(errno.ENOSPC, "No space left on device"))
+    ExportFailed("file: 'a.glb': cannot be written (No space left on device)")
+    """
+    return ExportFailed(f"file: {path.name!r}: cannot be written ({err.strerror or err})")

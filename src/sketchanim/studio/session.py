@@ -296,7 +296,10 @@ class Session:
 
         path = exporting.target(self.exports, name, self.path, overwrite)
         if path.suffix.lower() == ".json":
-            data = self.export_document()
+            try:
+                data = self.export_document()
+            except OSError as err:          # the temporary folder it is made in
+                raise exporting.failed(path, err) from None
         else:
             data, _ = scene_glb(self.scene, dict(self.player.tracks), name=path.stem)
         return exporting.write(path, data, overwrite)
