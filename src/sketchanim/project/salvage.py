@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from sketchanim.anim.tracks import Take
-from sketchanim.atomic import SUFFIX, write_atomic
+from sketchanim.atomic import SUFFIX, current_umask, write_atomic
 from sketchanim.errors import ArgumentError, FileFormatError, InputError
 from sketchanim.project.store import Project, Salvaged
 
@@ -97,6 +97,7 @@ def _write_project(out: Path, kept: Salvaged, tolerances: dict) -> None:
     """The new project at ``out``, made beside it and moved into place in one step (a
     project that was there before goes with its logs)."""
     fd, name = tempfile.mkstemp(prefix=f".{out.name}.{os.getpid()}.", suffix=SUFFIX, dir=out.parent)
+    os.fchmod(fd, 0o666 & ~current_umask())                 # as a new project's, not mkstemp's 0600
     os.close(fd)
     tmp = Path(name)
     try:
@@ -160,7 +161,7 @@ def salvage_project(project: str | os.PathLike[str], out: str | os.PathLike[str]
     if kept.scene.objects:
         report.kept.append(f"the scene: {len(kept.scene.objects)} objects ({', '.join(kept.scene.objects)})")
     for path, track in kept.tracks.items():
-        report.kept.append(f"{path}: a track with {len(getattr(track, 'takes', ()))} takes")
+        report.kept.append(f"{path}: a track, takes kept: {len(getattr(track, 'takes', ()))}")
     if orphans:
-        report.kept.append(f"{len(orphans)} takes of no track (ids {', '.join(map(str, orphans))}), in {orphans_file}")
+        report.kept.append(f"takes of no track: ids {', '.join(map(str, orphans))}, in {orphans_file}")
     return report

@@ -79,7 +79,12 @@ class Session:
         except BaseException:
             self.lock.release()
             raise
-        scene, tracks = self.project.load()
+        try:
+            scene, tracks = self.project.load()
+        except BaseException:           # damaged: the file closed, the lock let go
+            self.project.close()
+            self.lock.release()
+            raise
         #: The animator's take tolerances by path (the project keeps them; not History).
         self.tolerances: dict[str, ToleranceDoc] = self.project.tolerances(scene)
         fresh = not scene.objects
