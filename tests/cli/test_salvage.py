@@ -142,4 +142,4 @@ def test_the_studio_names_the_command_for_a_damaged_project(tmp_path):
     assert result.exit_code == 2 and "Traceback" not in result.output
     flat = " ".join(result.output.split())
     assert "damaged: take 1" in flat and f"run `sketchanim salvage {path}`" in flat, flat
-    assert path.read_bytes() == before
+    assert path.read_bytes() == before and not (tmp_path / "show.sketchanim.lock").exists()

@@ -10,6 +10,9 @@ import os
 
 import pytest
 from fastapi.testclient import TestClient
+from typer.testing import CliRunner
+
+from sketchanim.cli import app as cli
 
 from sketchanim.errors import FileFormatError, InputError
 from sketchanim.studio import protocol as p
@@ -114,3 +117,22 @@ def test_through_the_app_an_edit_is_refused_and_the_socket_stays_open(project):
         assert ws.receive_json()["type"] == "pong"
     app.state.hub.session.close()
     assert project.read_bytes() == before
+
+
+def test_the_studio_command_passes_read_only_and_exports(tmp_path, monkeypatch):
+    from sketchanim.studio import serve
+
+    calls = []
+    monkeypatch.setattr(serve, "serve", lambda *args, **kwargs: calls.append(kwargs))
+    for flags, read_only in (([], None), (["--read-only"], True)):
+        result = CliRunner().invoke(cli, ["studio", str(tmp_path / "p.sketchanim"), "--no-browser", *flags,
+                                          "--exports", str(tmp_path)])
+        assert result.exit_code == 0, result.output
+        assert calls.pop() == {"read_only": read_only, "exports": tmp_path}
+
+
+def test_an_exports_folder_that_is_not_one_is_refused_at_start(tmp_path):
+    result = CliRunner().invoke(cli, ["studio", str(tmp_path / "p.sketchanim"), "--no-browser", "--port", "0",
+                                      "--exports", str(tmp_path / "missing")])
+    assert result.exit_code == 2 and "missing is not a folder" in result.output and "Traceback" not in result.output
+    assert os.listdir(tmp_path) == []
