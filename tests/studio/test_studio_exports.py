@@ -50,6 +50,7 @@ def listing(folder: Path) -> set[str]:
 HOSTILE = [
     ("a\x00b.glb", "refused", "control characters"),
     ("a\nb.json", "refused", "control characters"),
+    ("a\ud800.glb", "refused", "lone surrogates"),               # no file system encodes it
     ("あ" * 84 + ".glb", "refused", "bytes long"),              # 256 bytes in UTF-8, 88 characters
     ("a/b.glb", "refused", "not a path"),
     ("a\\b.glb", "refused", "not a path"),
@@ -182,6 +183,7 @@ def test_any_name_is_refused_or_written_in_the_exports_folder_only(session, name
         assert listing(session.folder) == project_before
         if code == "exported":
             assert what == name and (after - before == {name} or (overwrite and name in before and after == before))
+            assert not name.startswith(".") and Path(name).suffix.lower() in (".glb", ".json")
             assert (out / name).stat().st_size > 0
         else:
             assert code in ("bad_message", "refused", "exists") and after == before, (code, what)
