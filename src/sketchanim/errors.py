@@ -59,6 +59,11 @@ class FileFormatError(InputError):
         super().__init__(f"{where}: {message}")
 
 
+class StorageError(InputError):
+    """A write the disk or the folder refused (full, unwritable, read-only, gone): what
+    could not be written, and why. Nothing that was kept before is lost."""
+
+
 class ToleranceUnreachableError(InputError):
     """Not even the interpolating spline meets the tolerance (it is below rounding)."""
 

@@ -67,7 +67,7 @@ def test_a_read_only_session_plays_refuses_edits_and_exports(project):
             message = p.parse(json.dumps(raw))
             with pytest.raises(InputError) as refused:
                 handle(session, message, 0)
-            assert error_code(message, refused.value) == "read_only"
+            assert error_code(message, refused.value, session) == "read_only"
             assert "read-only" in str(refused.value) and "export" in str(refused.value)
             assert str(refused.value).startswith(raw["type"])
         assert session.take is None and not session.dirty

@@ -289,9 +289,20 @@ class Recorder:
             self._pool.send(a.worker, ("sample", self._take, time.perf_counter(), path, np.array([t]),
                                        value[None, :]))
 
-    def push_frame(self, t: float, values: ArrayLike) -> None:
-        """Queue one frame of every armed continuous attribute at time ``t``: their
-        values end to end, as :attr:`layout` says (a device's frame, one call)."""
+    def check_frame(self, t: float, values: ArrayLike) -> tuple[float, np.ndarray]:
+        """The frame :meth:`push_frame` would queue at ``t`` (the time as a float, the
+        values as a row), checked as it checks them, without queueing it: a
+        :class:`~sketchanim.errors.SampleError` naming the field otherwise.
+
+        >>> from sketchanim.anim.scene import Scene
+        >>> scene = Scene(); _ = scene.add("box")
+        >>> rec = Recorder(scene); rec.arm("box.position"); rec.start()
+        >>> rec.check_frame(0.0, [1, 2, float("nan")])
+        Traceback (most recent call last):
+        ...
+        sketchanim.errors.SampleError: sample 0, frame: needs 3 finite numbers, got 3: [1.0, 2.0, nan]
+        >>> _ = rec.stop()
+        """
         if not self.recording:
             raise ArgumentError("push", "not recording: call start() first")
         frames = self._frames
@@ -316,7 +327,14 @@ class Recorder:
                 bad = self._frame[int(np.flatnonzero(self._is_rotation)[np.argmin(norms)])][0]
                 raise SampleError(f"a zero quaternion is no orientation (norm {norms.min():.3g})",
                                   index=frames.n, field=bad)
-        frames.append(t, x)
+        return t, x
+
+    def push_frame(self, t: float, values: ArrayLike) -> None:
+        """Queue one frame of every armed continuous attribute at time ``t``: their
+        values end to end, as :attr:`layout` says (a device's frame, one call), checked
+        first (:meth:`check_frame`)."""
+        t, x = self.check_frame(t, values)
+        self._frames.append(t, x)
         stamp, times = time.perf_counter(), np.array([t])
         for w, (lo, hi) in ((w, c) for w, c in self._workers.items() if c is not None):
             self._pool.send(w, ("frames", self._take, stamp, times, x[None, lo:hi]))
@@ -359,23 +377,32 @@ class Recorder:
         return t, x, (n, m)
 
     def _journal_loop(self) -> None:
-        """Hand the journal what was queued since the last call, until stopped."""
+        """Hand the journal what was queued since the last call, until stopped; a batch
+        the journal refuses is tried again at the next call (with what came since), and
+        :attr:`journal_error` says why until one goes through."""
         sent = {path: (0, 0) for path in self.armed}
         while True:
             stopping = self._stopping.wait(JOURNAL_PERIOD)
-            batches = []
+            batches, upto = [], dict(sent)
             for a in self.armed.values():
-                t, x, sent[a.path] = self._samples(a, sent[a.path])
+                t, x, upto[a.path] = self._samples(a, sent[a.path])
                 if len(t):
                     batches.append((a.path, t, x))
             if batches:
                 try:
                     self.journal(batches)
-                except Exception as err:            # reported by stop(); the take goes on
+                except Exception as err:            # the take goes on; stop() warns if it never recovered
                     self._journal_error = err
-                    return
+                else:
+                    sent, self._journal_error = upto, None
             if stopping:
                 return
+
+    @property
+    def journal_error(self) -> BaseException | None:
+        """Why the journal refused the last batch (None: what was pushed is journalled, or
+        is about to be): samples since then are safe from a crash only when it recovers."""
+        return self._journal_error
 
     def stop(self, *, at: tuple[float, float] | None = None) -> dict[str, Track]:
         """End the take: the new tracks of the armed attributes that got samples (two

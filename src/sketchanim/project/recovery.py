@@ -78,7 +78,10 @@ def recovered_tracks(project: Project, scene: Scene, tracks: Mapping[str, Track]
     """The tracks of the take left in ``project``'s journal, recorded over ``tracks`` at
     spline ``order`` with the take's noted settings (defaults where none were noted):
     path -> track, or empty. Samples of an attribute the scene does not have, or not
-    continuous, or fewer than two, are left out."""
+    continuous, or fewer than two, are left out. A journal without the take's notes
+    (a take cancelled: :func:`forget_take` went first) is not recovered."""
+    if not notes_path(project.path).exists():
+        return {}
     notes = _notes(project.path)
     tol, mode = notes.get("tol", {}), notes.get("mode", "replace")
     blend = float(notes.get("blend", BLEND))

@@ -271,13 +271,10 @@ class Project:
     # -- exchange ---------------------------------------------------------------------------
 
     def export_json(self, path: str | os.PathLike[str]) -> Path:
-        """Write the project, takes included, as one JSON file (atomically)."""
+        """Write the project as saved, takes included, as one JSON file (atomically;
+        :func:`export_text`)."""
         scene, tracks = self.load()
-        doc, takes = to_document(scene, tracks, self.tolerances(scene))
-        body = json.loads(doc.model_dump_json())
-        body["takes"] = [{"mode": t.mode, "blend": t.blend, "times": t.times.tolist(), "values": t.values.tolist()}
-                         for t in takes]
-        return write_atomic(path, json.dumps(body, indent=1))
+        return write_atomic(path, export_text(scene, tracks, self.tolerances(scene)))
 
     def import_json(self, path: str | os.PathLike[str]) -> None:
         """Replace the project's contents by a JSON file written by :meth:`export_json`."""
@@ -301,6 +298,12 @@ class Project:
 
     # -- the journal -------------------------------------------------------------------------
 
+    def clear_journal(self) -> None:
+        """Drop the journal's rows (a take that was cancelled: nothing to recover)."""
+        with reading(str(self.path), "cannot clear the journal"), self.db:
+            self.db.execute("BEGIN IMMEDIATE")
+            self.db.execute("DELETE FROM journal")
+
     def journal(self) -> Journal:
         """A journal for a recorder (see :class:`Journal`)."""
         return Journal(self.path)
@@ -309,3 +312,19 @@ class Project:
         """Samples of the last take that was being recorded when the program stopped
         without saving: path -> (times, values), or empty. Saving clears them."""
         return journaled_take(self.db, str(self.path))
+
+
+def export_text(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None) -> str:
+    """The project export's JSON (what :meth:`Project.export_json` writes and
+    :meth:`Project.import_json` reads): the document, with every take's samples.
+
+    >>> scene = Scene(); _ = scene.add("box")
+    >>> body = json.loads(export_text(scene, {}))
+    >>> [o["name"] for o in body["objects"]], body["takes"]
+    (['box'], [])
+    """
+    doc, takes = to_document(scene, tracks, tolerances)
+    body = json.loads(doc.model_dump_json())
+    body["takes"] = [{"mode": t.mode, "blend": t.blend, "times": t.times.tolist(), "values": t.values.tolist()}
+                     for t in takes]
+    return json.dumps(body, indent=1)

@@ -141,8 +141,8 @@ class Hub:
         try:
             out = await self.call(handle, self.session, message, client.number)
         except InputError as err:
-            client.put(protocol.wire(protocol.Error(id=message.id, ref=message.type, code=error_code(message, err),
-                                                    message=str(err))))
+            code = error_code(message, err, self.session)
+            client.put(protocol.wire(protocol.Error(id=message.id, ref=message.type, code=code, message=str(err))))
             return
         self.send(out, client)
         if message.id is not None:

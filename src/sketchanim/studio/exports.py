@@ -17,7 +17,7 @@ import unicodedata
 from pathlib import Path
 
 from sketchanim.atomic import SUFFIX, write_atomic
-from sketchanim.errors import ArgumentError, InputError
+from sketchanim.errors import ArgumentError, StorageError
 
 #: What an export may be: a glTF scene or the project as JSON.
 SUFFIXES = (".glb", ".json")
@@ -35,7 +35,7 @@ class ExportExists(ArgumentError):
     """The export's name is taken: a file (replaced only when asked to) or a folder."""
 
 
-class ExportFailed(InputError):
+class ExportFailed(StorageError):
     """The system could not write the export (its reason in the message)."""
 
 

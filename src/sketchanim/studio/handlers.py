@@ -17,9 +17,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from sketchanim.errors import ArgumentError, InputError
+from sketchanim.errors import InputError, StorageError
 from sketchanim.studio import protocol as p
-from sketchanim.studio.exports import ExportExists, ExportFailed
+from sketchanim.studio.exports import ExportExists
 from sketchanim.studio.session import Session
 
 Handler = Callable[[Session, p.Message, int], list[p.Out]]
@@ -53,23 +53,27 @@ class ReadOnlyProject(InputError):
     """An edit sent to a project open read-only."""
 
 
-def error_code(message: p.Message, err: InputError) -> p.ErrorCode:
-    """The code of the error reply to ``message``, whose handler raised ``err``:
-    ``read_only``, ``exists`` (an export's name is taken), ``failed`` (the system could
-    not write), ``busy`` (a take is already being recorded), else ``refused``.
+def error_code(message: p.Message, err: InputError, session: Session) -> p.ErrorCode:
+    """The code of the error reply when ``message`` was refused with ``err``:
+    ``read_only`` (an edit on a read-only project), ``exists`` (an export's name is
+    taken), ``failed`` (the disk or the folder refused a write), ``busy`` (a take is
+    already being recorded), else ``refused``.
 
-    >>> error_code(p.parse('{"type": "export", "file": "a.glb"}'), ExportExists("file", "'a.glb' exists"))
+    >>> import tempfile, pathlib
+    >>> session = Session(pathlib.Path(tempfile.mkdtemp()) / "a.sketchanim")
+    >>> error_code(p.parse('{"type": "undo"}'), StorageError("the disk is full"), session)
+    'failed'
+    >>> error_code(p.parse('{"type": "export", "file": "a.glb"}'), ExportExists("file", "'a.glb' exists"), session)
     'exists'
-    >>> error_code(p.parse('{"type": "undo"}'), ArgumentError("undo", "nothing to undo"))
-    'refused'
+    >>> session.close()
     """
     if isinstance(err, ReadOnlyProject):
         return "read_only"
     if isinstance(err, ExportExists):
         return "exists"
-    if isinstance(err, ExportFailed):
+    if isinstance(err, StorageError):
         return "failed"
-    if message.type == "take.begin" and isinstance(err, ArgumentError) and err.argument == "take":
+    if message.type == "take.begin" and session.take is not None:
         return "busy"
     return "refused"
 

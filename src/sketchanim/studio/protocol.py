@@ -303,7 +303,7 @@ class HistoryInfo(_Outbound):
 class Saved(_Outbound):
     """Whether everything the pages were told is on disk: ``ok``; otherwise ``error``
     says why the last save failed (the disk is full, the folder cannot be written) and
-    ``since`` when (epoch seconds) the oldest change not on disk was made. What is not
+    ``since`` when (epoch seconds) saves began to fail. What is not
     saved is kept by the server and saved at the next chance; sent to every page when
     this changes, and in every ``state``."""
 

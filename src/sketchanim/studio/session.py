@@ -12,8 +12,11 @@ soon after), never while a take streams into the journal.
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import logging
 import os
-import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -23,17 +26,20 @@ from sketchanim.anim.history import History
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.workers import shared_pool
-from sketchanim.errors import ArgumentError
+from sketchanim.errors import ArgumentError, FileFormatError, StorageError
 from sketchanim.project.document import ToleranceDoc
 from sketchanim.project.lock import ProjectLock
 from sketchanim.project.recovery import forget_take, note_take, recovered_tracks
-from sketchanim.project.store import Project
+from sketchanim.project.store import Project, export_text
 from sketchanim.studio import exports as exporting
 from sketchanim.studio import protocol as p
 from sketchanim.studio.defaults import default_scene
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import history_info, objects_info, track_info, tracks_info
-from sketchanim.studio.takes import ORDER, RunningTake, TakeRecorder
+from sketchanim.studio.saving import SaveStatus, reason, rescue
+from sketchanim.studio.takes import ORDER, SILENCE, RunningTake, TakeRecorder
+
+log = logging.getLogger("sketchanim.studio")
 
 
 class Session:
@@ -89,11 +95,15 @@ class Session:
         self.tolerances: dict[str, ToleranceDoc] = self.project.tolerances(scene)
         fresh = not scene.objects
         self.editor = Editor(default_scene() if fresh else scene, tracks.values())
-        self.takes = TakeRecorder(self.editor, self.project.journal)
+        self.takes = TakeRecorder(self.editor, lambda: self.project.journal())
         #: Whether the compiled kernels are warm (the app says so; pages see it in ``state``).
         self.ready = True
         self.transport = p.TransportInfo()
         self._previewed: dict[int, set[str]] = {}     # client -> paths it previewed since their last set
+        self._heard: dict[int, float] = {}            # client -> monotonic time of its last message
+        #: Whether the project's saves go through (the pages see it in ``state`` and ``saved``).
+        self.saving = SaveStatus(self.path.name)
+        self._journal_stale = False                   # a cancelled take's rows are still in the journal
         # a read-only project shows what its file holds: a take left in its journal waits for a writable start
         made = {} if self.read_only else recovered_tracks(self.project, self.scene, self.player.tracks, ORDER)
         if made:
@@ -141,7 +151,8 @@ class Session:
                               tracks=[track_info(t) for t in self.player.tracks.values()], span=self.player.span,
                               history=history_info(self.history), transport=self.transport,
                               take=None if take is None else take.info(self.editor),
-                              tolerances=self._tolerance_info(), read_only=self.read_only))
+                              tolerances=self._tolerance_info(), saved=self.saving.info(),
+                              read_only=self.read_only))
 
     def _tolerance_info(self) -> dict[str, p.ToleranceInfo]:
         return {path: p.ToleranceInfo(amount=t.amount, unit=t.unit) for path, t in self.tolerances.items()}
@@ -181,9 +192,38 @@ class Session:
         """``client`` went away: a take it was recording ends as if released (kept), and
         what it previewed without a set goes back to the value before."""
         take = self.take
-        out = [] if take is None or take.owner != client else self.end_take(client, take.id, None)
+        out = [] if take is None or take.owner != client else self.end_take(client, take.id, None, "gone")
         self.editor.cancel_previews(self._previewed.pop(client, ()))
+        self._heard.pop(client, None)
         return out + self._told()
+
+    def heard(self, client: int, now: float) -> None:
+        """``client`` sent a message at monotonic time ``now`` (the app calls this for
+        every message, before it is parsed: a page that sends is alive)."""
+        self._heard[client] = now
+
+    def tick(self, now: float) -> list[p.Out]:
+        """What time does, at monotonic time ``now`` (the app calls this a few times a
+        second): a take whose page sent nothing for :data:`~.takes.SILENCE` seconds
+        ends (kept); what changed is saved (a failed save is tried again every
+        :data:`~.saving.RETRY` seconds).
+
+        >>> import tempfile
+        >>> session = Session(Path(tempfile.mkdtemp()) / "tick.sketchanim")
+        >>> session.heard(1, 100.0)
+        >>> _ = session.begin_take(1, "t", ["box.position"], "replace", 0.1, 0.0, 1.0, {}, None, 0.25)
+        >>> session.tick(101.0), [m.get("reason") for _, m in session.tick(100.0 + SILENCE + 0.1)][-1]
+        ([], 'silent')
+        >>> session.close()
+        """
+        out: list[p.Out] = []
+        take = self.take
+        if take is not None and now - self._heard.get(take.owner, now) > SILENCE:
+            log.warning("take %r ended: its page sent nothing for %g s", take.id, SILENCE)
+            out += self.end_take(take.owner, take.id, None, "silent")
+        if self.saving.ok or self.saving.due(now):
+            out += self.save()
+        return out
 
     def add_object(self, name: str, kind: str) -> list[p.Out]:
         """Add an object (with a ``shape`` if it is a plain object) as one step."""
@@ -252,46 +292,81 @@ class Session:
                    speed: float, tol: dict[str, float], loop: str | None, gap: float,
                    smoothing: float = 0.0) -> list[p.Out]:
         """Start a take of ``paths`` (continuous attributes) for client ``owner`` (see
-        :mod:`.takes`)."""
-        self.save()                     # the last take leaves the journal before this one streams into it
+        :mod:`.takes`). Refused with :class:`StorageError` while the project cannot be
+        saved (what is unsaved first leaves the journal the take would stream into: a
+        crash then would lose it) or its settings cannot be noted; nothing changes."""
+        out = self.save()               # the last take leaves the journal before this one streams into it
+        if not self.saving.ok:
+            raise StorageError(f"cannot record while the project cannot be saved ({self.saving.error}); "
+                               "nothing is lost: free the disk or the folder and press record again")
         started = self.takes.begin(owner, take, paths, mode, blend, time, speed, tol, loop, gap, smoothing)
-        note_take(self.path, self.takes.settings())
+        try:
+            note_take(self.path, self.takes.settings())
+        except OSError as err:
+            self.takes.take = None
+            raise StorageError(f"cannot record: the take's settings cannot be written beside the project "
+                               f"({reason(err)})") from None
         running = p.TakeRunning(**self.takes.take.info(self.editor).model_dump())
-        return [("self", p.wire(started)), ("others", p.wire(running))]
+        return [*out, ("self", p.wire(started)), ("others", p.wire(running))]
 
     def samples(self, owner: int, take: str, times: np.ndarray, values: list) -> list[p.Out]:
         """Push a batch of frames (transport times (n,), rows (n, width))."""
         return [("all", p.wire(m)) for m in self.takes.samples(owner, take, times, values)]
 
-    def end_take(self, owner: int, take: str, label: str | None) -> list[p.Out]:
-        """End the take: its tracks as one History step; the project is saved by the
-        next :meth:`save`."""
-        *notices, ended = self.takes.end(owner, take, label)
+    def end_take(self, owner: int, take: str, label: str | None, reason: p.EndReason = "end") -> list[p.Out]:
+        """End the take (kept, for ``reason``): its tracks as one History step; the
+        project is saved by the next :meth:`save`."""
+        *notices, ended = self.takes.end(owner, take, label, reason)
         return [*(("all", p.wire(n)) for n in notices), *self._told(), ("all", p.wire(ended))]
 
     def cancel_take(self, owner: int, take: str) -> list[p.Out]:
-        """Drop the take: nothing changes."""
+        """Drop the take: nothing changes, and its samples leave the journal (at once, or
+        at the next save that goes through), so nothing of it is recovered."""
         out = [("all", p.wire(m)) for m in self.takes.cancel(owner, take)]
-        self.save()
-        return out
+        self._journal_stale = True
+        with contextlib.suppress(OSError):     # without its notes a journal is not recovered
+            forget_take(self.path)
+        return out + self.save()
 
     # -- files -----------------------------------------------------------------------------
 
-    def save(self) -> None:
+    def save(self) -> list[p.Out]:
         """Save the project if anything changed (not while a take runs: saving clears
-        the journal the take is streaming into)."""
-        if self.editor.dirty and self.takes.take is None:
-            self.project.save(self.scene, dict(self.player.tracks), self.tolerances)
+        the journal the take is streaming into); the messages for the pages if the save
+        status changed (:class:`~.saving.SaveStatus`). A save that fails keeps the
+        model as it is, to be saved by a later call."""
+        if self.takes.take is not None or self.project.read_only or not (self.editor.dirty or self._journal_stale):
+            return []
+        try:
+            self._reopen_if_gone()
+            if self.editor.dirty:
+                self.project.save(self.scene, dict(self.player.tracks), self.tolerances)
+            else:
+                self.project.clear_journal()
+            self.editor.dirty = self._journal_stale = False
             forget_take(self.path)
-            self.editor.dirty = False
+        except (OSError, FileFormatError) as err:
+            return self.saving.failed(err)
+        return self.saving.succeeded()
+
+    def _reopen_if_gone(self) -> None:
+        """If the project file was deleted or moved away (a save would go to a file no
+        one can open again), make it anew at its path with the whole model; if its
+        folder is gone too, :class:`FileNotFoundError` (tried again at the next save)."""
+        if self.path.exists():
+            return
+        if not self.path.parent.is_dir():
+            raise FileNotFoundError(errno.ENOENT, "the project's folder is gone", str(self.path.parent))
+        log.warning("%s was deleted or moved; writing it anew", self.path)
+        fresh = Project(self.path)
+        self.project.close()
+        self.project = fresh
+        self.editor.dirty = True
 
     def export_document(self) -> bytes:
-        """The project as ``sketchanim export PROJECT -o X.json`` writes it (saved first)."""
-        self.save()
-        with tempfile.TemporaryDirectory() as folder:
-            out = Path(folder) / "project.json"
-            self.project.export_json(out)
-            return out.read_bytes()
+        """The project as ``sketchanim export PROJECT -o X.json`` writes it: the model
+        as the pages see it, saved or not."""
+        return export_text(self.scene, dict(self.player.tracks), self.tolerances).encode("utf-8")
 
     def export(self, name: str, overwrite: bool = False) -> Path:
         """Write the scene (``.glb``) or the project (``.json``) to ``name`` in the
@@ -301,22 +376,28 @@ class Session:
 
         path = exporting.target(self.exports, name, self.path, overwrite)
         if path.suffix.lower() == ".json":
-            try:
-                data = self.export_document()
-            except OSError as err:          # the temporary folder it is made in
-                raise exporting.failed(path, err) from None
+            data = self.export_document()
         else:
             data, _ = scene_glb(self.scene, dict(self.player.tracks), name=path.stem)
         return exporting.write(path, data, overwrite)
 
     def flush(self) -> list[p.Out]:
         """End a take still running (kept) and save; the messages of the take's end."""
-        out = [] if self.take is None else self.end_take(self.take.owner, self.take.id, None)
-        self.save()
-        return out
+        out = [] if self.take is None else self.end_take(self.take.owner, self.take.id, None, "shutdown")
+        return out + self.save()
 
     def close(self) -> None:
-        """Flush, then close the file (and let another studio open it)."""
+        """Flush, then close the file (and let another studio open it). If the project
+        still cannot be saved, the model is written as a new project where it can be
+        (:func:`~.saving.rescue`; the log says where)."""
         self.flush()
+        if self.editor.dirty:
+            try:
+                where = rescue(self.path, self.scene, self.player.tracks, self.tolerances)
+                log.error("%s could not be saved; everything is in %s (open it with sketchanim studio)",
+                          self.path, where)
+            except OSError as err:
+                log.critical("%s could not be saved, nor a copy anywhere (%s): the changes since %s are lost",
+                             self.path, reason(err), time.ctime(self.saving.since or time.time()))
         self.project.close()
         self.lock.release()

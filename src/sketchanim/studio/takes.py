@@ -22,6 +22,17 @@ performed); additive, the value holds and the offsets fade in over ``blend``. Th
 track is itself made of takes (the hold's two samples, the ease's samples), so the raw
 takes still recompose the curve (:func:`~sketchanim.anim.layers.compose`).
 
+A take's life, one state at a time (the studio's :class:`~.session.Session` drives it):
+
+- *begun* (``take.begin``): armed, no sample yet; what it is recorded over is known at its
+  first sample (the values it holds, above);
+- *recording*: samples go to the current part; a refused sample changes nothing; a sample
+  after a stall ends the part (kept in ``result``) and starts the next;
+- *ended*, kept as one History step: by its page (``take.end``), its page gone (socket
+  closed), silent (no message for :data:`SILENCE` seconds) or the server stopping;
+- *cancelled* (``take.cancel``): nothing changes, and the journal's rows of it are cleared
+  at the next save, so nothing of it comes back after a crash.
+
 What the recorder warns of when a part stops (a reducer process died, the journal
 failed) is logged and becomes a ``notice`` for every page.
 """
@@ -41,15 +52,19 @@ from sketchanim.anim.commands import RecordTake
 from sketchanim.anim.layers import recorded_over
 from sketchanim.anim.recorder import Recorder
 from sketchanim.anim.tracks import ContinuousTrack, Take, Track
-from sketchanim.errors import ArgumentError, InputError
+from sketchanim.errors import ArgumentError, InputError, SampleError
 from sketchanim.project.journal import Journal
 from sketchanim.reducer.metric import max_errors
 from sketchanim.studio import protocol as p
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import layout, piece_info
+from sketchanim.studio.saving import reason
 
 #: Spline order of recorded curves.
 ORDER = 4
+#: Seconds without a message from a take's page after which the take ends (kept): the
+#: page is gone without closing its socket, or frozen. A page recording pings every second.
+SILENCE = 5.0
 
 log = logging.getLogger("sketchanim.studio")
 
@@ -77,6 +92,7 @@ class RunningTake:
     samples: int = 0
     gaps: list[tuple[float, float]] = field(default_factory=list)
     eased: set[str] = field(default_factory=set)              # paths recorded over their value's ease
+    journal_fault: str | None = None                          # why its journal fails (the pages were told)
 
     def info(self, editor: Editor) -> p.TakeInfo:
         """The take as a ``state`` shows it."""
@@ -222,7 +238,9 @@ class TakeRecorder:
     def samples(self, owner: int, take: str, times: np.ndarray, values: list) -> list[p.TakePiece | p.Notice]:
         """Push a batch of frames (transport times (n,), rows (n, width)); a stall cuts
         the take. The pieces of curve finished since the last batch, and the notices
-        of a part cut."""
+        of a part cut. A refused sample (its time not after the last, a row that does
+        not fit) is refused before it changes anything: the samples before it in the
+        batch are kept, it cuts nothing."""
         tk = self._own(owner, take)
         times = np.asarray(times, dtype=float)
         if len(values) != len(times):
@@ -230,23 +248,60 @@ class TakeRecorder:
         stall = tk.gap * tk.speed
         notices: list[p.Notice] = []
         for i, (t, row) in enumerate(zip(times, values)):
-            if tk.recorder is None and not tk.samples:     # the first sample: what the take is over is known
-                self._hold_values(tk, float(t), np.asarray(row, dtype=float) if _flat(row) else np.empty(0))
-                self._start_part()
-            if tk.samples and t - tk.last > stall:
-                notices += self._cut(tk)
-                tk.gaps.append((tk.last, float(t)))
-                self._start_part()
             try:
+                if not t > tk.last:
+                    raise SampleError(f"time {float(t)!r} must be after the take's last {tk.last!r}",
+                                      index=tk.samples, field="time")
+                if tk.recorder is None and not tk.samples:     # the first sample: what the take is over is known
+                    self._first_part(tk, float(t), row)
+                elif t - tk.last > stall:
+                    tk.recorder.check_frame(t, row)             # refused here, it cuts nothing
+                    notices += self._cut(tk)
+                    tk.gaps.append((tk.last, float(t)))
+                    self._start_part()
                 tk.recorder.push_frame(t, row)
             except InputError as err:
                 raise ArgumentError(f"values[{i}]", f"sample {i} of the batch (take sample {tk.samples}): {err}") \
                     from None
             tk.last = float(t)
             tk.samples += 1
+        notices += self._journal_news(tk)
         scene = self.editor.scene
         return [*notices, *(piece_info(take, path, piece, scene.type(path).is_rotation)
                             for path, piece in tk.recorder.pieces())]
+
+    @staticmethod
+    def _journal_news(tk: RunningTake) -> list[p.Notice]:
+        """A notice when the take's journal starts failing (its samples are then kept in
+        memory only, until the take is saved) or writes again."""
+        err = tk.recorder.journal_error if tk.recorder is not None else None
+        fault = None if err is None else reason(err)
+        if fault == tk.journal_fault:
+            return []
+        tk.journal_fault = fault
+        if fault is None:
+            log.warning("take %r: its journal is written again", tk.id)
+            return [p.Notice(level="info", source="disk", text=f"take {tk.id}: safe from a crash again "
+                                                               "(its journal is written)")]
+        log.error("take %r: its journal cannot be written: %s", tk.id, fault)
+        return [p.Notice(level="error", source="disk",
+                         text=f"take {tk.id}: its journal cannot be written ({fault}). The take goes on and is "
+                              "kept when it ends, but a crash now would lose it.")]
+
+    def _first_part(self, tk: RunningTake, time: float, row: object) -> None:
+        """Start the take's first part at its first sample (``row`` at ``time``), over
+        the values it holds (:meth:`_hold_values`); undone if the sample is refused."""
+        over = dict(tk.over)
+        self._hold_values(tk, time, np.asarray(row, dtype=float) if _flat(row) else np.empty(0))
+        self._start_part()
+        try:
+            tk.recorder.check_frame(time, row)
+        except InputError:
+            stopped(tk.recorder)
+            tk.recorder.journal.close()
+            tk.recorder, tk.over = None, over
+            tk.eased.clear()
+            raise
 
     def _cut(self, tk: RunningTake) -> list[p.Notice]:
         """End the part recorded so far, keeping what it made (nothing before the first sample)."""
@@ -258,9 +313,10 @@ class TakeRecorder:
         rec.journal.close()
         return notices
 
-    def end(self, owner: int, take: str, label: str | None) -> list[p.TakeEnded | p.Notice]:
-        """End the take: its tracks as one History step (replacing the last pass of a
-        loop recording). The notices of its last part, then ``take.ended``."""
+    def end(self, owner: int, take: str, label: str | None, reason: p.EndReason = "end") -> list[p.TakeEnded | p.Notice]:
+        """End the take (kept, for ``reason``: see :data:`~.protocol.EndReason`): its
+        tracks as one History step (replacing the last pass of a loop recording). The
+        notices of its last part, then ``take.ended``."""
         clock = time.perf_counter()
         tk = self._own(owner, take)
         notices = self._cut(tk)
@@ -274,7 +330,7 @@ class TakeRecorder:
         self.editor.dirty = True                    # saved soon after (the journal holds the take until then)
         ms = 1000 * (time.perf_counter() - clock)
         return [*notices, p.TakeEnded(take=take, label=self.editor.history.labels[0][-1] if made else None,
-                                      paths=list(made), ms=ms, gaps=tk.gaps, smoothing=tk.smoothing)]
+                                      paths=list(made), ms=ms, gaps=tk.gaps, smoothing=tk.smoothing, reason=reason)]
 
     def cancel(self, owner: int, take: str) -> list[p.TakeEnded | p.Notice]:
         """Drop the take: nothing changes."""
@@ -284,4 +340,4 @@ class TakeRecorder:
         if tk.recorder is not None:
             _, notices = stopped(tk.recorder)
             tk.recorder.journal.close()
-        return [*notices, p.TakeEnded(take=take, label=None, paths=[], ms=0.0, gaps=[])]
+        return [*notices, p.TakeEnded(take=take, label=None, paths=[], ms=0.0, gaps=[], reason="cancel")]

@@ -193,7 +193,7 @@
 
 /**
  * Whether everything the pages were told is on disk: `ok`, else `error` says why the last
- * save failed and `since` when (epoch seconds) the oldest unsaved change was made. The
+ * save failed and `since` when (epoch seconds) saves began to fail. The
  * server keeps what is not saved and saves it at the next chance.
  * @typedef {object} Saved
  * @property {'saved'} type
