@@ -8,6 +8,7 @@ file behind: the next write to the same output removes those whose process is go
 
 from __future__ import annotations
 
+import errno
 import os
 import tempfile
 from pathlib import Path
@@ -50,8 +51,11 @@ def stale_temporaries(target: Path) -> list[Path]:
     return found
 
 
-def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> Path:
-    """Write ``data`` to ``path`` through a temporary file, fsync and rename.
+def write_atomic(path: str | os.PathLike[str], data: str | bytes, *, exclusive: bool = False) -> Path:
+    """Write ``data`` to ``path`` through a temporary file, fsync and rename; with
+    ``exclusive``, an existing ``path`` (a file, a folder, a link) is never replaced:
+    ``FileExistsError`` (the temporary file is linked into place, which fails if the
+    name is taken; where the filesystem has no links, the name is checked first).
 
     Parent folders are created, and temporary files that killed writers left beside
     ``path`` are removed. On any error the previous file, if any, is untouched, the
@@ -76,7 +80,7 @@ def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> Path:
             handle.write(payload)
             handle.flush()
             os.fsync(handle.fileno())
-        os.replace(tmp, target)
+        (_move_new if exclusive else os.replace)(tmp, target)
         tmp = None
         dir_fd = os.open(target.parent, os.O_RDONLY)
         try:
@@ -89,6 +93,20 @@ def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> Path:
         if tmp is not None:
             Path(tmp).unlink(missing_ok=True)
     return target
+
+
+def _move_new(tmp: str, target: Path) -> None:
+    """Move ``tmp`` to ``target`` unless ``target`` exists (``FileExistsError``)."""
+    try:
+        os.link(tmp, target, follow_symlinks=False)
+    except OSError as err:
+        if err.errno not in (errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP, errno.ENOSYS):
+            raise
+        if os.path.lexists(target):             # no hard links here (FAT, some network filesystems)
+            raise FileExistsError(errno.EEXIST, os.strerror(errno.EEXIST), str(target)) from None
+        os.replace(tmp, target)
+    else:
+        os.unlink(tmp)
 
 
 def current_umask() -> int:

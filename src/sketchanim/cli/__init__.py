@@ -10,6 +10,7 @@ import typer
 from sketchanim.cli.commands import export_command, paper_command, studio_command
 from sketchanim.cli.flags import console
 from sketchanim.cli.reduce import REDUCE_HELP, reduce_command
+from sketchanim.cli.salvage import salvage_command
 
 app = typer.Typer(
     help="Sketch 3D animations: reduce performed motion to compact B-splines within tolerance.",
@@ -37,5 +38,6 @@ app.command("reduce", help=REDUCE_HELP)(reduce_command)
 app.command("export")(export_command)
 app.command("paper")(paper_command)
 app.command("studio")(studio_command)
+app.command("salvage")(salvage_command)
 
 __all__ = ["app"]

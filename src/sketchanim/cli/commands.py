@@ -87,12 +87,19 @@ def studio_command(
     host: Annotated[str, typer.Option(help="Address to serve on (127.0.0.1: this machine only).")] = "127.0.0.1",
     port: Annotated[int, typer.Option(help="Port to serve on.")] = 8000,
     browser: Annotated[bool, typer.Option("--browser/--no-browser", help="Open the page in a browser.")] = True,
+    read_only: Annotated[bool, typer.Option("--read-only", help="Open the project read-only: it plays and exports, "
+                                            "edits are refused (a project that cannot be written opens so "
+                                            "anyway).")] = False,
+    exports: Annotated[Optional[Path], typer.Option("--exports", help="The folder the page's exports go to "
+                                                    "(default: the project's).")] = None,
 ) -> None:
-    """Start the studio: perform, record, play back and layer animation in the browser."""
+    """Start the studio: perform, record, play back and layer animation in the browser.
+
+    Examples: sketchanim studio show.sketchanim; sketchanim studio show.sketchanim --read-only --exports out/"""
     from sketchanim.studio.serve import serve
 
     try:
-        serve(project, host, port, browser, console.print)
+        serve(project, host, port, browser, console.print, read_only=read_only or None, exports=exports)
     except InputError as err:
         fail(str(err))
     except OSError as err:

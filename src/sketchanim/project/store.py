@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import os
+import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -180,11 +181,13 @@ class Project:
         """The scene and tracks last saved (an empty scene in a new project).
 
         Raises :class:`FileFormatError` naming what is damaged or malformed (the
-        document, a take); :meth:`salvage` keeps the rest."""
+        document, a take) and the command that keeps the rest (``sketchanim salvage``,
+        which calls :meth:`salvage`)."""
         source = str(self.path)
         body, takes, damaged = self._read()
         if damaged:
-            raise FileFormatError(source, f"damaged: {'; '.join(damaged)} (Project.salvage() keeps the rest)")
+            raise FileFormatError(source, f"damaged: {'; '.join(damaged)}; run `sketchanim salvage "
+                                          f"{shlex.quote(source)}` to keep the rest (Project.salvage())")
         if body is None:
             return Scene(), {}
         return from_document(load_document(body, source), takes, source)

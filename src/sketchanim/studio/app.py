@@ -190,7 +190,8 @@ def same_origin(origin: str | None, host: str | None) -> bool:
 
 
 def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: list[str] | None = None,
-               close: bool = False) -> FastAPI:
+               close: bool = False, read_only: bool | None = None,
+               exports: str | os.PathLike[str] | None = None) -> FastAPI:
     """The studio app for the project file ``project`` (created if missing). With
     ``warm``, the compiled kernels are warmed at start and ``ready`` is said after;
     without, the app is ready at once. ``hosts``: the only ``Host`` headers answered
@@ -198,6 +199,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     rebinding); any if None. When the app stops, a take still running is
     kept and the project saved, and with ``close`` the file is closed (a server's app;
     otherwise ``app.state.hub.session.close()`` does it, and the app can start again).
+    ``read_only`` and ``exports``: as :class:`Session` takes them.
 
     >>> import tempfile
     >>> from fastapi.testclient import TestClient
@@ -208,7 +210,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     ({'ready': True}, ['box', 'ball', 'cone', 'lamp', 'cam'])
     >>> app.state.hub.session.close()
     """
-    hub = Hub(Session(project))
+    hub = Hub(Session(project, read_only, exports))
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:

@@ -5,6 +5,9 @@ A handler takes the session, the message (already validated, see
 messages to send (:data:`~sketchanim.studio.protocol.Out`). Every call runs in the
 session's one thread, in order. The undoable operations are the commands the editor
 runs (:mod:`sketchanim.anim.commands`); this only maps messages to them.
+
+A read-only project refuses the messages that edit (:data:`EDITS`) before they run;
+:func:`error_code` gives the code of the error reply for what a handler raised.
 """
 
 from __future__ import annotations
@@ -15,8 +18,8 @@ from collections.abc import Callable
 import numpy as np
 
 from sketchanim.errors import InputError, StorageError
-
 from sketchanim.studio import protocol as p
+from sketchanim.studio.exports import ExportExists
 from sketchanim.studio.session import Session
 
 Handler = Callable[[Session, p.Message, int], list[p.Out]]
@@ -38,19 +41,36 @@ HANDLERS: dict[str, Handler] = {
     "redo": lambda s, m, client: s.redo(),
     "transport": lambda s, m, client: s.set_transport(m),
     "tolerance.set": lambda s, m, client: s.set_tolerance(m.path, m.amount, m.unit),
-    "export": lambda s, m, client: [("self", p.wire(p.Exported(file=s.export(m.file).name)))],
+    "export": lambda s, m, client: [("self", p.wire(p.Exported(file=s.export(m.file, m.overwrite).name)))],
 }
+
+#: The messages that change the project (refused on a read-only one).
+EDITS = frozenset({"set", "preview", "object.add", "object.remove", "object.rename", "take.begin", "take.samples",
+                   "take.end", "take.cancel", "undo", "redo", "tolerance.set"})
+
+
+class ReadOnlyProject(InputError):
+    """An edit sent to a project open read-only."""
 
 
 def error_code(message: p.Message, err: InputError, session: Session) -> p.ErrorCode:
-    """The code of the error reply when ``message`` was refused with ``err``.
+    """The code of the error reply when ``message`` was refused with ``err``:
+    ``read_only`` (an edit on a read-only project), ``exists`` (an export's name is
+    taken), ``failed`` (the disk or the folder refused a write), ``busy`` (a take is
+    already being recorded), else ``refused``.
 
     >>> import tempfile, pathlib
     >>> session = Session(pathlib.Path(tempfile.mkdtemp()) / "a.sketchanim")
     >>> error_code(p.parse('{"type": "undo"}'), StorageError("the disk is full"), session)
     'failed'
+    >>> error_code(p.parse('{"type": "export", "file": "a.glb"}'), ExportExists("file", "'a.glb' exists"), session)
+    'exists'
     >>> session.close()
     """
+    if isinstance(err, ReadOnlyProject):
+        return "read_only"
+    if isinstance(err, ExportExists):
+        return "exists"
     if isinstance(err, StorageError):
         return "failed"
     if message.type == "take.begin" and session.take is not None:
@@ -59,7 +79,8 @@ def error_code(message: p.Message, err: InputError, session: Session) -> p.Error
 
 
 def handle(session: Session, message: p.Message, client: int) -> list[p.Out]:
-    """Run ``message`` on ``session`` for ``client``; the messages to send.
+    """Run ``message`` on ``session`` for ``client``; the messages to send. An edit
+    (:data:`EDITS`) on a read-only project raises :class:`ReadOnlyProject`.
 
     >>> import tempfile, pathlib
     >>> session = Session(pathlib.Path(tempfile.mkdtemp()) / "a.sketchanim")
@@ -67,4 +88,8 @@ def handle(session: Session, message: p.Message, client: int) -> list[p.Out]:
     ('all', {'type': 'values', 'values': {'lamp.intensity': [2.0]}})
     >>> session.close()
     """
+    if session.read_only and message.type in EDITS:
+        raise ReadOnlyProject(f"{message.type}: {session.path.name} is open read-only (started with --read-only, or "
+                              "its file or folder cannot be written), so edits are refused; playback and export "
+                              "still work (export to a writable folder: start the studio with --exports DIR)")
     return HANDLERS[message.type](session, message, client)

@@ -25,10 +25,12 @@ def has_display() -> bool:
     return True
 
 
-def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str], object] = print) -> None:
+def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str], object] = print, *,
+          read_only: bool | None = None, exports: Path | None = None) -> None:
     """Serve the studio for ``project`` on ``host:port`` until interrupted; open the page
-    in a browser if ``browser`` and there is a display. The port is bound first, so a
-    busy one fails here (:class:`OSError`) before anything else starts."""
+    in a browser if ``browser`` and there is a display. ``read_only`` and ``exports``:
+    as :class:`~.session.Session` takes them. The port is bound first, so a busy one
+    fails here (:class:`OSError`) before anything else starts."""
     import uvicorn
 
     family = socket.AF_INET6 if ":" in host else socket.AF_INET
@@ -36,10 +38,13 @@ def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind((host, port))
     loopback = host in ("127.0.0.1", "localhost", "::1") or host.startswith("127.")
-    app = create_app(project, hosts=["127.0.0.1", "localhost", "[::1]", host] if loopback else None, close=True)
+    app = create_app(project, hosts=["127.0.0.1", "localhost", "[::1]", host] if loopback else None, close=True,
+                     read_only=read_only, exports=exports)
     shown = f"[{host}]" if ":" in host else host
     url = f"http://{'127.0.0.1' if host in ('0.0.0.0', '::') else shown}:{sock.getsockname()[1]}/"
-    say(f"sketchanim studio: {Path(project).resolve()} at {url} (Ctrl-C stops it)")
+    session = app.state.hub.session
+    mode = " (read-only: it plays and exports, edits are refused)" if session.read_only else ""
+    say(f"sketchanim studio: {session.path}{mode} at {url} (Ctrl-C stops it); exports go to {session.exports}")
     if browser and has_display():
         threading.Timer(1.0, webbrowser.open, (url,)).start()
     config = uvicorn.Config(app, log_level="warning", ws_max_size=4 * MAX_MESSAGE_BYTES, ws_ping_interval=20)

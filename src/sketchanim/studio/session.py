@@ -26,12 +26,12 @@ from sketchanim.anim.history import History
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.workers import shared_pool
-from sketchanim.atomic import write_atomic
 from sketchanim.errors import ArgumentError, FileFormatError, StorageError
 from sketchanim.project.document import ToleranceDoc
 from sketchanim.project.lock import ProjectLock
 from sketchanim.project.recovery import forget_take, note_take, recovered_tracks
 from sketchanim.project.store import Project, export_text
+from sketchanim.studio import exports as exporting
 from sketchanim.studio import protocol as p
 from sketchanim.studio.defaults import default_scene
 from sketchanim.studio.editor import Editor
@@ -50,6 +50,11 @@ class Session:
     path : path-like
         The project file; created with :func:`~.defaults.default_scene` if it does not
         exist (or holds no objects).
+    read_only : bool, optional
+        Open the project read-only (True), or as the project detects (None: read-only
+        if its file or folder cannot be written).
+    exports : path-like, optional
+        The folder exports go to (an existing one); the project's if None.
 
     Examples
     --------
@@ -65,17 +70,27 @@ class Session:
     >>> session.close()
     """
 
-    def __init__(self, path: str | os.PathLike[str]) -> None:
+    def __init__(self, path: str | os.PathLike[str], read_only: bool | None = None,
+                 exports: str | os.PathLike[str] | None = None) -> None:
         shared_pool()                   # the reducer processes forked now, before the app's threads exist
         self.path = Path(path).resolve()
         self.folder = self.path.parent
+        #: The folder exports are written to (the project's, unless given).
+        self.exports = self.folder if exports is None else Path(exports).resolve()
+        if exports is not None and not self.exports.is_dir():
+            raise ArgumentError("exports", f"{self.exports} is not a folder")
         self.lock = ProjectLock(self.path)
         try:
-            self.project = Project(self.path)
+            self.project = Project(self.path, read_only=read_only)
         except BaseException:
             self.lock.release()
             raise
-        scene, tracks = self.project.load()
+        try:
+            scene, tracks = self.project.load()
+        except BaseException:           # damaged: the file closed, the lock let go
+            self.project.close()
+            self.lock.release()
+            raise
         #: The animator's take tolerances by path (the project keeps them; not History).
         self.tolerances: dict[str, ToleranceDoc] = self.project.tolerances(scene)
         fresh = not scene.objects
@@ -89,14 +104,21 @@ class Session:
         #: Whether the project's saves go through (the pages see it in ``state`` and ``saved``).
         self.saving = SaveStatus(self.path.name)
         self._journal_stale = True                    # journal rows to clear (a cancelled take's; at start, any)
-        made = recovered_tracks(self.project, self.scene, self.player.tracks, ORDER)
+        # a read-only project shows what its file holds: a take left in its journal waits for a writable start
+        made = {} if self.read_only else recovered_tracks(self.project, self.scene, self.player.tracks, ORDER)
         if made:
             self.editor.run(RecordTake(self.player, made, "recovered take"))
         #: What was recovered from the journal (its paths), or None.
         self.recovered = ", ".join(made) or None
-        self.editor.dirty |= fresh
+        self.editor.dirty |= fresh and not self.read_only
         self.editor.changes()           # the pages get all of it in their first state
         self.save()
+
+    @property
+    def read_only(self) -> bool:
+        """Whether the project is open read-only (asked for, or its file or folder cannot
+        be written): it plays and exports, edits are refused (:mod:`.handlers`)."""
+        return self.project.read_only
 
     @property
     def scene(self) -> Scene:
@@ -129,7 +151,8 @@ class Session:
                               tracks=[track_info(t) for t in self.player.tracks.values()], span=self.player.span,
                               history=history_info(self.history), transport=self.transport,
                               take=None if take is None else take.info(self.editor),
-                              tolerances=self._tolerance_info(), saved=self.saving.info()))
+                              tolerances=self._tolerance_info(), saved=self.saving.info(),
+                              read_only=self.read_only))
 
     def _tolerance_info(self) -> dict[str, p.ToleranceInfo]:
         return {path: p.ToleranceInfo(amount=t.amount, unit=t.unit) for path, t in self.tolerances.items()}
@@ -346,24 +369,18 @@ class Session:
         as the pages see it, saved or not."""
         return export_text(self.scene, dict(self.player.tracks), self.tolerances).encode("utf-8")
 
-    def export(self, name: str) -> Path:
+    def export(self, name: str, overwrite: bool = False) -> Path:
         """Write the scene (``.glb``) or the project (``.json``) to ``name`` in the
-        project's folder; a name that would leave the folder is refused."""
+        exports folder (see :mod:`.exports`: a bare name, never the project's own
+        files, an existing file replaced only with ``overwrite``)."""
         from sketchanim.export.scene_gltf import scene_glb
 
-        if os.sep in name or "/" in name or "\\" in name or name in (".", "..") or name.startswith("."):
-            raise ArgumentError("file", f"{name!r}: a file name in the project's folder, not a path")
-        target = (self.folder / name).resolve()
-        if target.parent != self.folder or target == self.path:
-            raise ArgumentError("file", f"{name!r} is not a new file in the project's folder")
-        suffix = target.suffix.lower()
-        if suffix == ".json":
-            self.save()
-            return self.project.export_json(target)
-        if suffix == ".glb":
-            glb, _ = scene_glb(self.scene, dict(self.player.tracks), name=target.stem)
-            return write_atomic(target, glb)
-        raise ArgumentError("file", f"{name!r}: exports are .glb or .json")
+        path = exporting.target(self.exports, name, self.path, overwrite)
+        if path.suffix.lower() == ".json":
+            data = self.export_document()
+        else:
+            data, _ = scene_glb(self.scene, dict(self.player.tracks), name=path.stem)
+        return exporting.write(path, data, overwrite)
 
     def flush(self) -> list[p.Out]:
         """End a take still running (kept) and save; the messages of the take's end."""
