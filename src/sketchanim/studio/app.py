@@ -9,10 +9,13 @@ in one thread, in order, and sends what they return to the pages.
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import json
+import logging
 import os
 import time
 from collections import deque
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator, Awaitable, Callable
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import asynccontextmanager
 from pathlib import Path
@@ -35,6 +38,15 @@ WEB = Path(__file__).parent / "web"
 THREE = Path(__file__).resolve().parents[3] / "node_modules" / "three"
 #: Messages a page may send per second, and in one burst.
 RATE, BURST = 300.0, 600.0
+#: Most characters of JSON waiting to go out to one page (a ``state`` of a big project is a
+#: few MB; past this the backlog is dropped for a fresh state).
+MAX_QUEUED = 4 * 2**20
+#: Seconds a send to a page may be blocked (the page reads nothing) before its socket is closed.
+SEND_TIMEOUT = 30.0
+#: Seconds between the session's ticks (a silent take's end, saves and their retries).
+TICK = 0.25
+
+log = logging.getLogger("sketchanim.studio")
 
 
 class ReadyReply(BaseModel):
@@ -44,23 +56,49 @@ class ReadyReply(BaseModel):
 
 
 class Client:
-    """One page's socket: what is waiting to go out to it, previews coalesced by key
-    (a newer one replaces one not yet sent)."""
+    """One page's socket and what is waiting to go out to it, in order; previews
+    coalesced by key (a newer one replaces one not yet sent).
 
-    def __init__(self, number: int, socket: WebSocket) -> None:
+    What waits is bounded by :data:`MAX_QUEUED` characters of JSON (each message is
+    serialised once, when queued, and measured then): a page that does not read cannot
+    grow the server. Past the bound the backlog is dropped and, once the socket takes a
+    message again, the page gets one fresh ``state`` (from ``fresh``) instead, then what
+    came after it. A send blocked for :data:`SEND_TIMEOUT` seconds ends the pump (the
+    page is gone or hostile; the app then closes its socket).
+    """
+
+    def __init__(self, number: int, socket: WebSocket, fresh: Callable[[], Awaitable[dict]]) -> None:
         self.number = number
         self.socket = socket
-        self.queue: deque[dict] = deque()
-        self.previews: dict[str, dict] = {}
+        self.fresh = fresh
+        self.queue: deque[str] = deque()
+        self.previews: dict[str, str] = {}
+        #: characters of JSON queued (``queue`` and ``previews``)
+        self.queued = 0
+        #: the backlog was dropped: the next message sent is a fresh ``state``
+        self.stale = False
         self.wake = asyncio.Event()
         self.tokens, self.clock = BURST, time.monotonic()
 
-    def put(self, message: dict) -> None:
-        if message.get("type") == "preview":
-            self.previews.pop(message["key"], None)
-            self.previews[message["key"]] = message
+    def put(self, message: dict, text: str | None = None) -> None:
+        """Queue ``message`` (``text``: it as JSON, if the caller has it already)."""
+        if self.stale:                  # the state the page will get is fetched later: it holds this
+            return
+        text = encode(message) if text is None else text
+        replaced = self.previews.pop(message["key"], None) if message.get("type") == "preview" else None
+        self.queued -= 0 if replaced is None else len(replaced)
+        if self.queued + len(text) > MAX_QUEUED and (self.queue or self.previews):
+            log.warning("page %d is not reading: %d characters of messages dropped, it gets a fresh state "
+                        "when it reads again", self.number, self.queued + len(text))
+            self.queue.clear()
+            self.previews.clear()
+            self.queued, self.stale = 0, True
+        elif message.get("type") == "preview":
+            self.previews[message["key"]] = text
+            self.queued += len(text)
         else:
-            self.queue.append(message)
+            self.queue.append(text)
+            self.queued += len(text)
         self.wake.set()
 
     def allowed(self) -> bool:
@@ -73,17 +111,58 @@ class Client:
         self.tokens -= 1
         return True
 
+    def _next(self) -> str:
+        text = self.queue.popleft() if self.queue else self.previews.pop(next(iter(self.previews)))
+        self.queued -= len(text)
+        return text
+
+    async def _send(self, text: str) -> None:
+        try:
+            await asyncio.wait_for(self.socket.send_text(text), SEND_TIMEOUT)
+        except TimeoutError:
+            raise Unread(f"page {self.number} has read nothing for {SEND_TIMEOUT:g} s") from None
+
     async def pump(self) -> None:
-        """Send what is queued, in order, then the latest previews, until closed."""
-        while True:
-            await self.wake.wait()
-            self.wake.clear()
-            while self.queue or self.previews:
-                if self.queue:
-                    message = self.queue.popleft()
-                else:
-                    message = self.previews.pop(next(iter(self.previews)))
-                await self.socket.send_json(message)
+        """Send what is queued, in order, then the latest previews, until the page goes
+        away (returns) or stops reading (:class:`Unread`)."""
+        try:
+            while True:
+                await self.wake.wait()
+                self.wake.clear()
+                while self.stale or self.queue or self.previews:
+                    if self.stale:
+                        state = await self.fresh()          # after every model call whose messages were dropped
+                        self.queue.clear()                  # put meanwhile: older than the state (or not model news)
+                        self.previews.clear()
+                        self.queued, self.stale = 0, False
+                        await self._send(encode(state))
+                    else:
+                        await self._send(self._next())
+        except (WebSocketDisconnect, OSError, RuntimeError):    # the page went away (the reader sees it too)
+            return
+
+
+class Unread(Exception):
+    """A page's socket took no message for :data:`SEND_TIMEOUT` seconds."""
+
+
+def encode(message: dict) -> str:
+    """``message`` as its websocket text frame (JSON, as starlette's ``send_json`` writes it).
+
+    >>> encode({"type": "ack", "id": 1, "ref": "ping"})
+    '{"type":"ack","id":1,"ref":"ping"}'
+    """
+    return json.dumps(message, separators=(",", ":"), ensure_ascii=False)
+
+
+def error(code: protocol.ErrorCode, text: str, id: object = None, ref: str | None = None) -> dict:
+    """An ``error`` reply: ``id`` only if it is a valid id, the text cut to
+    :data:`~.protocol.MAX_ERROR_TEXT` characters.
+
+    >>> error("failed", "x" * 400, id="y" * 100)["id"], len(error("failed", "x" * 400)["message"])
+    (None, 300)
+    """
+    return protocol.wire(protocol.Error(id=protocol.readable_id(id), ref=ref, code=code, message=protocol.short(text)))
 
 
 class Hub:
@@ -94,7 +173,6 @@ class Hub:
         self.thread = ThreadPoolExecutor(1, thread_name_prefix="sketchanim-model")
         self.clients: dict[int, Client] = {}
         self._numbers = iter(range(1, 2**62))
-        self._saving: asyncio.Task | None = None
 
     async def call(self, work: Callable, *args: object) -> object:
         """Run ``work(*args)`` in the model's thread, after what was queued before it."""
@@ -109,11 +187,20 @@ class Hub:
     def ready(self, ready: bool) -> None:
         self.session.ready = ready
 
+    def client(self, socket: WebSocket) -> Client:
+        """A new page on ``socket``, among the connected (its first ``state`` is the caller's to queue)."""
+        client = Client(next(self._numbers), socket, lambda: self.call(self.session.state))
+        self.clients[client.number] = client
+        return client
+
     def send(self, out: list[protocol.Out], sender: Client | None) -> None:
+        """Queue each message for its audience (serialised once for all of them)."""
         for audience, message in out:
-            for client in self.clients.values():
+            text = None
+            for client in list(self.clients.values()):
                 if audience == "all" or (audience == "others") != (client is sender):
-                    client.put(message)
+                    text = encode(message) if text is None else text
+                    client.put(message, text)
 
     async def warm(self) -> None:
         """Warm the compiled kernels (see :func:`~sketchanim.anim.warmup.warm_recorder`,
@@ -125,46 +212,91 @@ class Hub:
         self.ready = True
         self.send([("all", protocol.wire(protocol.Ready()))], None)
 
-    async def handle(self, client: Client, text: str) -> None:
-        """One message from ``client``: parsed, run, answered."""
+    async def tick(self) -> None:
+        """What time does, every :data:`TICK` seconds until cancelled: the session's
+        :meth:`~.session.Session.tick` (a silent take ends, what changed is saved, a
+        failed save is tried again) in the model thread, its messages sent."""
+        while True:
+            try:
+                self.send(await self.call(self.session.tick, time.monotonic()), None)
+            except Exception:                       # a bug: logged, and time goes on
+                log.exception("the studio's timer failed")
+            await asyncio.sleep(TICK)
+
+    async def save(self) -> None:
+        """Save now (in the model thread) and send what the save says."""
+        self.send(await self.call(self.session.save), None)
+
+    async def handle(self, client: Client, frame: str | bytes) -> None:
+        """One frame from ``client``: parsed, run, answered (an error reply for anything
+        refused; the socket stays open)."""
+        self.thread.submit(self.session.heard, client.number, time.monotonic())    # in order with the model's calls
         if not client.allowed():
-            client.put(protocol.wire(protocol.Error(id=None, ref=None, code="rate",
-                                                    message=f"more than {RATE:.0f} messages a second; "
-                                                            "this one was dropped")))
+            client.put(error("rate", f"more than {RATE:.0f} messages a second; this one was dropped"))
             return
         try:
-            message = protocol.parse(text)
+            message = protocol.parse(frame)
         except protocol.BadMessage as err:
-            code = "too_large" if len(text) > protocol.MAX_MESSAGE_BYTES else "bad_message"
-            client.put(protocol.wire(protocol.Error(id=err.id, ref=err.type, code=code, message=str(err))))
+            client.put(error(err.code, str(err), err.id, err.type))
             return
         try:
             out = await self.call(handle, self.session, message, client.number)
         except InputError as err:
-            code = error_code(message, err, self.session)
-            client.put(protocol.wire(protocol.Error(id=message.id, ref=message.type, code=code, message=str(err))))
+            client.put(error(error_code(message, err, self.session), str(err), message.id, message.type))
+            return
+        except Exception as err:                    # a bug of the server's, not the page's: logged with its traceback
+            log.exception("%s from page %d failed", message.type, client.number)
+            client.put(error("failed", f"the server failed to carry out {message.type} "
+                                       f"({type(err).__name__}); see the server's log", message.id, message.type))
             return
         self.send(out, client)
         if message.id is not None:
             client.put(protocol.wire(protocol.Ack(id=message.id, ref=message.type)))
-        self.autosave(0.0 if message.type == "take.end" else 0.5)
+        if message.type in ("take.end", "take.cancel"):
+            await self.save()                       # a take's end is on disk at once
 
-    def autosave(self, delay: float) -> None:
-        """Save ``delay`` seconds from now if anything changed (one save for a burst of
-        changes; after a take at once, its answer sent first)."""
-        if self.session.dirty and (self._saving is None or self._saving.done()):
-            async def later() -> None:
-                await asyncio.sleep(delay)
-                await self.call(self.session.save)
-            self._saving = asyncio.get_running_loop().create_task(later())
+    async def read(self, client: Client) -> None:
+        """Handle ``client``'s frames until its page goes away."""
+        while True:
+            frame = await client.socket.receive()
+            if frame["type"] == "websocket.disconnect":
+                return
+            data = frame.get("text")
+            await self.handle(client, data if data is not None else frame.get("bytes") or b"")
 
     async def leave(self, client: Client) -> None:
-        """A page went away: a take it was recording ends as if released (kept), what it
-        previewed without a set goes back (:meth:`Session.leave`)."""
+        """A page went away: a take it was recording ends as if released (kept, and
+        saved at once), what it previewed without a set goes back
+        (:meth:`Session.leave`)."""
         self.clients.pop(client.number, None)
-        out = await self.call(self.session.leave, client.number)
-        self.send(out, None)
-        self.autosave(0.0)
+        self.send(await self.call(self.session.leave, client.number), None)
+        await self.save()
+
+    async def serve(self, socket: WebSocket) -> None:
+        """A page's socket, accepted: its first ``state``, then its frames and what goes
+        out to it, until it goes away or reads nothing for :data:`SEND_TIMEOUT` seconds
+        (then closed, code 1008)."""
+        client = self.client(socket)
+        reader = pump = None
+        try:
+            client.put(await self.call(self.session.state))
+            reader = asyncio.ensure_future(self.read(client))
+            pump = asyncio.ensure_future(client.pump())
+            await asyncio.wait((reader, pump), return_when=asyncio.FIRST_COMPLETED)
+            if pump.done() and pump.exception() is not None:
+                log.warning("%s: its socket is closed", pump.exception())
+                with contextlib.suppress(Exception):
+                    await asyncio.wait_for(socket.close(code=1008), 1.0)
+            elif reader.done() and reader.exception() is not None:
+                raise reader.exception()
+        except WebSocketDisconnect:
+            pass
+        finally:
+            for task in (reader, pump):
+                if task is not None:
+                    task.cancel()
+            with anyio.CancelScope(shield=True):     # a take the page was recording is kept, even on a cancel
+                await self.leave(client)
 
 
 def same_origin(origin: str | None, host: str | None) -> bool:
@@ -214,13 +346,15 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        task = asyncio.get_running_loop().create_task(hub.warm()) if warm else None
+        loop = asyncio.get_running_loop()
+        tasks = [loop.create_task(hub.tick())] + ([loop.create_task(hub.warm())] if warm else [])
         hub.ready = not warm
         try:
             yield
         finally:
-            if task is not None:
+            for task in tasks:
                 task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
             await hub.call(hub.session.close if close else hub.session.flush)
 
     app = FastAPI(title="sketchanim studio", lifespan=lifespan)
@@ -251,22 +385,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             await socket.close(code=1008)           # before accept: the handshake is refused (403)
             return
         await socket.accept()
-        client = Client(next(hub._numbers), socket)
-        hub.clients[client.number] = client
-        client.put(await hub.call(hub.session.state))
-        pump = asyncio.get_running_loop().create_task(client.pump())
-        try:
-            while True:
-                frame = await socket.receive()
-                if frame["type"] == "websocket.disconnect":
-                    break
-                await hub.handle(client, frame.get("text") or (frame.get("bytes") or b"").decode("utf-8", "replace"))
-        except WebSocketDisconnect:
-            pass
-        finally:
-            pump.cancel()
-            with anyio.CancelScope(shield=True):     # a take the page was recording is kept, even on a cancel
-                await hub.leave(client)
+        await hub.serve(socket)
 
     for url, folder, html in (("/vendor/three", THREE, False), ("/", WEB, True)):
         if folder.is_dir():                         # three.js comes with scripts/setup; the page with the package

@@ -12,15 +12,21 @@ string for discrete attributes.
 
 from __future__ import annotations
 
-import json
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, StrictBool, TypeAdapter, ValidationError
 
 from sketchanim.anim.tracks import BLEND, MODES
+from sketchanim.errors import load_json
 
-#: Largest message the server reads, in bytes.
+#: Largest message the server reads, in bytes of UTF-8 (larger: ``too_large``).
 MAX_MESSAGE_BYTES = 2**20
+#: Largest websocket frame the server takes in at all, in bytes (uvicorn's ``ws_max_size``):
+#: a frame up to it that is over :data:`MAX_MESSAGE_BYTES` is answered ``too_large`` on a
+#: socket that stays open; a larger one closes the socket (code 1009).
+MAX_FRAME_BYTES = 16 * 2**20
+#: Longest text of an error's ``message``, in characters (what the page sent is never echoed whole).
+MAX_ERROR_TEXT = 300
 #: Most samples in one ``take.samples`` batch.
 MAX_BATCH = 10_000
 #: Most attributes armed in one take.
@@ -493,17 +499,62 @@ def message_fields(model: type[BaseModel]) -> tuple[str, frozenset[str]]:
     return model.model_fields["type"].annotation.__args__[0], frozenset(model.model_fields)
 
 
-class BadMessage(ValueError):
-    """A message that does not parse; ``id`` and ``type`` are what could be read of it."""
+#: The ``type`` of every message a page may send (an error's ``ref`` is one of these, or None).
+TYPES = frozenset(message_fields(model)[0] for model in get_args(get_args(Message)[0]))
+_ID: TypeAdapter = TypeAdapter(Id)
 
-    def __init__(self, message: str, id: object = None, type: object = None) -> None:
-        super().__init__(message)
-        self.id = id if isinstance(id, (int, str)) and not isinstance(id, bool) else None
-        self.type = type if isinstance(type, str) and len(type) <= 64 else None
+
+def short(text: str, limit: int = MAX_ERROR_TEXT) -> str:
+    """``text`` cut to ``limit`` characters (an ellipsis says it was cut).
+
+    >>> short("x" * 1000, 10), short("ok")
+    ('xxxxxxxxx…', 'ok')
+    """
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def readable_id(value: object) -> Id | None:
+    """``value`` if it is a valid ``id`` (an int within ±2**53, a string of up to 64), else None.
+
+    >>> readable_id(7), readable_id("x" * 65), readable_id(2**60), readable_id(True)
+    (7, None, None, None)
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, str)):
+        return None
+    try:
+        return _ID.validate_python(value, strict=True)
+    except ValidationError:
+        return None
+
+
+class BadMessage(ValueError):
+    """A message that does not parse; ``id`` and ``type`` are what could be read of it
+    (None unless a valid id and a known type), ``code`` the error's (``too_large`` or
+    ``bad_message``), the text at most :data:`MAX_ERROR_TEXT` characters."""
+
+    def __init__(self, message: str, id: object = None, type: object = None,
+                 code: ErrorCode = "bad_message") -> None:
+        super().__init__(short(message))
+        self.id = readable_id(id)
+        self.type = type if isinstance(type, str) and type in TYPES else None
+        self.code = code
+
+
+def utf8_size(text: str) -> int:
+    """How many bytes ``text`` is in UTF-8 (a lone surrogate counted as its 3 bytes).
+
+    >>> utf8_size("abc"), utf8_size("é"), utf8_size(chr(0xD800))
+    (3, 2, 3)
+    """
+    return len(text.encode("utf-8", "surrogatepass"))
 
 
 def parse(text: str | bytes) -> Message:
-    """The message in ``text``; :class:`BadMessage` naming the first bad field.
+    """The message in ``text`` (a text frame, or a binary one: UTF-8); :class:`BadMessage`
+    naming the first bad field, and never another exception: over
+    :data:`MAX_MESSAGE_BYTES` bytes it is ``too_large``; bytes that are not UTF-8, JSON
+    that is not an object, nested deeper or with longer integers than
+    :func:`~sketchanim.errors.load_json` reads are ``bad_message``.
 
     >>> parse('{"type": "ping", "id": 3}')
     Ping(id=3, type='ping')
@@ -515,18 +566,27 @@ def parse(text: str | bytes) -> Message:
     Traceback (most recent call last):
     ...
     sketchanim.studio.protocol.BadMessage: set.extra: Extra inputs are not permitted
+    >>> parse('{"type": "ping", "id": ' + "9" * 5000 + '}')
+    Traceback (most recent call last):
+    ...
+    sketchanim.studio.protocol.BadMessage: not JSON: message: an integer of 5000 digits (at most 300)
+    >>> parse("é" * 600_000)
+    Traceback (most recent call last):
+    ...
+    sketchanim.studio.protocol.BadMessage: message of 1200000 bytes is over the limit of 1048576
     """
-    if len(text) > MAX_MESSAGE_BYTES:
-        raise BadMessage(f"message of {len(text)} bytes is over the limit of {MAX_MESSAGE_BYTES}")
+    size = len(text) if isinstance(text, bytes) or len(text) > MAX_MESSAGE_BYTES else utf8_size(text)
+    if size > MAX_MESSAGE_BYTES:
+        raise BadMessage(f"message of {size} bytes is over the limit of {MAX_MESSAGE_BYTES}", code="too_large")
     try:
-        raw = json.loads(text)
-    except (json.JSONDecodeError, UnicodeDecodeError) as err:
+        raw = load_json(text, "message")
+    except (ValueError, RecursionError) as err:      # not UTF-8, not JSON, too deep, too long an integer
         raise BadMessage(f"not JSON: {err}") from None
     if not isinstance(raw, dict):
         raise BadMessage(f"a message is a JSON object with a type, got {type(raw).__name__}")
     try:
         return _ADAPTER.validate_python(raw)
     except ValidationError as err:
-        first = err.errors()[0]
-        where = ".".join(str(p) for p in first["loc"]) or "message"
+        first = err.errors(include_url=False, include_input=False)[0]
+        where = ".".join(short(str(p), 64) for p in first["loc"]) or "message"
         raise BadMessage(f"{where}: {first['msg']}", raw.get("id"), raw.get("type")) from None

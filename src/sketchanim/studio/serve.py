@@ -11,7 +11,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from sketchanim.studio.app import create_app
-from sketchanim.studio.protocol import MAX_MESSAGE_BYTES
+from sketchanim.studio.protocol import MAX_FRAME_BYTES
 
 
 def has_display() -> bool:
@@ -47,5 +47,5 @@ def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str
     say(f"sketchanim studio: {session.path}{mode} at {url} (Ctrl-C stops it); exports go to {session.exports}")
     if browser and has_display():
         threading.Timer(1.0, webbrowser.open, (url,)).start()
-    config = uvicorn.Config(app, log_level="warning", ws_max_size=4 * MAX_MESSAGE_BYTES, ws_ping_interval=20)
+    config = uvicorn.Config(app, log_level="warning", ws_max_size=MAX_FRAME_BYTES, ws_ping_interval=20)
     uvicorn.Server(config).run(sockets=[sock])         # the app closes the project when it stops
