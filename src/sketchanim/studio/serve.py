@@ -10,6 +10,8 @@ import webbrowser
 from collections.abc import Callable
 from pathlib import Path
 
+import uvicorn
+
 from sketchanim.studio.app import create_app
 from sketchanim.studio.protocol import MAX_FRAME_BYTES
 
@@ -25,14 +27,23 @@ def has_display() -> bool:
     return True
 
 
+def server_config(app: object, **options: object) -> uvicorn.Config:
+    """uvicorn's settings for the studio app: frames up to
+    :data:`~.protocol.MAX_FRAME_BYTES` (larger close the socket, 1009), a ping every 20 s
+    (``options``: more of uvicorn's, such as ``host`` and ``port``).
+
+    >>> server_config(object()).ws_max_size == MAX_FRAME_BYTES
+    True
+    """
+    return uvicorn.Config(app, log_level="warning", ws_max_size=MAX_FRAME_BYTES, ws_ping_interval=20, **options)
+
+
 def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str], object] = print, *,
           read_only: bool | None = None, exports: Path | None = None) -> None:
     """Serve the studio for ``project`` on ``host:port`` until interrupted; open the page
     in a browser if ``browser`` and there is a display. ``read_only`` and ``exports``:
     as :class:`~.session.Session` takes them. The port is bound first, so a busy one
     fails here (:class:`OSError`) before anything else starts."""
-    import uvicorn
-
     family = socket.AF_INET6 if ":" in host else socket.AF_INET
     sock = socket.socket(family, socket.SOCK_STREAM)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
@@ -47,5 +58,4 @@ def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str
     say(f"sketchanim studio: {session.path}{mode} at {url} (Ctrl-C stops it); exports go to {session.exports}")
     if browser and has_display():
         threading.Timer(1.0, webbrowser.open, (url,)).start()
-    config = uvicorn.Config(app, log_level="warning", ws_max_size=MAX_FRAME_BYTES, ws_ping_interval=20)
-    uvicorn.Server(config).run(sockets=[sock])         # the app closes the project when it stops
+    uvicorn.Server(server_config(app)).run(sockets=[sock])         # the app closes the project when it stops
