@@ -283,12 +283,14 @@ class Hub:
             reader = asyncio.ensure_future(self.read(client))
             pump = asyncio.ensure_future(client.pump())
             await asyncio.wait((reader, pump), return_when=asyncio.FIRST_COMPLETED)
-            if pump.done() and pump.exception() is not None:
+            if pump.done() and isinstance(pump.exception(), Unread):
                 log.warning("%s: its socket is closed", pump.exception())
-                with contextlib.suppress(Exception):
+                with contextlib.suppress(Exception):          # the close frame may not get through either
                     await asyncio.wait_for(socket.close(code=1008), 1.0)
-            elif reader.done() and reader.exception() is not None:
-                raise reader.exception()
+            else:
+                for task in (reader, pump):
+                    if task.done() and task.exception() is not None:
+                        raise task.exception()
         except WebSocketDisconnect:
             pass
         finally:
