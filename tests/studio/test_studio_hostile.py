@@ -6,23 +6,30 @@ what was acked is saved once the disk is back."""
 
 from __future__ import annotations
 
+import base64
 import errno
 import json
 import logging
+import os
+import socket
+import threading
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
+import uvicorn
 from fastapi.testclient import TestClient
 from test_studio_protocol import receive_until
 
 from sketchanim.project.store import Project
+from sketchanim.studio import app as studio_app
 from sketchanim.studio import saving
 from sketchanim.studio import session as studio_session
 from sketchanim.studio.app import create_app
 from sketchanim.studio.protocol import MAX_ERROR_TEXT, MAX_FRAME_BYTES, MAX_MESSAGE_BYTES
-from studio_browser import studio_server
+from sketchanim.studio.serve import server_config
+from studio_browser import free_port, studio_server
 
 HOSTILE = {
     "a 5000-digit integer": '{"type": "ping", "id": ' + "9" * 5000 + "}",
@@ -105,6 +112,55 @@ def _next(ws, kind: str) -> dict:
         message = json.loads(ws.recv())
         if message["type"] == kind:
             return message
+
+
+def test_a_page_that_never_reads_is_dropped_and_the_others_go_on(tmp_path, monkeypatch, caplog):
+    from websockets.sync import client as websockets
+
+    monkeypatch.setattr(studio_app, "SEND_TIMEOUT", 1.0)
+    monkeypatch.setattr(studio_app, "MAX_QUEUED", 2**16)
+    monkeypatch.setattr(studio_app, "RATE", 1e6)
+    monkeypatch.setattr(studio_app, "BURST", 1e6)
+    caplog.set_level(logging.INFO)
+    app = create_app(tmp_path / "slow.sketchanim", warm=False)
+    port = free_port()
+    server = uvicorn.Server(server_config(app, host="127.0.0.1", port=port))
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    hub = app.state.hub
+    try:
+        while not server.started:
+            time.sleep(0.05)
+        stuck = socket.socket()
+        stuck.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        stuck.connect(("127.0.0.1", port))
+        key = base64.b64encode(os.urandom(16)).decode()
+        stuck.sendall(f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                      f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n".encode())
+        assert stuck.recv(12) == b"HTTP/1.1 101"                # and nothing more is read from it
+        with websockets.connect(f"ws://127.0.0.1:{port}/ws", max_size=None) as ws:
+            json.loads(ws.recv())
+            assert len(hub.clients) == 2
+            pad = "k" * 100
+            sent = 0
+            while len(hub.clients) == 2:                        # previews of new keys: nothing coalesces
+                for _ in range(500):
+                    ws.send(json.dumps({"type": "preview", "key": f"{sent}{pad}"[:128], "path": "box.position",
+                                        "value": [sent, 0, 0]}))
+                    sent += 1
+                ws.send(json.dumps({"type": "ping", "id": sent}))
+                assert _next(ws, "pong")["id"] == sent          # the reading page is answered all along
+                assert max(c.queued for c in list(hub.clients.values())) <= studio_app.MAX_QUEUED
+                assert sent < 2_000_000, "the page that does not read was never dropped"
+            ws.send(json.dumps({"type": "ping", "id": "after"}))
+            assert _next(ws, "pong")["id"] == "after"
+        stuck.close()
+    finally:
+        server.should_exit = True
+        thread.join(30)
+        hub.session.close()
+    assert any("has read nothing for 1 s" in r.getMessage() for r in caplog.records)
+    assert any("is not reading" in r.getMessage() for r in caplog.records)     # its backlog was dropped first
 
 
 def test_a_silent_owner_loses_its_take_kept_and_a_page_that_pings_keeps_it(client, monkeypatch):
