@@ -1,7 +1,7 @@
 """Hostile and unlucky clients through the app: every bad frame gets an error reply on a
 socket that stays open, from a page that is recording (its take goes on), with no
-traceback in the log; frame sizes through a real server (uvicorn's limit); a silent
-owner loses its take (kept); a disk that fails is told to every page, logged once, and
+traceback in the log; frame sizes through a real server (uvicorn's limit); a page that
+never reads is dropped while the others are answered; a silent owner loses its take (kept); a disk that fails is told to every page, logged once, and
 what was acked is saved once the disk is back."""
 
 from __future__ import annotations
@@ -14,7 +14,6 @@ import os
 import socket
 import threading
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -66,6 +65,8 @@ def running(ws) -> str | None:
 
 
 def test_every_hostile_frame_is_answered_on_an_open_socket_and_the_take_goes_on(client, tmp_path, caplog):
+    multibyte = HOSTILE["1.5 MiB of 'é' in under 1 MiB characters"]
+    assert len(multibyte) < MAX_MESSAGE_BYTES < len(multibyte.encode())          # bytes, not characters, count
     (tmp_path / "sub.json").mkdir()
     caplog.set_level(logging.INFO)
     with client.websocket_connect("/ws") as ws:
