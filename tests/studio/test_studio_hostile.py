@@ -237,3 +237,23 @@ def test_a_failing_disk_is_told_to_every_page_logged_once_and_the_edit_saved_whe
 
 def _value(state: dict, name: str, attribute: str) -> object:
     return {a["name"]: a["value"] for o in state["objects"] if o["name"] == name for a in o["attributes"]}[attribute]
+
+
+def test_a_server_bug_answers_failed_and_logs_its_traceback_once(client, monkeypatch, caplog):
+    from sketchanim.studio import handlers
+
+    def broken(session, message, number):  # noqa: ANN001, ANN202
+        raise ZeroDivisionError("a bug")
+
+    monkeypatch.setitem(handlers.HANDLERS, "undo", broken)
+    caplog.set_level(logging.INFO)
+    with client.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        ws.send_json({"type": "undo", "id": 5})
+        error, _ = receive_until(ws, "error")
+        ws.send_json({"type": "ping", "id": 6})
+        assert receive_until(ws, "pong")[0]["id"] == 6
+    assert error["code"] == "failed" and error["id"] == 5 and error["ref"] == "undo"
+    assert "ZeroDivisionError" in error["message"] and "a bug" not in error["message"]
+    traced = [r for r in caplog.records if r.exc_info is not None]
+    assert len(traced) == 1 and traced[0].levelno == logging.ERROR and traced[0].exc_info[0] is ZeroDivisionError
