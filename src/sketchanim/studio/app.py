@@ -116,30 +116,33 @@ class Client:
         self.queued -= len(text)
         return text
 
-    async def _send(self, text: str) -> None:
+    async def _send(self, text: str) -> bool:
+        """Send ``text``; False if the page went away (the reader sees it too)."""
         try:
             await asyncio.wait_for(self.socket.send_text(text), SEND_TIMEOUT)
         except TimeoutError:
             raise Unread(f"page {self.number} has read nothing for {SEND_TIMEOUT:g} s") from None
+        except (WebSocketDisconnect, OSError, RuntimeError):    # gone, or closed: starlette's RuntimeError
+            return False
+        return True
 
     async def pump(self) -> None:
         """Send what is queued, in order, then the latest previews, until the page goes
         away (returns) or stops reading (:class:`Unread`)."""
-        try:
-            while True:
-                await self.wake.wait()
-                self.wake.clear()
-                while self.stale or self.queue or self.previews:
-                    if self.stale:
-                        state = await self.fresh()          # after every model call whose messages were dropped
-                        self.queue.clear()                  # put meanwhile: older than the state (or not model news)
-                        self.previews.clear()
-                        self.queued, self.stale = 0, False
-                        await self._send(encode(state))
-                    else:
-                        await self._send(self._next())
-        except (WebSocketDisconnect, OSError, RuntimeError):    # the page went away (the reader sees it too)
-            return
+        while True:
+            await self.wake.wait()
+            self.wake.clear()
+            while self.stale or self.queue or self.previews:
+                if self.stale:
+                    state = await self.fresh()          # after every model call whose messages were dropped
+                    self.queue.clear()                  # put meanwhile: older than the state (or not model news)
+                    self.previews.clear()
+                    self.queued, self.stale = 0, False
+                    text = encode(state)
+                else:
+                    text = self._next()
+                if not await self._send(text):
+                    return
 
 
 class Unread(Exception):
