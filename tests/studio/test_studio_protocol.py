@@ -173,7 +173,7 @@ def test_autosave_and_relays(client, tmp_path):
         assert transport == {"type": "transport", "time": 1.5, "playing": True, "speed": 0.5, "loop": [1.0, 3.0],
                              "count_in": 0.0, "capture_speed": 1.0, "mode": "replace", "loop_record": False,
                              "smoothing": 0.0}
-        time.sleep(1.0)                                                  # autosave: half a second after a change
+        time.sleep(1.0)                                                  # saved within a tick (0.25 s) of a change
         with Project(tmp_path / "p.sketchanim", create=False) as project:
             scene, _ = project.load()
         assert scene.get("cam.fov").tolist() == [35.0]
