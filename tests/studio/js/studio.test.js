@@ -119,6 +119,7 @@ test('capture speed slows the transport while performing; the count-in delays th
   assert.ok(begin.time >= 0 && begin.time < 0.02);
   const t = c.of('take.samples').flatMap((m) => m.t);
   assert.ok(Math.abs(t[1] - t[0] - 0.008) < 1e-9, 'samples are 8 ms of transport time apart at half speed');
+  s.performer.release();                             // the take ends (its heartbeat with it)
 });
 
 test('loop recording: each pass of the loop is a take with the same loop key', () => {
