@@ -110,7 +110,7 @@ export class Studio {
   }
 
   /**
-   * Show the animator something the page itself found (a notice like the server's).
+   * Show the animator a notice: the server's, or one the page itself found.
    * @param {import('./messages.js').NoticeLevel} level
    * @param {string} text
    * @param {string} source
@@ -199,10 +199,7 @@ export class Studio {
         this.errors.push(m);
         this.signals.emit('error', m);
         break;
-      case 'notice':
-        this.notices.push(m);
-        this.signals.emit('notice', m);
-        break;
+      case 'notice': this.tell(m.level, m.text, m.source); break;
       case 'saved': this.keepSaved(m); break;
       case 'take.started': case 'pong': case 'ack': case 'exported': break;    // nothing to show
       default: {
