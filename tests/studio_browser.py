@@ -41,13 +41,13 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def start_studio(project: Path, port: int, log: IO) -> subprocess.Popen:
-    """``sketchanim studio PROJECT --port PORT`` in a process group of its own (so that
+def start_studio(project: Path, port: int, log: IO, *options: str) -> subprocess.Popen:
+    """``sketchanim studio PROJECT --port PORT`` (and ``options``) in a process group of its own (so that
     ``os.killpg`` ends it with its reducer processes), its output to ``log``; returned
     once ``/api/ready`` says it is ready (RuntimeError with its output if it exits, or
     is not ready in 120 s)."""
     cli = Path(sys.executable).with_name("sketchanim")
-    proc = subprocess.Popen([str(cli), "studio", str(project), "--port", str(port), "--no-browser"],
+    proc = subprocess.Popen([str(cli), "studio", str(project), "--port", str(port), "--no-browser", *options],
                             cwd=project.parent, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     url = f"http://127.0.0.1:{port}/"
     deadline = time.monotonic() + 120
@@ -67,13 +67,13 @@ def start_studio(project: Path, port: int, log: IO) -> subprocess.Popen:
 
 
 @contextmanager
-def studio_server(project: Path) -> Iterator[str]:
-    """``sketchanim studio PROJECT`` in a process of its own (:func:`start_studio`);
-    yields its URL, and stops it after."""
+def studio_server(project: Path, *options: str) -> Iterator[str]:
+    """``sketchanim studio PROJECT`` (and ``options``) in a process of its own
+    (:func:`start_studio`); yields its URL, and stops it after."""
     port = free_port()
     log = project.with_name(project.name + ".log")
     with log.open("w") as out:
-        proc = start_studio(project, port, out)
+        proc = start_studio(project, port, out, *options)
         try:
             yield f"http://127.0.0.1:{port}/"
         finally:

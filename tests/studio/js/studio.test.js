@@ -2,53 +2,7 @@
 // The page's state machine without a browser: a fake connection records what it sends.
 import test from 'node:test';
 import assert from 'node:assert/strict';
-import { Studio } from '../../../src/sketchanim/studio/web/js/Studio.js';
-
-class FakeConnection {
-  constructor() {
-    /** @type {any[]} */
-    this.sent = [];
-    this.connected = true;
-    /** @type {(m: import('../../../src/sketchanim/studio/web/js/messages.js').ServerMessage) => void} */
-    this.onMessage = () => {};
-  }
-
-  /** @param {(m: any) => void} onMessage @param {(open: boolean) => void} _onStatus */
-  connect(onMessage, _onStatus) { this.onMessage = onMessage; }
-
-  /** @param {any} m */
-  send(m) { this.sent.push(m); }
-
-  /** @param {import('../../../src/sketchanim/studio/web/js/messages.js').ServerMessage} m */
-  receive(m) { this.onMessage(m); }
-
-  /** @param {string} type */
-  of(type) { return this.sent.filter((m) => m.type === type); }
-}
-
-const POSITION = { name: 'position', dim: 3, tol: 0.005, unit: 'scene units', default: [0, 0, 0], choices: [], continuous: true };
-
-function studio() {
-  const c = new FakeConnection();
-  const s = new Studio(c);
-  c.receive({ type: 'state', ready: true, project: 'p', span: [0, 0], tracks: [], take: null, tolerances: {},
-    history: { undo: [], redo: [], can_undo: false, can_redo: false },
-    transport: { time: 0, playing: false, speed: 1, loop: null, count_in: 0, capture_speed: 1, mode: 'replace', loop_record: false, smoothing: 0 },
-    objects: [{ name: 'box', kind: 'object', attributes: [{ name: 'position', value: [0, 0.5, 0], type: POSITION }] }] });
-  return { s, c };
-}
-
-/** Run frames every 16 ms from `from` to `to` (ms after `t0`), moving the box along x on a
- * pointer event 4 ms before each frame. */
-function frames(/** @type {Studio} */ s, /** @type {number} */ t0, /** @type {number} */ from, /** @type {number} */ to) {
-  for (let ms = from; ms <= to; ms += 16) {
-    if (s.performer.grab) {
-      s.setLocal('box.position', [ms / 1000, 0.5, 0]);
-      s.performer.mark(t0 + ms - 4);
-    }
-    s.frame(t0 + ms);
-  }
-}
+import { frames, studio } from './fake_studio.mjs';
 
 test("a hold in record mode is a take: each event's values at the event's transport time, sent in batches", () => {
   const { s, c } = studio();
@@ -119,6 +73,7 @@ test('capture speed slows the transport while performing; the count-in delays th
   assert.ok(begin.time >= 0 && begin.time < 0.02);
   const t = c.of('take.samples').flatMap((m) => m.t);
   assert.ok(Math.abs(t[1] - t[0] - 0.008) < 1e-9, 'samples are 8 ms of transport time apart at half speed');
+  s.performer.release();                             // the take ends (its heartbeat with it)
 });
 
 test('loop recording: each pass of the loop is a take with the same loop key', () => {

@@ -2,7 +2,8 @@
 /**
  * The live stream: one websocket to the server's /ws, JSON messages both ways (messages.js).
  * Messages sent while the socket is (re)connecting wait in order; a dropped socket is
- * reopened with a growing delay.
+ * reopened with a growing delay (whatever closed it: the server closes a socket that sent a
+ * frame over its transport limit with code 1009, and the page reconnects as after any drop).
  */
 
 /** @typedef {import('./messages.js').PageMessage} PageMessage */
@@ -19,15 +20,15 @@ export class Connection {
     this.delay = 250;
     /** @type {(m: ServerMessage) => void} */
     this.onMessage = () => {};
-    /** @type {(open: boolean) => void} */
+    /** @type {(open: boolean, code?: number) => void} */
     this.onStatus = () => {};
   }
 
   /**
    * Open the socket (and reopen it whenever it drops): every message received goes to
-   * `onMessage`, every opening and closing to `onStatus`.
+   * `onMessage`, every opening and closing (with the close code) to `onStatus`.
    * @param {(m: ServerMessage) => void} onMessage
-   * @param {(open: boolean) => void} onStatus
+   * @param {(open: boolean, code?: number) => void} onStatus
    */
   connect(onMessage, onStatus) {
     this.onMessage = onMessage;
@@ -44,8 +45,8 @@ export class Connection {
       this.onStatus(true);
     });
     socket.addEventListener('message', (event) => this.onMessage(/** @type {ServerMessage} */ (JSON.parse(event.data))));
-    socket.addEventListener('close', () => {
-      this.onStatus(false);
+    socket.addEventListener('close', (event) => {
+      this.onStatus(false, event.code);
       setTimeout(() => this.open(), this.delay);
       this.delay = Math.min(this.delay * 2, 4000);
     });

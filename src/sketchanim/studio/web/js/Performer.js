@@ -13,6 +13,10 @@
  * frame's time. A device (a hold with a `drive`) moves the values
  * on the frame: a sample at the frame's time. The take's tolerance per attribute is what
  * the input resolves there (the hold's `resolve`, resolution.js), or the animator's.
+ *
+ * In a read-only project a hold moves its attributes in the page only and sends nothing (its
+ * release shows the server's values again). While this page records a take it pings the
+ * server every second (BEAT_MS); a take the server ended (`ended`) stops here too.
  */
 import { takeTolerance } from './resolution.js';
 import { TakeSampler } from './take.js';
@@ -34,6 +38,16 @@ export const SMOOTHING = /** @type {const} */ ([[0, 'off'], [0.02, 'light'], [0.
 export const REST = 25;
 /** Events a hold keeps the intervals of (the pointer's own rate). */
 const PACE = 16;
+/** Milliseconds between the pings of a page recording a take, samples or not: the server ends
+ * (and keeps) the take of a page silent for 5 s (its SILENCE). A timer, not the frame loop: a
+ * background tab's timers still fire once a second, its frames not at all. */
+export const BEAT_MS = 1000;
+/** What the animator is told when the server ended this page's take, by its reason. */
+const ENDED = {
+  silent: 'take kept: the server ended it — no frames from this page for 5 s',
+  shutdown: 'take kept: the server is stopping — it ended the take',
+  gone: 'take kept: the connection dropped — the server ended the take',
+};
 
 /**
  * @typedef {object} Grab   Something the performer holds.
@@ -50,6 +64,7 @@ const PACE = 16;
  * @property {number} lastEvent  performance.now() of the last of them (the press, before any)
  * @property {number[]} paces  ms between the hold's last events
  * @property {number} events  events marked so far
+ * @property {boolean} inert  sends nothing (a read-only project; the server ended its take): the release shows the server's values
  */
 
 export class Performer {
@@ -66,6 +81,8 @@ export class Performer {
     this.smoothing = 0;
     this.takeCount = 0;
     this.lastFrame = -Infinity;
+    /** @type {ReturnType<typeof setInterval> | null} the heartbeat while this page records a take */
+    this.beat = null;
     /** @type {number[]} the last frame intervals, ms */
     this.intervals = [];
     studio.signals.on('record', (on) => {
@@ -122,7 +139,7 @@ export class Performer {
   hold(paths, label, drive = null, resolve = null) {
     if (this.grab) this.release();
     this.grab = { paths, label, changed: drive !== null, dirty: false, recordable: true, take: null, loopKey: null, drive,
-      resolve, marks: [], lastEvent: performance.now(), paces: [], events: 0 };
+      resolve, marks: [], lastEvent: performance.now(), paces: [], events: 0, inert: this.studio.readOnly };
     return this.grab;
   }
 
@@ -173,10 +190,16 @@ export class Performer {
     return out;
   }
 
-  /** Let go of what is held: ends its take, or sends its edit outside record mode. */
+  /** Let go of what is held: ends its take, or sends its edit outside record mode (an inert
+   * hold: nothing, the server's values shown again). */
   release() {
     const grab = this.grab;
     if (!grab) return;
+    if (grab.inert) {
+      this.grab = null;
+      this.studio.revert(grab.paths);
+      return;
+    }
     const now = performance.now();
     const took = !!grab.take;
     if (grab.take) this.endTake(grab, now);
@@ -208,6 +231,20 @@ export class Performer {
     s.send({ type: 'take.begin', take: id, paths: grab.paths, mode: this.mode, blend: BLEND, time,
       speed: s.transport.captureSpeed, tol, loop: grab.loopKey, gap: grab.take.gap,
       smoothing: this.smoothing });
+    this.heartbeat(true);
+  }
+
+  /**
+   * While this page records a take, a ping every BEAT_MS whether samples go or not (the
+   * server's silence rule then ends only the takes of pages gone or frozen).
+   * @param {boolean} on
+   */
+  heartbeat(on) {
+    if (on && this.beat === null) this.beat = setInterval(() => this.studio.send({ type: 'ping' }), BEAT_MS);
+    if (!on && this.beat !== null) {
+      clearInterval(this.beat);
+      this.beat = null;
+    }
   }
 
   /**
@@ -223,6 +260,25 @@ export class Performer {
     this.studio.send({ type: 'take.end', take: take.id, label: `take ${grab.label}` });
     this.studio.endedTake(take, now);
     grab.take = null;
+    this.heartbeat(false);
+  }
+
+  /**
+   * The server ended this page's take (`reason`: the page fell silent, its socket went, the
+   * server stops) and kept it: nothing more is sent for it, record mode goes off, the hold
+   * still in the animator's hand sends nothing more, and a notice says what happened.
+   * @param {NonNullable<import('./messages.js').TakeEnded['reason']>} reason
+   */
+  ended(reason) {
+    const grab = this.grab;
+    const take = grab?.take;
+    if (!grab || !take) return;
+    this.studio.endedTake(take, performance.now());
+    grab.take = null;
+    grab.inert = true;
+    this.heartbeat(false);
+    this.studio.tell('warning', ENDED[/** @type {keyof ENDED} */ (reason)] ?? `take kept: the server ended it (${reason})`, 'take');
+    this.studio.transport.setRecord(false);
   }
 
   /**
@@ -256,6 +312,7 @@ export class Performer {
     if (!grab?.take) return;
     grab.take = null;
     grab.recordable = false;
+    this.heartbeat(false);
     this.studio.revert(grab.paths);
   }
 
@@ -311,7 +368,11 @@ export class Performer {
     const transport = this.studio.transport;
     if (!grab) return;
     if (grab.drive) grab.drive(dt, now);
-    if (transport.record && !grab.take && grab.recordable && !this.studio.remoteTake && transport.clock.playing
+    if (grab.inert) {
+      grab.marks.length = 0;
+      return;
+    }
+    if (transport.record && !grab.take && grab.recordable && !this.studio.lock && transport.clock.playing
       && time >= transport.punchFrom) {
       this.beginTake(grab, time);
     }

@@ -22,6 +22,13 @@ import { Transport } from './Transport.js';
 /** @typedef {import('./messages.js').TakePiece} TakePiece */
 /** @typedef {import('./take.js').TakeSampler} TakeSampler */
 /** @typedef {Pick<import('./Connection.js').Connection, 'connect' | 'send' | 'connected'>} Link  what the studio needs of a connection */
+/** @typedef {import('./messages.js').Saved} Saved */
+/**
+ * @typedef {object} Lock   Why this page cannot record now (the banner over the view says it).
+ * @property {'read-only' | 'remote'} kind  a read-only project (no edits either), or another page's take
+ * @property {string} text    the banner's
+ * @property {string} title   the REC button's tooltip
+ */
 /**
  * @typedef {object} TakeLog   A take the page sent, for the curve view, tests and benchmarks.
  * @property {string} id
@@ -31,6 +38,9 @@ import { Transport } from './Transport.js';
  * @property {string | null} label History's label (null: refused or cancelled)
  * @property {number | null} serverMs the server's time from the release's message to the final curve
  */
+
+/** The close code of a socket the server closed for a frame over its transport limit (16 MiB). */
+export const TOO_BIG = 1009;
 
 export class Studio {
   /** @param {Link} connection */
@@ -49,6 +59,10 @@ export class Studio {
     this.served = new Map();
     /** @type {import('./messages.js').TakeInProgress | null} the take another page is recording (this one cannot) */
     this.remoteTake = null;
+    /** The project cannot be written: it plays and exports; this page sends no edits. */
+    this.readOnly = false;
+    /** @type {Saved} whether everything is on disk (the server keeps what is not, and retries) */
+    this.saved = { type: 'saved', ok: true, error: null, since: null };
     /** @type {Map<string, Track>} */
     this.tracks = new Map();
     this.packed = pack([]);
@@ -80,7 +94,48 @@ export class Studio {
     this.playMs = 0;
     this.transport = new Transport(this);
     this.performer = new Performer(this);
-    connection.connect((m) => this.receive(m), (open) => this.signals.emit('connection', open));
+    connection.connect((m) => this.receive(m), (open, code) => this.connectionChanged(open, code));
+  }
+
+  /**
+   * The socket opened, or closed (with its close code): reconnecting is the Connection's
+   * job. A take this page was recording ends with the socket (the server keeps it).
+   * @param {boolean} open
+   * @param {number} [code]
+   */
+  connectionChanged(open, code) {
+    if (!open && this.performer.grab?.take) this.performer.ended('gone');    // the server ends it as the socket goes
+    if (code === TOO_BIG) this.tell('error', 'a message was too large for the connection (over 16 MiB): it was reset and reconnects', 'connection');
+    this.signals.emit('connection', open);
+  }
+
+  /**
+   * Show the animator a notice: the server's, or one the page itself found.
+   * @param {import('./messages.js').NoticeLevel} level
+   * @param {string} text
+   * @param {string} source
+   */
+  tell(level, text, source) {
+    /** @type {import('./messages.js').Notice} */
+    const notice = { type: 'notice', level, text, source };
+    this.notices.push(notice);
+    this.signals.emit('notice', notice);
+  }
+
+  /**
+   * Why this page cannot record now (and, for a read-only project, edit), or null.
+   * @returns {Lock | null}
+   */
+  get lock() {
+    if (this.readOnly) {
+      return { kind: 'read-only', text: 'read-only project: plays and exports; edits are refused',
+        title: 'Read-only project: takes cannot be recorded' };
+    }
+    if (this.remoteTake) {
+      return { kind: 'remote', text: '● recording in another tab · shown here read-only',
+        title: 'Another tab is recording a take: this one records once it ends' };
+    }
+    return null;
   }
 
   /** @param {PageMessage} message */
@@ -120,6 +175,7 @@ export class Studio {
       case 'take.running': this.remoteBegan(m); break;
       case 'take.ended': {
         if (this.remoteTake?.take === m.take) this.remoteEnded();
+        if (this.performer.grab?.take?.id === m.take) this.performer.ended(m.reason ?? 'end');
         const log = this.takes.find((l) => l.id === m.take);
         if (log) {
           log.final = performance.now();
@@ -143,11 +199,9 @@ export class Studio {
         this.errors.push(m);
         this.signals.emit('error', m);
         break;
-      case 'notice':
-        this.notices.push(m);
-        this.signals.emit('notice', m);
-        break;
-      case 'take.started': case 'pong': case 'ack': case 'exported': case 'saved': break;    // nothing to show
+      case 'notice': this.tell(m.level, m.text, m.source); break;
+      case 'saved': this.keepSaved(m); break;
+      case 'take.started': case 'pong': case 'ack': case 'exported': break;    // nothing to show
       default: {
         /** @type {never} */
         const unknown = m;          // tsc: every server message is handled above
@@ -172,6 +226,8 @@ export class Studio {
     }
     const own = this.performer.grab?.take?.id;
     this.remoteTake = m.take && m.take.take !== own && !this.takes.some((l) => l.id === m.take?.take) ? m.take : null;
+    this.readOnly = !!m.read_only;
+    if (m.saved) this.keepSaved(m.saved);
     this.tracks = new Map(m.tracks.map((t) => [t.path, t]));
     this.span = m.span;
     this.tolerances = new Map(Object.entries(m.tolerances));
@@ -184,7 +240,19 @@ export class Studio {
     this.signals.emit('state');
     for (const [path, value] of this.values) this.draw(path, value);
     if (this.ready) this.signals.emit('ready');
-    this.signals.emit('remote');
+    this.signals.emit('lock');
+  }
+
+  /**
+   * Whether everything is on disk, as the server says (in `state` and `saved`): back to
+   * ok after a fault, an information notice says so.
+   * @param {Saved} m
+   */
+  keepSaved(m) {
+    const was = this.saved.ok;
+    this.saved = m;
+    if (m.ok && !was) this.tell('info', 'saved', 'project');
+    this.signals.emit('saved', m);
   }
 
   /**
@@ -195,7 +263,7 @@ export class Studio {
   remoteBegan(take) {
     this.remoteTake = take;
     if (!this.performer.grab?.take) this.pieces.clear();
-    this.signals.emit('remote');
+    this.signals.emit('lock');
   }
 
   /** The other page's take ended: its track comes in a `tracks` message. */
@@ -203,7 +271,7 @@ export class Studio {
     const paths = this.remoteTake?.paths ?? [];
     this.remoteTake = null;
     this.revert(paths);
-    this.signals.emit('remote');
+    this.signals.emit('lock');
   }
 
   /**
@@ -292,6 +360,10 @@ export class Studio {
    * @param {string | null} [merge]
    */
   set(path, value, label, merge = null) {
+    if (this.readOnly) {
+      this.revert([path]);                                     // the banner says why; nothing is sent
+      return;
+    }
     this.setLocal(path, value);
     this.send({ type: 'set', path, value, label, merge });
   }
@@ -303,7 +375,7 @@ export class Studio {
    * @param {import('./resolution.js').ToleranceSetting | null} setting
    */
   setTolerance(path, setting) {
-    this.send({ type: 'tolerance.set', path, amount: setting ? setting.amount : null, unit: setting ? setting.unit : 'px' });
+    if (!this.readOnly) this.send({ type: 'tolerance.set', path, amount: setting ? setting.amount : null, unit: setting ? setting.unit : 'px' });
   }
 
   /** @param {string} name */
@@ -335,18 +407,20 @@ export class Studio {
    * @param {import('./messages.js').ObjectKind} [kind]
    */
   addObject(kind = 'object') {
+    if (this.readOnly) return;
     const names = new Set(this.objects.map((o) => o.name));
     let i = 1;
     while (names.has(`${kind}${i}`)) i += 1;
     this.send({ type: 'object.add', name: `${kind}${i}`, kind });
   }
 
+  /** Undo the last History step (the server's History reaches back to when the studio started). */
   undo() {
-    if (!this.performer.grab) this.send({ type: 'undo' });
+    if (!this.performer.grab && !this.readOnly) this.send({ type: 'undo' });
   }
 
   redo() {
-    if (!this.performer.grab) this.send({ type: 'redo' });
+    if (!this.performer.grab && !this.readOnly) this.send({ type: 'redo' });
   }
 
   // -- takes ------------------------------------------------------------------------------

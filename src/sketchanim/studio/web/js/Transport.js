@@ -5,7 +5,7 @@
  * speed, after the count-in's pre-roll). What it changes, and the record settings (count-in,
  * capture speed, the performer's layer mode and loop recording), goes to the server (kept for
  * a reload, relayed to the other pages) and out as the "transport", "settings" and "record"
- * signals. While another page records a take, record mode stays off here.
+ * signals. While another page records a take, or the project is read-only, record mode stays off here.
  */
 import { Clock } from './clock.js';
 
@@ -138,7 +138,7 @@ export class Transport {
    */
   setRecord(on) {
     const now = performance.now();
-    if (on === this.record || (on && this.studio.remoteTake)) return;
+    if (on === this.record || (on && this.studio.lock)) return;
     this.record = on;
     if (on) {
       const time = this.clock.raw(now);

@@ -7,7 +7,7 @@
  * A click on an attribute's name shows it in the curve view. Under each continuous
  * attribute, the tolerance its takes are recorded within: empty for what the input
  * resolves (resolution.js: 2 px for a pointer), or an amount in input steps (px) or in the
- * attribute's units; the project keeps it.
+ * attribute's units; the project keeps it. In a read-only project the fields are disabled.
  */
 import * as THREE from 'three';
 import { el } from './dom.js';
@@ -31,7 +31,7 @@ export class Inspector {
     this.refreshers = new Map();
     this.lastRefresh = 0;
     const signals = studio.signals;
-    for (const signal of /** @type {const} */ (['state', 'selection', 'tracks', 'attribute', 'tolerances'])) signals.on(signal, () => this.show());
+    for (const signal of /** @type {const} */ (['state', 'selection', 'tracks', 'attribute', 'tolerances', 'lock'])) signals.on(signal, () => this.show());
     signals.on('frame', (now) => {
       if (now - this.lastRefresh > 100) this.refresh(now);
     });
@@ -56,6 +56,9 @@ export class Inspector {
     this.body.replaceChildren(...obj.attributes.flatMap((a) => (a.type.continuous
       ? [this.row(obj.name, a.name, a.type), this.toleranceRow(`${obj.name}.${a.name}`, a.type)]
       : [this.row(obj.name, a.name, a.type)])));
+    for (const field of this.body.querySelectorAll('input, select')) {
+      /** @type {HTMLInputElement | HTMLSelectElement} */ (field).disabled = s.readOnly;
+    }
   }
 
   /**

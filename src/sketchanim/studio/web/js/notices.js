@@ -16,6 +16,18 @@ export const FADE_MS = 6000;
 export const MAX_SHOWN = 4;
 
 /**
+ * What a refusal's code says happened, where its code alone does not (the server's message
+ * follows). A disk failure stays until dismissed; the others are answers to something just done.
+ * @type {Record<string, {level: NoticeLevel, says: string, sticky: boolean}>}
+ */
+const REFUSALS = {
+  read_only: { level: 'warning', says: 'read-only project: edits are refused', sticky: false },
+  exists: { level: 'warning', says: 'file exists: send again with overwrite', sticky: false },
+  failed: { level: 'error', says: 'not done — the disk failed', sticky: true },
+  too_large: { level: 'error', says: 'message too large', sticky: false },
+};
+
+/**
  * How a server message is shown.
  * @param {import('./messages.js').Notice | import('./messages.js').ErrorReply} m
  * @returns {Shown}
@@ -23,9 +35,16 @@ export const MAX_SHOWN = 4;
  * @example
  * noticeOf({type: 'error', id: null, ref: 'set', code: 'refused', message: 'no box.size'});
  * // {level: 'error', text: 'refused: no box.size', source: 'set', sticky: false}
+ * noticeOf({type: 'error', id: 4, ref: 'export', code: 'exists', message: 'out.glb exists'});
+ * // {level: 'warning', text: 'file exists: send again with overwrite — out.glb exists', source: 'export', sticky: false}
  */
 export function noticeOf(m) {
-  if (m.type === 'error') return { level: 'error', text: `${m.code}: ${m.message}`, source: m.ref ?? 'server', sticky: false };
+  if (m.type === 'error') {
+    const known = REFUSALS[m.code];
+    const source = m.ref ?? 'server';
+    if (!known) return { level: 'error', text: `${m.code}: ${m.message}`, source, sticky: false };
+    return { level: known.level, text: `${known.says} — ${m.message}`, source, sticky: known.sticky };
+  }
   return { level: m.level, text: m.text, source: m.source, sticky: m.level !== 'info' };
 }
 

@@ -1,5 +1,5 @@
 // @ts-check
-/** The outliner: the scene's objects; a click selects, a dot marks the animated ones. */
+/** The outliner: the scene's objects; a click selects, a dot marks the animated ones; "+ object" adds one (not in a read-only project). */
 import { el } from './dom.js';
 
 const ICONS = { object: '◼', light: '☀', camera: '◉' };
@@ -18,6 +18,7 @@ export class Outliner {
     head.append(add);
     root.append(head, this.list);
     for (const signal of /** @type {const} */ (['state', 'selection', 'tracks'])) studio.signals.on(signal, () => this.show());
+    studio.signals.on('lock', () => { add.disabled = studio.readOnly; });
   }
 
   show() {

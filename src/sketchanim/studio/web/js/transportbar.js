@@ -63,16 +63,21 @@ export class TransportBar {
     signals.on('record', () => this.showTransport());
     signals.on('transport', () => this.showTransport());
     signals.on('settings', () => this.showSettings());
-    signals.on('remote', () => this.showTransport());
+    signals.on('lock', () => { this.showTransport(); this.showHistory(); });
     signals.on('frame', () => this.showTime());
   }
 
+  /** Undo and redo: what they would do (the History is the server's, in memory: it reaches
+   * back to when the studio started); disabled in a read-only project. */
   showHistory() {
-    const h = this.studio.history;
-    this.undoButton.disabled = !h.can_undo;
-    this.redoButton.disabled = !h.can_redo;
-    this.undoButton.title = h.can_undo ? `Undo ${h.undo[h.undo.length - 1]} (Ctrl+Z)` : 'Nothing to undo';
-    this.redoButton.title = h.can_redo ? `Redo ${h.redo[h.redo.length - 1]} (Ctrl+Shift+Z)` : 'Nothing to redo';
+    const { history: h, readOnly } = this.studio;
+    this.undoButton.disabled = !h.can_undo || readOnly;
+    this.redoButton.disabled = !h.can_redo || readOnly;
+    const since = ' · undo reaches back to when the studio started';
+    this.undoButton.title = readOnly ? 'Read-only project: nothing to undo'
+      : h.can_undo ? `Undo ${h.undo[h.undo.length - 1]} (Ctrl+Z)${since}` : `Nothing to undo${since}`;
+    this.redoButton.title = readOnly ? 'Read-only project: nothing to redo'
+      : h.can_redo ? `Redo ${h.redo[h.redo.length - 1]} (Ctrl+Shift+Z)` : 'Nothing to redo';
   }
 
   showTransport() {
@@ -83,11 +88,9 @@ export class TransportBar {
     this.playButton.textContent = t.clock.playing ? '❚❚' : '▶';
     this.loopButton.classList.toggle('on', !!t.clock.loop);
     this.speed.value = String(t.playSpeed);
-    const remote = this.studio.remoteTake;
-    this.recordButton.disabled = !!remote && !t.record;
-    this.recordButton.title = remote ? 'Another tab is recording a take: this one records once it ends'
-      : 'Record mode (R): every grab is a take';
-    document.body.classList.toggle('remote-recording', !!remote);
+    const lock = this.studio.lock;
+    this.recordButton.disabled = !!lock && !t.record;
+    this.recordButton.title = lock ? lock.title : 'Record mode (R): every grab is a take';
   }
 
   showSettings() {
