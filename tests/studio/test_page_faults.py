@@ -123,6 +123,6 @@ def test_a_failed_save_shows_in_the_header_until_a_save_succeeds(in_process, _pa
 
     monkeypatch.setattr(Project, "save", saves)                  # the disk has room again
     indicator.wait_for(state="hidden", timeout=30_000)           # the server's next retry saved it
-    page.locator("[data-testid=notice][data-level=info]", has_text="saved").wait_for()
+    page.locator("[data-testid=notice][data-level=info]", has_text="saved full.sketchanim again").wait_for()
     assert _box_position(project(url))[0] == pytest.approx(1.25), "the edit was not saved"
     assert not page.errors, page.errors

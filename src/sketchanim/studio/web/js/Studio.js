@@ -244,14 +244,12 @@ export class Studio {
   }
 
   /**
-   * Whether everything is on disk, as the server says (in `state` and `saved`): back to
-   * ok after a fault, an information notice says so.
+   * Whether everything is on disk, as the server says (in `state` and `saved`; the
+   * server's notices say when saves fail and when they work again).
    * @param {Saved} m
    */
   keepSaved(m) {
-    const was = this.saved.ok;
     this.saved = m;
-    if (m.ok && !was) this.tell('info', 'saved', 'project');
     this.signals.emit('saved', m);
   }
 

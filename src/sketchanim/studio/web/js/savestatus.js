@@ -6,7 +6,7 @@
  * save in memory and retries, so closing the page loses nothing; closing the server would.
  * The page asks before it closes all the same (`beforeunload`): it is the only place the
  * fault shows, and the animator who closes it is likely about to stop the server too.
- * When saves succeed again the studio says "saved" as a notice (Studio.keepSaved).
+ * The server's own notices say when saves fail and when they work again.
  */
 
 /**
