@@ -26,10 +26,9 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import base64
 import json
 import multiprocessing
-import os
+import sys
 import socket
 import tempfile
 import threading
@@ -49,6 +48,9 @@ from sketchanim.studio.app import create_app
 from sketchanim.studio.serve import server_config
 from sketchanim.studio.session import Session
 from sketchanim.anim.warmup import warm_recorder
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from studio_browser import unread_socket  # noqa: E402
 
 RATE, BATCH = 60.0, 6
 #: Pages previewing at once under load, and the previews a second each sends (the rate limit's).
@@ -114,21 +116,6 @@ def preview_load(url: str, pages: int, rate: float, stop, counts) -> None:
         await asyncio.gather(*(page(i) for i in range(pages)))
 
     asyncio.run(run())
-
-
-def slow_reader(port: int) -> socket.socket:
-    """A page that opens the socket and never reads it (its receive buffer kept small)."""
-    sock = socket.socket()
-    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-    sock.connect(("127.0.0.1", port))
-    key = base64.b64encode(os.urandom(16)).decode()
-    sock.sendall(f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                 f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n".encode())
-    reply = b""
-    while b"\r\n\r\n" not in reply:
-        reply += sock.recv(1)                                   # the handshake only, then nothing
-    assert reply.startswith(b"HTTP/1.1 101"), reply
-    return sock
 
 
 async def perform_over_socket(url: str, name: str, start: float, seconds: float, seed: int,
@@ -220,7 +207,7 @@ def under_load(repeats: int) -> Table:
                 loader = spawn.Process(target=preview_load, args=(url, PREVIEWERS, PREVIEW_RATE, stop, counts))
                 loader.start()
                 time.sleep(2.0)                                  # the pages are connected and dragging
-            stuck = slow_reader(port) if "slow" in load else None
+            stuck = unread_socket(port) if "slow" in load else None
             hub = app.state.hub
             biggest = [0]
 

@@ -5,8 +5,10 @@ benchmarks/bench_studio.py."""
 
 from __future__ import annotations
 
+import base64
 import io
 import json
+import os
 import shutil
 import socket
 import subprocess
@@ -39,6 +41,23 @@ def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def unread_socket(port: int) -> socket.socket:
+    """A page that opens the studio's websocket on ``port`` and never reads it (its
+    receive buffer kept small): the handshake only, then nothing."""
+    sock = socket.socket()
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    sock.connect(("127.0.0.1", port))
+    key = base64.b64encode(os.urandom(16)).decode()
+    sock.sendall(f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                 f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n".encode())
+    reply = b""
+    while b"\r\n\r\n" not in reply:
+        reply += sock.recv(1)
+    if not reply.startswith(b"HTTP/1.1 101"):
+        raise ConnectionError(f"the studio refused the websocket: {reply!r}")
+    return sock
 
 
 def start_studio(project: Path, port: int, log: IO, *options: str) -> subprocess.Popen:

@@ -6,12 +6,9 @@ what was acked is saved once the disk is back."""
 
 from __future__ import annotations
 
-import base64
 import errno
 import json
 import logging
-import os
-import socket
 import threading
 import time
 
@@ -28,7 +25,7 @@ from sketchanim.studio import session as studio_session
 from sketchanim.studio.app import create_app
 from sketchanim.studio.protocol import MAX_ERROR_TEXT, MAX_FRAME_BYTES, MAX_MESSAGE_BYTES
 from sketchanim.studio.serve import server_config
-from studio_browser import free_port, studio_server
+from studio_browser import free_port, studio_server, unread_socket
 
 HOSTILE = {
     "a 5000-digit integer": '{"type": "ping", "id": ' + "9" * 5000 + "}",
@@ -132,13 +129,7 @@ def test_a_page_that_never_reads_is_dropped_and_the_others_go_on(tmp_path, monke
     try:
         while not server.started:
             time.sleep(0.05)
-        stuck = socket.socket()
-        stuck.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-        stuck.connect(("127.0.0.1", port))
-        key = base64.b64encode(os.urandom(16)).decode()
-        stuck.sendall(f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                      f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n".encode())
-        assert stuck.recv(12) == b"HTTP/1.1 101"                # and nothing more is read from it
+        stuck = unread_socket(port)                             # the handshake, and nothing more is read from it
         with websockets.connect(f"ws://127.0.0.1:{port}/ws", max_size=None) as ws:
             json.loads(ws.recv())
             assert len(hub.clients) == 2
