@@ -76,6 +76,18 @@ def test_a_failed_save_keeps_the_edit_tells_every_page_once_and_saves_later(proj
     again.close()
 
 
+def test_a_save_first_failing_at_a_take_begin_is_told_at_the_next_tick(project, full):
+    session = Session(project)
+    session.set("lamp.intensity", [3.0], None, None)
+    full.on()
+    with pytest.raises(StorageError, match="cannot record"):
+        session.begin_take(OWNER, "k", ["box.position"], "replace", 0.1, 0.0, 1.0, {}, None, 0.25)
+    out = session.tick(0.0)                                 # not yet due for a retry: the news all the same
+    assert types(out) == ["saved", "notice"] and out[0][1]["ok"] is False
+    full.off()
+    session.close()
+
+
 def test_a_take_ended_while_saves_fail_is_kept_and_saved_when_they_work(project, full):
     session = Session(project)
     t, _ = perform(session, "k")

@@ -47,12 +47,18 @@ def reason(err: BaseException) -> str:
 class SaveStatus:
     """The outcome of the saves so far, as the pages see it (:class:`~.protocol.Saved`).
 
+    What the pages are to be told of a change waits in it until :meth:`news` takes it
+    (whoever answers next: a save's caller, or the studio's next tick).
+
     >>> status = SaveStatus("show.sketchanim")
-    >>> [m["type"] for _, m in status.failed(OSError(errno.ENOSPC, "No space left on device"), now=5.0)]
+    >>> status.failed(OSError(errno.ENOSPC, "No space left on device"), now=5.0)
+    >>> [m["type"] for _, m in status.news()]
     ['saved', 'notice']
-    >>> status.failed(OSError(errno.ENOSPC, "No space left on device"), now=7.0), status.due(8.0)
+    >>> status.failed(OSError(errno.ENOSPC, "No space left on device"), now=7.0)
+    >>> status.news(), status.due(8.0)
     ([], False)
-    >>> [m["type"] for _, m in status.succeeded()], status.info().ok
+    >>> status.succeeded()
+    >>> [m["type"] for _, m in status.news()], status.info().ok
     (['saved', 'notice'], True)
     """
 
@@ -61,6 +67,7 @@ class SaveStatus:
         self.error: str | None = None
         self.since: float | None = None            # epoch seconds of the first failure
         self.tried = -float("inf")                 # monotonic time of the last failed try
+        self._news: list[p.Out] = []               # messages of a change not yet taken
 
     @property
     def ok(self) -> bool:
@@ -74,30 +81,35 @@ class SaveStatus:
         """Whether a failed save should be tried again at monotonic time ``now``."""
         return now - self.tried >= RETRY
 
-    def failed(self, err: BaseException, now: float | None = None) -> list[p.Out]:
-        """A save failed with ``err`` at monotonic time ``now``: the messages for the
-        pages if this is news (the first failure, or another reason), else none."""
+    def news(self) -> list[p.Out]:
+        """The messages for the pages of what changed since the last call (taken)."""
+        news, self._news = self._news, []
+        return news
+
+    def failed(self, err: BaseException, now: float | None = None) -> None:
+        """A save failed with ``err`` at monotonic time ``now``: news for the pages if
+        it is (the first failure, or another reason)."""
         self.tried = time.monotonic() if now is None else now
         text = f"cannot save {self.project}: {reason(err)}"
         if text == self.error:
-            return []
+            return
         first = self.error is None
         self.error = text
         if first:
             self.since = time.time()
         log.error("%s; kept in memory, trying again every %g s", text, RETRY)
-        return [("all", p.wire(self.info())),
+        self._news += [("all", p.wire(self.info())),
                 ("all", p.wire(p.Notice(level="error", source="disk",
                                         text=f"{text}. Nothing is lost: the studio keeps it and saves it as "
                                              f"soon as it can (trying every {RETRY:g} s).")))]
 
-    def succeeded(self) -> list[p.Out]:
-        """A save went through: the messages for the pages if saves were failing."""
+    def succeeded(self) -> None:
+        """A save went through: news for the pages if saves were failing."""
         if self.ok:
-            return []
+            return
         log.warning("saved %s again", self.project)
         self.error, self.since, self.tried = None, None, -float("inf")
-        return [("all", p.wire(self.info())),
+        self._news += [("all", p.wire(self.info())),
                 ("all", p.wire(p.Notice(level="info", source="disk", text=f"saved {self.project} again")))]
 
 

@@ -112,7 +112,7 @@ class Session:
         self.recovered = ", ".join(made) or None
         self.editor.dirty |= fresh and not self.read_only
         self.editor.changes()           # the pages get all of it in their first state
-        self.save()
+        self._try_save()                # a failure is news for the first tick; the first state says it too
 
     @property
     def read_only(self) -> bool:
@@ -222,8 +222,8 @@ class Session:
             log.warning("take %r ended: its page sent nothing for %g s", take.id, SILENCE)
             out += self.end_take(take.owner, take.id, None, "silent")
         if self.saving.ok or self.saving.due(now):
-            out += self.save()
-        return out
+            self._try_save()
+        return out + self.saving.news()
 
     def add_object(self, name: str, kind: str) -> list[p.Out]:
         """Add an object (with a ``shape`` if it is a plain object) as one step."""
@@ -295,8 +295,8 @@ class Session:
         :mod:`.takes`). Refused with :class:`StorageError` while the project cannot be
         saved (what is unsaved first leaves the journal the take would stream into: a
         crash then would lose it) or its settings cannot be noted; nothing changes."""
-        out = self.save()               # the last take leaves the journal before this one streams into it
-        if not self.saving.ok:
+        self._try_save()                # the last take leaves the journal before this one streams into it
+        if not self.saving.ok:          # the pages hear of it at the next tick; this page from the error
             raise StorageError(f"cannot record while the project cannot be saved ({self.saving.error}); "
                                "nothing is lost: free the disk or the folder and press record again")
         started = self.takes.begin(owner, take, paths, mode, blend, time, speed, tol, loop, gap, smoothing)
@@ -307,7 +307,7 @@ class Session:
             raise StorageError(f"cannot record: the take's settings cannot be written beside the project "
                                f"({reason(err)})") from None
         running = p.TakeRunning(**self.takes.take.info(self.editor).model_dump())
-        return [*out, ("self", p.wire(started)), ("others", p.wire(running))]
+        return [*self.saving.news(), ("self", p.wire(started)), ("others", p.wire(running))]
 
     def samples(self, owner: int, take: str, times: np.ndarray, values: list) -> list[p.Out]:
         """Push a batch of frames (transport times (n,), rows (n, width))."""
@@ -335,8 +335,13 @@ class Session:
         the journal the take is streaming into); the messages for the pages if the save
         status changed (:class:`~.saving.SaveStatus`). A save that fails keeps the
         model as it is, to be saved by a later call."""
+        self._try_save()
+        return self.saving.news()
+
+    def _try_save(self) -> None:
+        """:meth:`save`, its outcome noted in :attr:`saving` (its news left there)."""
         if self.takes.take is not None or self.project.read_only or not (self.editor.dirty or self._journal_stale):
-            return []
+            return
         try:
             self._reopen_if_gone()
             if self.editor.dirty:
@@ -345,10 +350,11 @@ class Session:
                 self.project.clear_journal()
             self.editor.dirty = self._journal_stale = False
         except (OSError, FileFormatError) as err:
-            return self.saving.failed(err)
+            self.saving.failed(err)
+            return
         with contextlib.suppress(OSError):     # notes left beside an empty journal recover nothing
             forget_take(self.path)
-        return self.saving.succeeded()
+        self.saving.succeeded()
 
     def _reopen_if_gone(self) -> None:
         """If the project file was deleted or moved away (a save would go to a file no
