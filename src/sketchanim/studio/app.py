@@ -291,6 +291,8 @@ class Hub:
                 with contextlib.suppress(Exception):          # the close frame may not get through either
                     await asyncio.wait_for(socket.close(code=1008), 1.0)
             else:
+                if pump.done() and pump.exception() is None:  # gone: what it sent before it went is still handled
+                    await reader
                 for task in (reader, pump):
                     if task.done() and task.exception() is not None:
                         raise task.exception()
