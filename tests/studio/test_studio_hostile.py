@@ -51,7 +51,7 @@ def begin(ws, take: str = "t", path: str = "box.position", samples: int = 30) ->
     t = np.arange(samples) / 60
     ws.send_json({"type": "take.samples", "id": "s", "take": take, "t": t.tolist(),
                   "values": np.c_[np.sin(t), 0.5 + 0 * t, t].tolist()})
-    receive_until(ws, "ack")
+    receive_until(ws, "ack", id="s")
 
 
 def running(ws) -> str | None:

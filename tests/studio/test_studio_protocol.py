@@ -16,13 +16,14 @@ from sketchanim.studio.app import create_app
 from sketchanim.studio.protocol import MAX_MESSAGE_BYTES
 
 
-def receive_until(ws, kind: str, limit: int = 50) -> tuple[dict, list[dict]]:
-    """Messages up to the first of type ``kind``: that one and all before it."""
+def receive_until(ws, kind: str, limit: int = 50, id: object = None) -> tuple[dict, list[dict]]:
+    """Messages up to the first of type ``kind`` (with ``id``, if given): that one and
+    all before it."""
     seen = []
     for _ in range(limit):
         m = ws.receive_json()
         seen.append(m)
-        if m["type"] == kind:
+        if m["type"] == kind and (id is None or m.get("id") == id):
             return m, seen
     raise AssertionError(f"no {kind} in {[m['type'] for m in seen]}")
 
@@ -150,7 +151,7 @@ def test_closing_the_socket_mid_take_keeps_the_take(client):
         ws.send_json({"type": "take.begin", "id": 1, "take": "a", "paths": ["lamp.intensity"]})
         receive_until(ws, "take.started")
         ws.send_json({"type": "take.samples", "id": 2, "take": "a", "t": t.tolist(), "values": (1 + t)[:, None].tolist()})
-        receive_until(ws, "ack")
+        receive_until(ws, "ack", id=2)                            # the samples' (the test client drops what is unread at close)
     with client.websocket_connect("/ws") as ws:                  # a reload
         state = ws.receive_json()
         tracks = state["tracks"] or receive_until(ws, "tracks")[0]["changed"]    # if it came before the take ended
