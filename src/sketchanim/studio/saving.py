@@ -33,10 +33,10 @@ RETRY = 2.0
 log = logging.getLogger("sketchanim.studio")
 
 
-def reason(err: BaseException) -> str:
+def write_fault(err: BaseException) -> str:
     """What went wrong with a write, in a few words (the OS's own for an ``OSError``).
 
-    >>> reason(OSError(errno.ENOSPC, "No space left on device", "/p/show.sketchanim"))
+    >>> write_fault(OSError(errno.ENOSPC, "No space left on device", "/p/show.sketchanim"))
     'No space left on device (/p/show.sketchanim)'
     """
     if isinstance(err, OSError) and err.strerror:
@@ -90,7 +90,7 @@ class SaveStatus:
         """A save failed with ``err`` at monotonic time ``now``: news for the pages if
         it is (the first failure, or another reason)."""
         self.tried = time.monotonic() if now is None else now
-        text = f"cannot save {self.project}: {reason(err)}"
+        text = f"cannot save {self.project}: {write_fault(err)}"
         if text == self.error:
             return
         first = self.error is None

@@ -36,7 +36,7 @@ from sketchanim.studio import protocol as p
 from sketchanim.studio.defaults import default_scene
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import history_info, objects_info, track_info, tracks_info
-from sketchanim.studio.saving import SaveStatus, reason, rescue
+from sketchanim.studio.saving import SaveStatus, rescue, write_fault
 from sketchanim.studio.takes import ORDER, SILENCE, RunningTake, TakeRecorder
 
 log = logging.getLogger("sketchanim.studio")
@@ -305,7 +305,7 @@ class Session:
         except OSError as err:
             self.takes.take = None
             raise StorageError(f"cannot record: the take's settings cannot be written beside the project "
-                               f"({reason(err)})") from None
+                               f"({write_fault(err)})") from None
         running = p.TakeRunning(**self.takes.take.info(self.editor).model_dump())
         return [*self.saving.news(), ("self", p.wire(started)), ("others", p.wire(running))]
 
@@ -405,6 +405,6 @@ class Session:
                           self.path, where)
             except OSError as err:
                 log.critical("%s could not be saved, nor a copy anywhere (%s): the changes since %s are lost",
-                             self.path, reason(err), time.ctime(self.saving.since or time.time()))
+                             self.path, write_fault(err), time.ctime(self.saving.since or time.time()))
         self.project.close()
         self.lock.release()

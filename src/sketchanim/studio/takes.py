@@ -30,8 +30,9 @@ A take's life, one state at a time (the studio's :class:`~.session.Session` driv
   after a stall ends the part (kept in ``result``) and starts the next;
 - *ended*, kept as one History step: by its page (``take.end``), its page gone (socket
   closed), silent (no message for :data:`SILENCE` seconds) or the server stopping;
-- *cancelled* (``take.cancel``): nothing changes, and the journal's rows of it are cleared
-  at the next save, so nothing of it comes back after a crash.
+- *cancelled* (``take.cancel``): nothing changes; the session removes the take's notes
+  first (a journal without them is not recovered) and then its journal rows, so nothing of
+  it comes back after a crash.
 
 What the recorder warns of when a part stops (a reducer process died, the journal
 failed) is logged and becomes a ``notice`` for every page.
@@ -58,7 +59,7 @@ from sketchanim.reducer.metric import max_errors
 from sketchanim.studio import protocol as p
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import layout, piece_info
-from sketchanim.studio.saving import reason
+from sketchanim.studio.saving import write_fault
 
 #: Spline order of recorded curves.
 ORDER = 4
@@ -275,7 +276,7 @@ class TakeRecorder:
         """A notice when the take's journal starts failing (its samples are then kept in
         memory only, until the take is saved) or writes again."""
         err = tk.recorder.journal_error if tk.recorder is not None else None
-        fault = None if err is None else reason(err)
+        fault = None if err is None else write_fault(err)
         if fault == tk.journal_fault:
             return []
         tk.journal_fault = fault
