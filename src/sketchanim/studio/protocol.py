@@ -76,10 +76,27 @@ class Preview(_Message):
     value: Value
 
 
+Vector3 = tuple[Number, Number, Number]
+#: Most control points moved in one ``curve.points``, knots inserted or removed in one ``curve.knots``.
+MAX_EDITS = 10_000
+
+
 class ObjectAdd(_Message):
+    """Add an object (one History step), at ``position`` if given (the page places it in
+    front of its camera), else at the kind's default place."""
+
     type: Literal["object.add"]
     name: Name
     kind: Literal["object", "light", "camera"] = "object"
+    position: Vector3 | None = None
+
+
+class ObjectDuplicate(_Message):
+    """Copy the object ``name`` (its values and tracks) as ``to`` (one History step)."""
+
+    type: Literal["object.duplicate"]
+    name: Name
+    to: Name
 
 
 class ObjectRemove(_Message):
@@ -91,6 +108,101 @@ class ObjectRename(_Message):
     type: Literal["object.rename"]
     name: Name
     to: Name
+
+
+class PointMove(BaseModel):
+    """Control point ``index`` of the curve of ``path`` moved to ``value`` (its channels)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    path: AttributePath
+    index: Annotated[int, Field(ge=0, le=10_000_000)]
+    value: Annotated[list[Number], Field(min_length=1, max_length=64)]
+
+
+class CurvePoints(_Message):
+    """Move control points of one or more curves, as one History step (a drag in the
+    curve editor or along a motion path: the curve changes only on the spans of the
+    points moved)."""
+
+    type: Literal["curve.points"]
+    edits: Annotated[list[PointMove], Field(min_length=1, max_length=MAX_EDITS)]
+    label: Annotated[str, Field(max_length=200)] | None = None
+
+
+class CurveKey(_Message):
+    """Set the value and / or the slope (per second) of the curve of ``path`` at ``time``
+    (a key or its tangent handle dragged), as one History step: the least change of the
+    control points active there, so the curve changes only on the spans around ``time``
+    and keeps its knots (its continuity)."""
+
+    type: Literal["curve.key"]
+    path: AttributePath
+    time: Number
+    value: Annotated[list[Number], Field(min_length=1, max_length=64)] | None = None
+    slope: Annotated[list[Number], Field(min_length=1, max_length=64)] | None = None
+    label: Annotated[str, Field(max_length=200)] | None = None
+
+
+class CurveKnots(_Message):
+    """Insert knots at times ``insert`` (the curve unchanged, a control point more each)
+    and remove the interior knots ``remove`` (indices into the curve's ``knots``: the
+    nearest curve without them, changed only on their spans), as one History step."""
+
+    type: Literal["curve.knots"]
+    path: AttributePath
+    insert: Annotated[list[Number], Field(max_length=MAX_EDITS)] = []
+    remove: Annotated[list[Annotated[int, Field(ge=0, le=10_000_000)]], Field(max_length=MAX_EDITS)] = []
+
+
+class TrackReduce(_Message):
+    """Re-reduce the tracks ``paths`` from their raw takes within ``tol`` (the attribute's
+    units: degrees for an orientation): with ``preview``, only answered (``reduced`` with
+    the would-be curves; no History step); otherwise one History step. Answered by
+    ``reduced`` either way."""
+
+    type: Literal["track.reduce"]
+    paths: Annotated[list[AttributePath], Field(min_length=1, max_length=MAX_PATHS)]
+    tol: Annotated[float, Field(gt=0, allow_inf_nan=False)]
+    preview: bool = False
+
+
+class TrackSamples(_Message):
+    """Ask for the samples the curve of ``path`` keeps within its tolerance (each take's
+    targets where no later take covers them), answered by ``samples``."""
+
+    type: Literal["track.samples"]
+    path: AttributePath
+
+
+#: What ``take.edit`` does to a take: rename it, mute or unmute it, solo it (mute every
+#: other), delete it, move it to another place in the track's order, or keep it as the
+#: pass of its loop recording (the other passes muted).
+TakeOp = Literal["rename", "mute", "unmute", "solo", "delete", "move", "keep"]
+
+
+class TakeEdit(_Message):
+    """Change take ``take`` (its index in the track's ``takes``) of the track at ``path``;
+    the track is composed again from its takes (one History step)."""
+
+    type: Literal["take.edit"]
+    path: AttributePath
+    take: Annotated[int, Field(ge=0, le=100_000)]
+    op: TakeOp
+    name: Annotated[str, Field(max_length=64)] | None = None
+    to: Annotated[int, Field(ge=0, le=100_000)] | None = None
+
+
+#: Frame rates the studio offers (frames per second).
+FRAME_RATES = (12.0, 15.0, 23.976, 24.0, 25.0, 29.97, 30.0, 48.0, 50.0, 59.94, 60.0, 120.0)
+
+
+class Settings(_Message):
+    """The project's settings, kept by the project (not History) and sent to every page:
+    the frame rate the transport counts frames in and edits snap to."""
+
+    type: Literal["settings"]
+    fps: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] = 24.0
 
 
 class TakeBegin(_Message):
@@ -178,8 +290,9 @@ class Export(_Message):
 
 
 Message = Annotated[
-    Ping | StateRequest | Set | Preview | ObjectAdd | ObjectRemove | ObjectRename | TakeBegin | TakeSamples
-    | TakeEnd | TakeCancel | Undo | Redo | Transport | Export | ToleranceSet,
+    Ping | StateRequest | Set | Preview | ObjectAdd | ObjectDuplicate | ObjectRemove | ObjectRename | TakeBegin
+    | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | Transport | Export | ToleranceSet | CurvePoints | CurveKey
+    | CurveKnots | TrackReduce | TrackSamples | TakeEdit | Settings,
     Field(discriminator="type"),
 ]
 _ADAPTER: TypeAdapter[Message] = TypeAdapter(Message)
@@ -217,14 +330,19 @@ class ObjectInfo(_Outbound):
 
 
 class TakeSpan(_Outbound):
-    """One take of a curve: its span, mode, number of samples and the seconds they were
-    smoothed over before the reduction (0: not smoothed)."""
+    """One take of a curve: its span, mode, number of samples, the seconds they were
+    smoothed over before the reduction (0: not smoothed), its name (empty: none given),
+    whether it is muted (left out of the curve), and the loop recording it is a pass of
+    (None: not a pass)."""
 
     start: float
     end: float
     mode: str
     n: int
     smoothing: float
+    name: str = ""
+    muted: bool = False
+    loop: str | None = None
 
 
 class CurveInfo(_Outbound):
@@ -243,6 +361,9 @@ class CurveInfo(_Outbound):
     takes: list[TakeSpan]
     #: the attribute's bounds (low, high; None: that side unbounded), or None: unbounded
     bounds: list[float | None] | None = None
+    #: its control points or keys were edited by hand since it was composed from its takes
+    #: (composing it again, at another tolerance or with a take muted, drops those edits)
+    edited: bool = False
 
 
 class StepsInfo(_Outbound):
@@ -319,6 +440,46 @@ class Saved(_Outbound):
     since: float | None = None
 
 
+class SettingsInfo(_Outbound):
+    """The project's settings (see :class:`Settings`), sent to every page when they change."""
+
+    type: Literal["settings"] = "settings"
+    fps: float = 24.0
+
+
+class Reduction(_Outbound):
+    """A track re-reduced within ``tol``: its control points and the largest distance of
+    the curve from the samples it keeps (in the attribute's units; degrees for an
+    orientation)."""
+
+    path: str
+    tol: float
+    n: int
+    error: float
+
+
+class Reduced(_Outbound):
+    """The answer to ``track.reduce``: each track's reduction; for a preview, the would-be
+    curves too (nothing changed)."""
+
+    type: Literal["reduced"] = "reduced"
+    preview: bool
+    results: list[Reduction]
+    curves: list[CurveInfo] = []
+
+
+class Samples(_Outbound):
+    """The answer to ``track.samples``: the times (n,) and values (n, dim) the curve of
+    ``path`` keeps within ``tol`` (each take's targets where no later take covers them;
+    none for a curve without takes)."""
+
+    type: Literal["samples"] = "samples"
+    path: str
+    tol: float
+    times: list[float]
+    values: list[list[float]]
+
+
 class State(_Outbound):
     """Everything a page needs to show the project: sent on connect, on ``state``, and
     when objects come or go."""
@@ -336,6 +497,7 @@ class State(_Outbound):
     saved: Saved = Saved()
     #: the project cannot be written (read-only media or file): it plays and exports, edits are refused
     read_only: bool = False
+    settings: SettingsInfo = SettingsInfo()
 
 
 class Values(_Outbound):
@@ -456,13 +618,15 @@ class Notice(_Outbound):
 
 
 ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece | TakeEnded | Pong | Ack | Error
-                 | Ready | Exported | Notice | Preview | Transport | Tolerances | TakeRunning | Saved)
+                 | Ready | Exported | Notice | Preview | Transport | Tolerances | TakeRunning | Saved | SettingsInfo
+                 | Reduced | Samples)
 #: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
 MESSAGES: tuple[type[BaseModel], ...] = (
-    Ping, StateRequest, Set, Preview, ObjectAdd, ObjectRemove, ObjectRename, TakeBegin, TakeSamples, TakeEnd,
-    TakeCancel, Undo, Redo, Transport, Export, ToleranceSet,
+    Ping, StateRequest, Set, Preview, ObjectAdd, ObjectDuplicate, ObjectRemove, ObjectRename, TakeBegin, TakeSamples,
+    TakeEnd, TakeCancel, Undo, Redo, Transport, Export, ToleranceSet, CurvePoints, CurveKey, CurveKnots, TrackReduce,
+    TrackSamples, TakeEdit, Settings,
     State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice,
-    Tolerances, TakeRunning, Saved)
+    Tolerances, TakeRunning, Saved, SettingsInfo, Reduced, Samples)
 
 
 #: Who gets a message: every page, every page but the sender's, or the sender's alone.

@@ -39,6 +39,14 @@ import { Transport } from './Transport.js';
  * @property {number | null} serverMs the server's time from the release's message to the final curve
  */
 
+/**
+ * @typedef {object} PointSelection   A selected control point (`index` into the curve's `coef`) or key
+ *   (`index` into its `knots`: a key sits at a distinct knot) of the curve of `path`.
+ * @property {string} path
+ * @property {'point' | 'key'} kind
+ * @property {number} index
+ */
+
 /** The close code of a socket the server closed for a frame over its transport limit (16 MiB). */
 export const TOO_BIG = 1009;
 
@@ -76,8 +84,14 @@ export class Studio {
     this.history = { undo: [], redo: [], can_undo: false, can_redo: false };
     this.ready = false;
     this.loaded = false;
-    /** @type {string | null} */
+    /** @type {string | null} the selected object (the viewport, the outliner, the curve editor and the motion paths share it) */
     this.selected = null;
+    /** @type {PointSelection[]} the selected control points and keys (shared by the curve editor and the motion paths) */
+    this.points = [];
+    /** The project's frame rate: the transport counts frames in it, edits snap to its frames when `snap` is on. */
+    this.fps = 24;
+    /** Whether edits in time (knots inserted, the playhead dragged) snap to frames. */
+    this.snap = false;
     /** The attribute the curve view shows. */
     this.attribute = 'position';
     /** @type {TakeLog[]} */
@@ -155,6 +169,10 @@ export class Studio {
       case 'tracks':
         for (const track of m.changed) this.tracks.set(track.path, track);
         for (const path of m.removed) this.tracks.delete(path);
+        this.points = this.points.filter((q) => {
+          const curve = this.tracks.get(q.path);
+          return curve?.kind === 'curve' && q.index < (q.kind === 'point' ? curve.coef.length : curve.knots.length);
+        });
         this.span = m.span;
         this.repack();
         this.signals.emit('tracks');
@@ -201,6 +219,9 @@ export class Studio {
         break;
       case 'notice': this.tell(m.level, m.text, m.source); break;
       case 'saved': this.keepSaved(m); break;
+      case 'settings': this.keepSettings(m); break;
+      case 'reduced': this.signals.emit('reduced', m); break;
+      case 'samples': this.signals.emit('samples', m); break;
       case 'take.started': case 'pong': case 'ack': case 'exported': break;    // nothing to show
       default: {
         /** @type {never} */
@@ -228,6 +249,7 @@ export class Studio {
     this.remoteTake = m.take && m.take.take !== own && !this.takes.some((l) => l.id === m.take?.take) ? m.take : null;
     this.readOnly = !!m.read_only;
     if (m.saved) this.keepSaved(m.saved);
+    if (m.settings) this.keepSettings(m.settings);
     this.tracks = new Map(m.tracks.map((t) => [t.path, t]));
     this.span = m.span;
     this.tolerances = new Map(Object.entries(m.tolerances));
@@ -235,6 +257,7 @@ export class Studio {
     this.ready = this.ready || m.ready;
     if (!this.loaded) this.transport.receive(m.transport);
     if (this.selected && !this.objects.some((o) => o.name === this.selected)) this.selected = null;
+    this.points = this.points.filter((q) => this.tracks.get(q.path)?.kind === 'curve');
     this.repack();
     this.loaded = true;
     this.signals.emit('state');
@@ -251,6 +274,15 @@ export class Studio {
   keepSaved(m) {
     this.saved = m;
     this.signals.emit('saved', m);
+  }
+
+  /**
+   * The project's settings, as the server says (in `state` and `settings`).
+   * @param {import('./messages.js').SettingsInfo} m
+   */
+  keepSettings(m) {
+    this.fps = m.fps;
+    this.signals.emit('projectSettings');
   }
 
   /**
@@ -383,12 +415,39 @@ export class Studio {
 
   /** @param {string | null} name */
   select(name) {
+    if (name !== this.selected) this.selectPoints([]);
     this.selected = name;
     const obj = name ? this.objectOf(name) : null;
     if (obj && !obj.attributes.some((a) => a.name === this.attribute && a.type.continuous)) {
       this.attribute = obj.attributes.find((a) => a.type.continuous)?.name ?? 'position';
     }
     this.signals.emit('selection', name);
+  }
+
+  /**
+   * Select control points and keys (replacing the selection; [] clears it).
+   * @param {PointSelection[]} points
+   */
+  selectPoints(points) {
+    this.points = points;
+    this.signals.emit('points', points);
+  }
+
+  /**
+   * Delete what is selected: the selected keys and points (their knots removed, by the curve
+   * editor, which hears the `command` signal), else the selected object (undoable).
+   */
+  deleteSelection() {
+    if (this.points.length) this.signals.emit('command', 'delete-points');
+    else if (this.selected) this.removeObject(this.selected);
+  }
+
+  /**
+   * A time snapped to the project's frames when `snap` is on (else as it is).
+   * @param {number} t
+   */
+  snapped(t) {
+    return this.snap ? Math.round(t * this.fps) / this.fps : t;
   }
 
   /**
@@ -401,15 +460,105 @@ export class Studio {
   }
 
   /**
-   * Add an object (undoable), named `object1`, `object2`, ... (the first name free).
-   * @param {import('./messages.js').ObjectKind} [kind]
+   * The first name `stem1`, `stem2`, ... no object has.
+   * @param {string} stem
    */
-  addObject(kind = 'object') {
-    if (this.readOnly) return;
+  freeName(stem) {
     const names = new Set(this.objects.map((o) => o.name));
     let i = 1;
-    while (names.has(`${kind}${i}`)) i += 1;
-    this.send({ type: 'object.add', name: `${kind}${i}`, kind });
+    while (names.has(`${stem}${i}`)) i += 1;
+    return `${stem}${i}`;
+  }
+
+  /**
+   * Add an object (undoable), named `object1`, `object2`, ... (the first name free), at
+   * `position` if given.
+   * @param {import('./messages.js').ObjectKind} [kind]
+   * @param {[number, number, number] | null} [position]
+   */
+  addObject(kind = 'object', position = null) {
+    if (this.readOnly) return;
+    this.send({ type: 'object.add', name: this.freeName(kind), kind, position });
+  }
+
+  /** @param {string} name remove the object and its tracks (undoable) */
+  removeObject(name) {
+    if (!this.readOnly) this.send({ type: 'object.remove', name });
+  }
+
+  /** @param {string} name @param {string} to rename the object, its tracks with it (undoable) */
+  renameObject(name, to) {
+    if (!this.readOnly) this.send({ type: 'object.rename', name, to });
+  }
+
+  /** @param {string} name copy the object and its tracks under a free name (undoable) */
+  duplicateObject(name) {
+    if (!this.readOnly) this.send({ type: 'object.duplicate', name, to: this.freeName(name.replace(/\d+$/, '') || name) });
+  }
+
+  // -- curve edits (each one History step; previews stay in the page) ----------------------
+
+  /**
+   * Move control points (one History step, whatever the number of points and curves).
+   * @param {{path: string, index: number, value: number[]}[]} edits
+   * @param {string | null} [label]
+   */
+  movePoints(edits, label = null) {
+    if (!this.readOnly && edits.length) this.send({ type: 'curve.points', edits, label });
+  }
+
+  /**
+   * Set a curve's value and / or slope at `time` (a key or its handle dragged; one History step).
+   * @param {string} path
+   * @param {number} time
+   * @param {number[] | null} value
+   * @param {number[] | null} slope
+   */
+  moveKey(path, time, value, slope) {
+    if (!this.readOnly) this.send({ type: 'curve.key', path, time, value, slope });
+  }
+
+  /**
+   * Insert knots at times `insert` and remove interior knots `remove` (indices into `knots`), one History step.
+   * @param {string} path
+   * @param {number[]} insert
+   * @param {number[]} remove
+   */
+  editKnots(path, insert, remove) {
+    if (!this.readOnly) this.send({ type: 'curve.knots', path, insert, remove });
+  }
+
+  /**
+   * Re-reduce tracks from their raw takes within `tol` (the attribute's units): `preview`
+   * asks only for the would-be curves (the `reduced` signal brings them), else one History step.
+   * @param {string[]} paths
+   * @param {number} tol
+   * @param {boolean} preview
+   */
+  reduceTracks(paths, tol, preview) {
+    if (!this.readOnly || preview) this.send({ type: 'track.reduce', paths, tol, preview });
+  }
+
+  /** @param {string} path ask for the samples the curve keeps (the `samples` signal brings them) */
+  askSamples(path) {
+    this.send({ type: 'track.samples', path });
+  }
+
+  /**
+   * Change a take of a track (rename, mute, solo, delete, move, keep a loop pass): the
+   * track is composed again from its takes (one History step).
+   * @param {string} path
+   * @param {number} take its index in the track's takes
+   * @param {import('./messages.js').TakeOp} op
+   * @param {{name?: string, to?: number}} [args]
+   */
+  editTake(path, take, op, args = {}) {
+    if (!this.readOnly) this.send({ type: 'take.edit', path, take, op, name: args.name ?? null, to: args.to ?? null });
+  }
+
+  /** @param {number} fps the project's frame rate (a project setting, not History) */
+  setFps(fps) {
+    if (!this.readOnly) this.send({ type: 'settings', fps });
   }
 
   /** Undo the last History step (the server's History reaches back to when the studio started). */

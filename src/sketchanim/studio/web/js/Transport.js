@@ -111,6 +111,21 @@ export class Transport {
     this.send();
   }
 
+  /**
+   * Pause and step `n` frames of the project's frame rate (back if negative), landing on a frame.
+   * @param {number} n
+   */
+  stepFrames(n) {
+    if (this.clock.playing) this.pause();
+    const fps = this.studio.fps;
+    this.seek((Math.round(this.time * fps) + n) / fps);
+  }
+
+  /** The frame the transport is on (the project's frame rate; frame 0 at time 0). */
+  get frame() {
+    return Math.round(this.time * this.studio.fps);
+  }
+
   /** @param {number} speed */
   setSpeed(speed) {
     this.playSpeed = speed;

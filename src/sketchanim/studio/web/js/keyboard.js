@@ -1,8 +1,7 @@
 // @ts-check
 /**
- * The studio's keys, all in one place: R record mode, Space play / pause, Enter stop, L loop,
- * C the camera view, Escape deselect, W / E / S the move / turn / scale gizmo, Ctrl+Z undo,
- * Ctrl+Shift+Z or Ctrl+Y redo (Cmd for Ctrl on a Mac).
+ * The studio's keys, all in one place (SHORTCUTS lists them, as the help overlay shows them;
+ * Cmd for Ctrl on a Mac). A panel's own action goes out as the `command` signal.
  *
  * One model whichever control has focus: the window takes a shortcut in the capture phase,
  * before the focused element sees it, and prevents the key's default action, so a focused
@@ -12,12 +11,60 @@
  * walks the controls); no control needs its own key handling.
  */
 
-/** @typedef {'undo' | 'redo' | 'record' | 'play' | 'stop' | 'loop' | 'camera' | 'deselect' | 'translate' | 'rotate' | 'scale'} KeyAction */
+/**
+ * What a panel does on its own when its shortcut is pressed (the `command` signal carries it):
+ * the curve editor frames all or the selection, inserts a knot at the playhead, normalises its
+ * channels, removes the selected keys' knots; the help overlay shows or hides; the viewport
+ * shows or hides motion paths and onion skin; the outliner renames the selected object.
+ * @typedef {'frame-all' | 'frame-selection' | 'insert-knot' | 'normalise' | 'delete-points' | 'help' | 'motion-paths'
+ *   | 'onion-skin' | 'rename'} PanelCommand
+ */
+/** @typedef {'undo' | 'redo' | 'record' | 'play' | 'stop' | 'loop' | 'camera' | 'deselect' | 'translate' | 'rotate' | 'scale'
+ *   | 'previous-frame' | 'next-frame' | 'delete' | 'duplicate' | 'snap' | PanelCommand} KeyAction */
 /** @typedef {{key: string, ctrlKey: boolean, metaKey: boolean, shiftKey: boolean, altKey: boolean}} Keys */
 
-/** @type {Record<string, KeyAction>} the plain keys (no Ctrl, Cmd or Alt), by their lower-case `key` */
+/**
+ * @typedef {object} Shortcut   One shortcut, as the help overlay lists it.
+ * @property {KeyAction} action
+ * @property {string[]} keys   what to press, as shown (`Ctrl` is `Cmd` on a Mac)
+ * @property {string} does     what it does
+ */
+
+/** @type {Shortcut[]} every shortcut of the studio, in the order the help overlay lists them */
+export const SHORTCUTS = [
+  { action: 'record', keys: ['R'], does: 'record mode on / off (grab an object to record a take)' },
+  { action: 'play', keys: ['Space'], does: 'play / pause' },
+  { action: 'stop', keys: ['Enter'], does: 'stop (back to the start)' },
+  { action: 'previous-frame', keys: ['←'], does: 'one frame back' },
+  { action: 'next-frame', keys: ['→'], does: 'one frame on' },
+  { action: 'loop', keys: ['L'], does: 'loop range on / off (Shift-drag the timeline to set it)' },
+  { action: 'snap', keys: ['Shift', 'S'], does: 'snap edits in time to frames on / off' },
+  { action: 'translate', keys: ['W'], does: 'move gizmo' },
+  { action: 'rotate', keys: ['E'], does: 'turn gizmo' },
+  { action: 'scale', keys: ['S'], does: 'scale gizmo' },
+  { action: 'camera', keys: ['C'], does: 'look through the scene camera' },
+  { action: 'motion-paths', keys: ['P'], does: 'motion paths on / off' },
+  { action: 'onion-skin', keys: ['O'], does: 'onion skin (ghosts at nearby frames) on / off' },
+  { action: 'deselect', keys: ['Esc'], does: 'select nothing' },
+  { action: 'delete', keys: ['Delete'], does: 'delete the selected keys (their knots), else the selected object' },
+  { action: 'duplicate', keys: ['Shift', 'D'], does: 'duplicate the selected object' },
+  { action: 'rename', keys: ['F2'], does: 'rename the selected object' },
+  { action: 'frame-all', keys: ['Home'], does: 'curve editor: frame all' },
+  { action: 'frame-selection', keys: ['F'], does: 'curve editor: frame the selection' },
+  { action: 'insert-knot', keys: ['I'], does: 'curve editor: insert a knot at the playhead' },
+  { action: 'normalise', keys: ['N'], does: 'curve editor: normalise the channels on / off' },
+  { action: 'undo', keys: ['Ctrl', 'Z'], does: 'undo' },
+  { action: 'redo', keys: ['Ctrl', 'Shift', 'Z'], does: 'redo (also Ctrl+Y)' },
+  { action: 'help', keys: ['?'], does: 'this list of shortcuts' },
+];
+
+/** @type {Record<string, KeyAction>} the plain keys (no Ctrl, Cmd or Alt; Shift ignored), by their lower-case `key` */
 const PLAIN = { r: 'record', ' ': 'play', enter: 'stop', l: 'loop', c: 'camera', escape: 'deselect',
-  w: 'translate', e: 'rotate', s: 'scale' };
+  w: 'translate', e: 'rotate', s: 'scale', arrowleft: 'previous-frame', arrowright: 'next-frame', delete: 'delete',
+  backspace: 'delete', f2: 'rename', home: 'frame-all', f: 'frame-selection', i: 'insert-knot', n: 'normalise',
+  p: 'motion-paths', o: 'onion-skin', '?': 'help' };
+/** @type {Record<string, KeyAction>} the keys with Shift that do something else than without */
+const SHIFTED = { s: 'snap', d: 'duplicate' };
 
 /**
  * The action a key press asks for, or null.
@@ -26,6 +73,7 @@ const PLAIN = { r: 'record', ' ': 'play', enter: 'stop', l: 'loop', c: 'camera',
  *
  * @example
  * actionOf({key: 'z', ctrlKey: true, metaKey: false, shiftKey: true, altKey: false});    // 'redo'
+ * actionOf({key: 'D', ctrlKey: false, metaKey: false, shiftKey: true, altKey: false});   // 'duplicate'
  */
 export function actionOf(e) {
   const key = e.key.toLowerCase();
@@ -34,6 +82,7 @@ export function actionOf(e) {
     return key === 'y' ? 'redo' : null;
   }
   if (e.altKey) return null;
+  if (e.shiftKey && SHIFTED[key]) return SHIFTED[key];
   return PLAIN[key] ?? null;
 }
 
@@ -59,6 +108,19 @@ export function typing(target) {
 }
 
 /**
+ * The panels' own actions: each goes out as the `command` signal.
+ * @param {import('./Studio.js').Studio} studio
+ * @returns {Record<PanelCommand, () => void>}
+ */
+function panelActions(studio) {
+  /** @param {PanelCommand} c */
+  const emit = (c) => () => studio.signals.emit('command', c);
+  return { 'frame-all': emit('frame-all'), 'frame-selection': emit('frame-selection'), 'insert-knot': emit('insert-knot'),
+    normalise: emit('normalise'), 'delete-points': emit('delete-points'), help: emit('help'),
+    'motion-paths': emit('motion-paths'), 'onion-skin': emit('onion-skin'), rename: emit('rename') };
+}
+
+/**
  * What each action does in the studio.
  * @param {import('./Studio.js').Studio} studio
  * @param {Pick<import('./viewport.js').Viewport, 'setGizmo' | 'togglePreviewCamera'>} viewport
@@ -78,6 +140,12 @@ export function studioActions(studio, viewport) {
     translate: () => viewport.setGizmo('translate'),
     rotate: () => viewport.setGizmo('rotate'),
     scale: () => viewport.setGizmo('scale'),
+    'previous-frame': () => t.stepFrames(-1),
+    'next-frame': () => t.stepFrames(1),
+    delete: () => studio.deleteSelection(),
+    duplicate: () => { if (studio.selected) studio.duplicateObject(studio.selected); },
+    snap: () => { studio.snap = !studio.snap; studio.signals.emit('projectSettings'); },
+    ...panelActions(studio),
   };
 }
 

@@ -51,11 +51,97 @@
  */
 
 /**
+ * Add an object (undoable), at `position` if given (the page places it in front of its camera).
  * @typedef {object} ObjectAdd
  * @property {'object.add'} type
  * @property {number | string | null} [id]
  * @property {string} name
  * @property {ObjectKind} [kind]
+ * @property {[number, number, number] | null} [position]
+ */
+
+/**
+ * Copy the object `name` (its values and tracks) as `to` (undoable).
+ * @typedef {object} ObjectDuplicate
+ * @property {'object.duplicate'} type
+ * @property {number | string | null} [id]
+ * @property {string} name
+ * @property {string} to
+ */
+
+/**
+ * Move control points of one or more curves as one History step.
+ * @typedef {object} CurvePoints
+ * @property {'curve.points'} type
+ * @property {number | string | null} [id]
+ * @property {{path: string, index: number, value: number[]}[]} edits
+ * @property {string | null} [label]
+ */
+
+/**
+ * Set the value and / or the slope (per second) of a curve at `time` (a key or its handle
+ * dragged): the least change of the control points active there, one History step.
+ * @typedef {object} CurveKey
+ * @property {'curve.key'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ * @property {number} time
+ * @property {number[] | null} [value]
+ * @property {number[] | null} [slope]
+ * @property {string | null} [label]
+ */
+
+/**
+ * Insert knots at times `insert` and remove the interior knots `remove` (indices into the
+ * curve's `knots`), one History step.
+ * @typedef {object} CurveKnots
+ * @property {'curve.knots'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ * @property {number[]} [insert]
+ * @property {number[]} [remove]
+ */
+
+/**
+ * Re-reduce tracks from their raw takes within `tol` (the attribute's units); `preview`:
+ * only answered (`reduced` with the would-be curves), else one History step.
+ * @typedef {object} TrackReduce
+ * @property {'track.reduce'} type
+ * @property {number | string | null} [id]
+ * @property {string[]} paths
+ * @property {number} tol
+ * @property {boolean} [preview]
+ */
+
+/**
+ * Ask for the samples a curve keeps within its tolerance (answered by `samples`).
+ * @typedef {object} TrackSamples
+ * @property {'track.samples'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ */
+
+/** @typedef {'rename' | 'mute' | 'unmute' | 'solo' | 'delete' | 'move' | 'keep'} TakeOp */
+
+/**
+ * Change take `take` (its index in the track's takes) of the track at `path`: the track is
+ * composed again from its takes (one History step).
+ * @typedef {object} TakeEdit
+ * @property {'take.edit'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ * @property {number} take
+ * @property {TakeOp} op
+ * @property {string | null} [name]   for `rename`
+ * @property {number | null} [to]     for `move`: the take's new index
+ */
+
+/**
+ * The project's settings (the frame rate), kept by the project and sent to every page.
+ * @typedef {object} SettingsChange
+ * @property {'settings'} type
+ * @property {number | string | null} [id]
+ * @property {number} [fps]
  */
 
 /**
@@ -189,6 +275,34 @@
  * @property {Record<string, ToleranceSetting>} tolerances  the animator's take tolerances, by path
  * @property {Saved} [saved]  whether everything is on disk
  * @property {boolean} [read_only]  the project cannot be written: it plays and exports, edits are refused
+ * @property {SettingsInfo} [settings]  the project's settings (the frame rate)
+ */
+
+/**
+ * The project's settings changed (also in every `state`).
+ * @typedef {object} SettingsInfo
+ * @property {'settings'} type
+ * @property {number} fps
+ */
+
+/**
+ * The answer to `track.reduce`: each track's control points and largest error; for a
+ * preview, the would-be curves too.
+ * @typedef {object} Reduced
+ * @property {'reduced'} type
+ * @property {boolean} preview
+ * @property {{path: string, tol: number, n: number, error: number}[]} results
+ * @property {CurveTrack[]} curves
+ */
+
+/**
+ * The answer to `track.samples`: the samples the curve keeps within `tol`.
+ * @typedef {object} Samples
+ * @property {'samples'} type
+ * @property {string} path
+ * @property {number} tol
+ * @property {number[]} times
+ * @property {number[][]} values
  */
 
 /**
@@ -335,15 +449,16 @@
 
 /**
  * What the page sends.
- * @typedef {Ping | StateRequest | SetValue | PreviewValue | ObjectAdd | ObjectRemove | ObjectRename | TakeBegin
- *   | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | TransportState | Export | ToleranceSet} PageMessage
+ * @typedef {Ping | StateRequest | SetValue | PreviewValue | ObjectAdd | ObjectDuplicate | ObjectRemove | ObjectRename
+ *   | TakeBegin | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | TransportState | Export | ToleranceSet
+ *   | CurvePoints | CurveKey | CurveKnots | TrackReduce | TrackSamples | TakeEdit | SettingsChange} PageMessage
  */
 
 /**
  * What the server sends.
  * @typedef {StateSnapshot | Ready | Values | Tracks | History | PreviewValue | TransportState | TakeStarted
  *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice | Tolerances | TakeRunning
- *   | Saved} ServerMessage
+ *   | Saved | SettingsInfo | Reduced | Samples} ServerMessage
  */
 
 /**
@@ -376,10 +491,18 @@
  */
 
 /**
- * A continuous track (a B-spline), as the page evaluates it, with the takes it was made of.
+ * One take of a curve: its span, mode, samples, smoothing (s), name ('' none given), whether
+ * it is muted, and the loop recording it is a pass of (null: none).
+ * @typedef {{start: number, end: number, mode: string, n: number, smoothing: number, name?: string, muted?: boolean,
+ *   loop?: string | null}} TakeSpanInfo
+ */
+
+/**
+ * A continuous track (a B-spline), as the page evaluates it, with the takes it was made of;
+ * `edited`: its points or keys were moved by hand since it was composed from its takes.
  * @typedef {{path: string, kind: 'curve', dim: number, order: number, rotation: boolean, tol: number, knots: number[],
- *   coef: number[][], start: number, end: number, takes: {start: number, end: number, mode: string, n: number,
- *   smoothing: number}[], bounds?: (number|null)[] | null}} CurveTrack
+ *   coef: number[][], start: number, end: number, takes: TakeSpanInfo[], bounds?: (number|null)[] | null,
+ *   edited?: boolean}} CurveTrack
  */
 
 /**

@@ -37,6 +37,11 @@ export const SIGNALS = {
   saved: /** @type {Signal<import('./messages.js').Saved>} */ (signal('whether everything is on disk changed (studio.saved)')),
   error: /** @type {Signal<import('./messages.js').ErrorReply>} */ (signal('the server refused a message')),
   notice: /** @type {Signal<import('./messages.js').Notice>} */ (signal('the server has news for the animator')),
+  points: /** @type {Signal<import('./Studio.js').PointSelection[]>} */ (signal('the selected control points and keys changed (studio.points)')),
+  projectSettings: /** @type {Signal<void>} */ (signal("the project's settings changed (studio.fps)")),
+  reduced: /** @type {Signal<import('./messages.js').Reduced>} */ (signal('the server answered a track.reduce (a preview or the step done)')),
+  samples: /** @type {Signal<import('./messages.js').Samples>} */ (signal('the server sent the samples a curve keeps')),
+  command: /** @type {Signal<import('./keyboard.js').PanelCommand>} */ (signal("a shortcut for a panel's own action (the panel that owns it acts)")),
   frame: /** @type {Signal<number>} */ (signal('an animation frame was stepped, at this performance.now()')),
 };
 
