@@ -478,7 +478,8 @@ export class Studio {
    */
   addObject(kind = 'object', position = null) {
     if (this.readOnly) return;
-    this.send({ type: 'object.add', name: this.freeName(kind), kind, position });
+    this.send(position ? { type: 'object.add', name: this.freeName(kind), kind, position }
+      : { type: 'object.add', name: this.freeName(kind), kind });
   }
 
   /** @param {string} name remove the object and its tracks (undoable) */
