@@ -4,7 +4,8 @@
  * direct manipulation (press on an object and drag: it follows the pointer in the plane
  * facing the view), translate / rotate / scale gizmos (W, E, S), orbit / pan / zoom, a
  * gamepad or 3D mouse moving and turning the selected object, and a preview of the scene
- * camera's view in a corner. A hold tells the performer what its input resolves (a pixel
+ * camera's view in a corner, with motion paths (motionpaths.js: their control points dragged
+ * here take the pointer first) and onion skin (onionskin.js) over it. A hold tells the performer what its input resolves (a pixel
  * at the grabbed point's depth, the gizmo's degrees or scale per pixel, the stick's step)
  * and marks every pointer event that moved it (coalesced events included) with its time.
  */
@@ -12,7 +13,10 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { TransformControls } from 'three/addons/controls/TransformControls.js';
 import { active, applyPad, padResolution, readPad } from './gamepad.js';
+import { MotionPaths } from './motionpaths.js';
+import { OnionSkin } from './onionskin.js';
 import { pixelWorld, turnPerPixel } from './resolution.js';
+import { ViewToggles } from './viewtoggles.js';
 
 const PALETTE = [0xe07a5f, 0x81b29a, 0xf2cc8f, 0x6d9dc5, 0xb388eb, 0xf28482, 0x84a59d];
 /** three.js intensity (candela) of a light of intensity 1: a clear pool of light on the floor. */
@@ -103,6 +107,9 @@ export class Viewport {
     /** performance.now() clock time of the last pointer event on the canvas (the gizmo's moves are marked with it) */
     this.eventStamp = 0;
     this.drawn = 0;
+    this.toggles = new ViewToggles(studio, container);
+    this.paths = new MotionPaths(this, this.toggles);
+    this.onion = new OnionSkin(this, this.toggles, (path) => this.paths.curveOf(path));
     studio.addSink((path, value) => this.apply(path, value));
     studio.signals.on('state', () => this.build());
     studio.signals.on('selection', () => this.showSelection());
@@ -231,7 +238,7 @@ export class Viewport {
     el.addEventListener('pointermove', (e) => { this.eventStamp = e.timeStamp; }, { capture: true });  // before the gizmo
     el.addEventListener('pointermove', (e) => this.move(e));
     el.addEventListener('pointerup', (e) => this.lift(e));
-    el.addEventListener('pointercancel', (e) => this.lift(e));
+    el.addEventListener('pointercancel', (e) => { if (!this.paths.cancel()) this.lift(e); });
     this.transform.addEventListener('dragging-changed', (e) => { this.orbit.enabled = !e.value; });
     this.transform.addEventListener('mouseDown', () => {
       const name = this.studio.selected;
@@ -310,7 +317,12 @@ export class Viewport {
 
   /** @param {PointerEvent} e */
   press(e) {
-    if (e.button !== 0 || this.transform.dragging || this.transform.axis !== null) return;
+    if (e.button !== 0 || this.transform.dragging) return;
+    if (this.paths.press(e)) {                          // a control point's handle, over the gizmo too
+      e.stopImmediatePropagation();
+      return;
+    }
+    if (this.transform.axis !== null) return;
     const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => n.pick);
     const hit = this.ray(e).intersectObjects(meshes, false)[0];
     this.downAt = { x: e.clientX, y: e.clientY };
@@ -345,7 +357,7 @@ export class Viewport {
    * @param {PointerEvent} e
    */
   move(e) {
-    if (!this.drag) return;
+    if (this.paths.move(e) || !this.drag) return;
     const events = typeof e.getCoalescedEvents === 'function' ? e.getCoalescedEvents() : [];
     for (const ev of events.length ? events : [e]) {
       const point = this.ray(ev).ray.intersectPlane(this.drag.plane, new THREE.Vector3());
@@ -357,6 +369,10 @@ export class Viewport {
 
   /** @param {PointerEvent} e */
   lift(e) {
+    if (this.paths.lift()) {
+      this.downAt = null;
+      return;
+    }
     if (this.drag) {
       this.drag = null;
       this.orbit.enabled = true;
@@ -374,8 +390,16 @@ export class Viewport {
    */
   screenOf(name) {
     const node = this.nodes.get(name);
-    if (!node) return null;
-    const p = node.root.getWorldPosition(new THREE.Vector3()).project(this.camera);
+    return node ? this.pageOf(node.root.getWorldPosition(new THREE.Vector3())) : null;
+  }
+
+  /**
+   * The page coordinates of a point of the scene.
+   * @param {THREE.Vector3} point
+   * @returns {{x: number, y: number}}
+   */
+  pageOf(point) {
+    const p = point.clone().project(this.camera);
     const rect = this.renderer.domElement.getBoundingClientRect();
     return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height };
   }
@@ -455,7 +479,7 @@ export class Viewport {
       r.setScissorTest(true);
       r.setScissor(x, y, w, h);
       r.setViewport(x, y, w, h);
-      const hidden = [cam.helper, this.transform.getHelper(), this.selection, cam.root];
+      const hidden = [cam.helper, this.transform.getHelper(), this.selection, cam.root, this.paths.group, this.onion.group];
       const was = hidden.map((o) => o?.visible);
       hidden.forEach((o) => o && (o.visible = false));
       r.render(this.scene, cam.camera);
