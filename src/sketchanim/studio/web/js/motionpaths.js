@@ -19,7 +19,7 @@ import { frameAt, framesIn, pathRange, pointsActing, spanTimes, valuesAt, withPo
 
 const COLOURS = { path: 0x4dd0e1, now: 0xffffff, handle: 0x4dd0e1, hover: 0xffffff, selected: 0xffc640, hull: 0x7d8597, outline: 0x0b0d10 };
 /** Pixel sizes: a tick, the playhead's frame, a handle and its dark rim. */
-const SIZES = { tick: 4, now: 9, handle: 9, outline: 13 };
+const SIZES = { tick: 4, now: 7, handle: 9, outline: 13 };
 /** CSS pixels from a handle's centre that still grab it. */
 const GRAB = 8;
 /** CSS pixels the pointer moves before a press on a handle is a drag (not a click). */
@@ -188,6 +188,7 @@ export class MotionPaths {
     s.signals.on('points', () => this.recolour());
     s.signals.on('tracks', () => { if (!this.drag) this.settle(); });
     s.signals.on('error', (m) => { if (m.ref === 'curve.points' && !this.drag) this.settle(); });
+    viewport.renderer.domElement.addEventListener('pointerleave', () => this.hovering(null));
     window.addEventListener('keydown', (e) => {          // before the shortcuts (Esc also deselects)
       if (e.key === 'Escape' && this.cancel()) {
         e.preventDefault();
@@ -311,7 +312,8 @@ export class MotionPaths {
     const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(this.viewport.camera.getWorldDirection(new THREE.Vector3()), grabbed);
     const points = s.points.filter((q) => q.kind === 'point' && this.handleAt(q)).map((q) => ({
       path: q.path, index: q.index, from: /** @type {CurveTrack} */ (this.curveOf(q.path)).coef[q.index] }));
-    this.drag = { plane, start: grabbed, points, grabbed: hit, shift: e.shiftKey, moved: false, x: e.clientX, y: e.clientY, pointer: e.pointerId };
+    const start = this.viewport.ray(e).ray.intersectPlane(plane, new THREE.Vector3()) ?? grabbed;
+    this.drag = { plane, start, points, grabbed: hit, shift: e.shiftKey, moved: false, x: e.clientX, y: e.clientY, pointer: e.pointerId };
     this.viewport.orbit.enabled = false;
     this.viewport.renderer.domElement.setPointerCapture(e.pointerId);
     return true;
@@ -324,12 +326,7 @@ export class MotionPaths {
   move(e) {
     const drag = this.drag;
     if (!drag) {
-      const hit = this.viewport.drag || this.viewport.transform.dragging ? null : this.pick(e);
-      if ((hit?.path ?? null) !== (this.hover?.path ?? null) || hit?.index !== this.hover?.index) {
-        this.hover = hit;
-        this.viewport.renderer.domElement.style.cursor = hit ? 'grab' : '';
-        this.recolour();
-      }
+      this.hovering(this.viewport.drag || this.viewport.transform.dragging ? null : this.pick(e));
       return false;
     }
     if (!drag.moved && Math.hypot(e.clientX - drag.x, e.clientY - drag.y) < SLOP) return true;
@@ -350,6 +347,17 @@ export class MotionPaths {
     }
     this.showMoved();
     return true;
+  }
+
+  /**
+   * Highlight the handle under the pointer (null: none).
+   * @param {PointSelection | null} hit
+   */
+  hovering(hit) {
+    if ((hit?.path ?? null) === (this.hover?.path ?? null) && hit?.index === this.hover?.index) return;
+    this.hover = hit;
+    this.viewport.renderer.domElement.style.cursor = hit ? 'grab' : '';
+    this.recolour();
   }
 
   /**

@@ -318,13 +318,16 @@ export class Viewport {
   /** @param {PointerEvent} e */
   press(e) {
     if (e.button !== 0 || this.transform.dragging) return;
-    if (this.paths.press(e)) {                          // a control point's handle, over the gizmo too
+    const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => n.pick);
+    const hit = this.ray(e).intersectObjects(meshes, false)[0];
+    // a control point's handle takes the press over the gizmo and the objects; in record mode (a take
+    // is the object's) only where neither is
+    const record = this.studio.transport.record;
+    if ((!record || (!hit && this.transform.axis === null)) && this.paths.press(e)) {
       e.stopImmediatePropagation();
       return;
     }
     if (this.transform.axis !== null) return;
-    const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => n.pick);
-    const hit = this.ray(e).intersectObjects(meshes, false)[0];
     this.downAt = { x: e.clientX, y: e.clientY };
     if (!hit) return;
     const name = hit.object.userData.object;
