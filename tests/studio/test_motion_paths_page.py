@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from sketchanim.anim.attributes import POSITION
-from sketchanim.anim.edits import moved_point
+from sketchanim.anim.edits import moved_points
 from sketchanim.anim.layers import recorded_over
 from sketchanim.anim.tracks import ContinuousTrack, Take
 from sketchanim.project.store import Project
@@ -169,7 +169,7 @@ def test_dragging_a_handle_makes_the_apis_edit_in_one_step_and_undo_restores_it(
     view = np.array(page.evaluate("viewport.orbit.target.clone().sub(viewport.camera.position).normalize().toArray()"))
     assert np.linalg.norm(moved) > 0.2 and abs(moved @ view) < 1e-9, "the point did not move in the plane facing the view"
     after = project(animated)
-    want = moved_point(_track(before), index, edit["value"]).spline
+    want = moved_points(_track(before), {index: edit["value"]}).spline
     got, entry = curve(after, PATH)
     assert np.array_equal(got.t, want.t) and np.abs(got.c - want.c).max() <= 1e-9
     assert entry["edited"] is True
