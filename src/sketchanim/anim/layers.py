@@ -328,7 +328,9 @@ def recorded_over(path: str, type: AttributeType, below: ContinuousTrack | None,
     if streamed is not None and streamed[1] is None:
         return ContinuousTrack(path, type, streamed[0], tol, (take,))
     spline = punch_in(type, None if below is None else below.spline, take, tol, order, streamed)
-    return ContinuousTrack(path, type, spline, tol, (() if below is None else below.takes) + (take,))
+    if below is None:
+        return ContinuousTrack(path, type, spline, tol, (take,))
+    return ContinuousTrack(path, type, spline, tol, below.takes + (take,), below.edited)     # its edits stay outside the take
 
 
 def compose(type: AttributeType, takes: Sequence[Take], tol: float, order: int) -> BSpline:
