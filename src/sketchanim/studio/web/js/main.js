@@ -31,7 +31,7 @@ new Outliner(studio, $('outliner'));
 new Inspector(studio, $('inspector'));
 new TransportBar(studio, $('transport'));
 new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
-new CurveEditor(studio, $('curves'));
+const curveEditor = new CurveEditor(studio, $('curves'));
 bindKeyboard(window, studioActions(studio, viewport));
 
 /** Per-frame timings (ms) of the last frames, for benchmarks: playback (evaluate every track,
@@ -76,4 +76,4 @@ window.addEventListener('blur', () => {
   if (studio.performer.grab && !viewport.drag && !viewport.pad) studio.performer.release();
 });
 
-Object.assign(window, { studio, viewport, studioStats: stats });
+Object.assign(window, { studio, viewport, curveEditor, studioStats: stats });
