@@ -145,6 +145,10 @@ export class CurveEditor {
     /** @type {Lane[]} */
     this.lanes = [];
     this.lanesDirty = true;
+    /** Counts the lanes' builds (the automatic view is computed again after one). */
+    this.version = 0;
+    /** @type {{key: string, view: View} | null} the automatic view, and what it was computed for */
+    this.auto = null;
     /** @type {View | null} the view the animator chose (null: follow the tracks and the playhead) */
     this.view = null;
     /** @type {[number, number] | null} the automatic value range (grows during a take, never jumps) */
@@ -224,6 +228,7 @@ export class CurveEditor {
     }
     this.lanes = lanes;
     this.lanesDirty = false;
+    this.version += 1;
     this.tolerance.setTracks(paths[0] ?? null, paths);
     this.layerKey = '';
   }
@@ -349,19 +354,21 @@ export class CurveEditor {
    */
   currentView(w, h) {
     if (this.view) return this.view;
+    if (this.drag && this.auto) return this.auto.view;          // still while dragging
     const s = this.studio;
     const [t0, t1] = viewRange(s.span, s.transport.clock.loop, s.transport.time);
+    const trail = this.trail();
+    const key = `${t0},${t1},${w},${h}|${this.version}|${trail ? trail.times.length : -1}`;
+    if (this.auto?.key === key) return this.auto.view;
     let lo = Infinity;
     let hi = -Infinity;
     const see = (/** @type {number} */ v) => { if (v < lo) lo = v; if (v > hi) hi = v; };
     const probe = { t0, t1, v0: 0, v1: 1 };
     for (const lane of this.lanes) {
-      this.place(lane, probe, w, h);
-      for (const vs of lane.line.values) vs.forEach(see);
+      for (const vs of this.sampleLine(lane, probe, Math.max(2, Math.round(w / 2))).values) vs.forEach(see);
       const [a, b] = rangeOf(lane.kt, t0, t1);
       for (const vs of lane.kv) for (let i = a; i < b; i++) see(vs[i]);
     }
-    const trail = this.trail();
     if (trail && !this.speed) for (const row of trail.values) row.forEach(see);
     if (!Number.isFinite(lo)) {
       const own = s.selected ? s.values.get(`${s.selected}.${s.attribute}`) : null;
@@ -371,7 +378,8 @@ export class CurveEditor {
     if (hi - lo < 1e-6) { lo -= 0.5; hi += 0.5; }
     this.yRange = [lo, hi];
     const pad = (hi - lo) * 0.08;
-    return { t0, t1, v0: lo - pad, v1: hi + pad };
+    this.auto = { key, view: { t0, t1, v0: lo - pad, v1: hi + pad } };
+    return this.auto.view;
   }
 
   /** The animator's view from now on: the current one, to zoom or pan from. */
@@ -776,6 +784,7 @@ export class CurveEditor {
       if (this.normalised) notes.push('normalised: each channel -1..1');
       this.note.textContent = notes.join(' · ');
       this.speedButton.classList.toggle('on', this.speed);
+      this.speedButton.disabled = !this.shownPaths().some((p) => s.types.get(p)?.name === 'position');
       this.normButton.classList.toggle('on', this.normalised);
     }
   }
