@@ -140,6 +140,10 @@ export class CurveEditor {
     root.append(head, this.canvas);
     /** The layer of what does not move, drawn once and copied each frame. */
     this.layer = document.createElement('canvas');
+    // Both drawn on the CPU: thousands of small marks rasterise far faster there than through
+    // the GPU's path rendering (with a software GL, by orders of magnitude). The first
+    // getContext's options stay the canvas's.
+    for (const c of [this.canvas, this.layer]) c.getContext('2d', { willReadFrequently: true });
     this.normalised = false;
     this.speed = false;
     /** @type {Lane[]} */
