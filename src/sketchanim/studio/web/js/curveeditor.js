@@ -21,8 +21,8 @@
  *
  * Drawing is cached: every track's sampled curve and its points' screen positions are
  * computed when the curve or the view changes; what does not move is drawn once into a
- * layer that each frame copies, and a frame draws only when something changed. Dots are
- * drawn once per 2 px cell; hit tests search the points, sorted by time, by bisection.
+ * layer that each frame copies, and a frame draws only when something changed. Marks are
+ * drawn once per 3 px cell; hit tests search the points, sorted by time, by bisection.
  * While a take is recorded over the shown attribute, its raw trail (dots) and the reduced
  * pieces (thick) grow as the server finishes them.
  */
@@ -30,6 +30,7 @@ import { greville, keyKnots, nearestEuler, nearestPoint, quatToEuler, eulerToQua
 import { sampleCurve } from './evaluate.js';
 import { el } from './dom.js';
 import { fitCanvas } from './canvas.js';
+import { formatTolerance } from './resolution.js';
 import { tickStep, viewRange } from './timescale.js';
 import { ToleranceBar } from './tolerancebar.js';
 
@@ -251,16 +252,7 @@ export class CurveEditor {
     lane.kv = Array.from({ length: lane.dims }, () => new Float64Array(lane.kk.length));
     lane.ks = Array.from({ length: lane.dims }, () => new Float64Array(lane.kk.length));
     lane.keyOf = new Map(Array.from(lane.kk, (k, i) => [k, i]));
-    const low = c.bounds?.[0] ?? -Infinity;
-    const high = c.bounds?.[1] ?? Infinity;
-    lane.kt.forEach((t, i) => {
-      const { value, slope } = valueAndSlope(c.knots, c.order, c.coef, t);
-      const shown = this.displayed(lane, t, value, slope);
-      for (let ch = 0; ch < lane.dims; ch++) {
-        lane.kv[ch][i] = map[ch].a * (lane.euler ? shown.value[ch] : Math.min(Math.max(shown.value[ch], low), high)) + map[ch].b;
-        lane.ks[ch][i] = map[ch].a * shown.slope[ch];
-      }
-    });
+    this.keyValues(lane, 0, lane.kt.length);
     const kept = this.samples.get(lane.path);
     lane.dots = null;
     if (kept && !lane.speed && this.asked.get(lane.path) === lane.curve) {
@@ -271,6 +263,42 @@ export class CurveEditor {
       });
       lane.dots = { times: Float64Array.from(kept.times), values };
     }
+    lane.at = '';
+  }
+
+  /**
+   * The display values and slopes of keys a .. b-1 of a lane, from its shown curve.
+   * @param {Lane} lane @param {number} a @param {number} b
+   */
+  keyValues(lane, a, b) {
+    const c = lane.shown;
+    const map = lane.map.length ? lane.map : Array.from({ length: lane.dims }, () => ({ a: 1, b: 0 }));
+    const low = c.bounds?.[0] ?? -Infinity;
+    const high = c.bounds?.[1] ?? Infinity;
+    for (let i = a; i < b; i++) {
+      const t = lane.kt[i];
+      const { value, slope } = valueAndSlope(c.knots, c.order, c.coef, t);
+      const shown = this.displayed(lane, t, value, slope);
+      for (let ch = 0; ch < lane.dims; ch++) {
+        lane.kv[ch][i] = map[ch].a * (lane.euler ? shown.value[ch] : Math.min(Math.max(shown.value[ch], low), high)) + map[ch].b;
+        lane.ks[ch][i] = map[ch].a * shown.slope[ch];
+      }
+    }
+  }
+
+  /**
+   * A drag's preview changed control points `first` .. `last` of a lane's shown curve: their
+   * display values and the keys over their spans again (the rest stays).
+   * @param {Lane} lane @param {number} first @param {number} last
+   */
+  reshaped(lane, first, last) {
+    const c = lane.shown;
+    for (let ch = 0; ch < lane.dims; ch++) {
+      const { a, b } = lane.map[ch];
+      for (let j = first; j <= last; j++) lane.pv[ch][j] = a * c.coef[j][ch] + b;
+    }
+    const [ka, kb] = rangeOf(lane.kt, c.knots[first], c.knots[Math.min(last + c.order, c.knots.length - 1)]);
+    this.keyValues(lane, ka, kb);
     lane.at = '';
   }
 
@@ -538,8 +566,8 @@ export class CurveEditor {
       g.fillStyle = 'rgba(232, 176, 75, 0.06)';
       for (const take of own.curve.takes) g.fillRect(X(take.start), 0, X(take.end) - X(take.start), h);
     }
-    const cells = new Uint32Array(Math.ceil(w / 2 + 1) * Math.ceil(h / 2 + 1));
-    const marks = { gen: 0, cells, cw: Math.ceil(w / 2 + 1) };
+    const cells = new Uint32Array(Math.ceil(w / 3 + 1) * Math.ceil(h / 3 + 1));
+    const marks = { gen: 0, cells, cw: Math.ceil(w / 3 + 1) };
     this.lanes.forEach((lane, n) => {
       if (!this.moving.has(lane.path)) this.drawLane(g, lane, n, view, w, h, marks, !!trail?.live && n === 0);
     });
@@ -623,8 +651,8 @@ export class CurveEditor {
     const X = (/** @type {number} */ t) => ((t - view.t0) / (view.t1 - view.t0)) * w;
     const ph = h - TOP - BOTTOM;
     const Y = (/** @type {number} */ v) => TOP + ((view.v1 - v) / (view.v1 - view.v0)) * ph;
-    const cells = new Uint32Array(Math.ceil(w / 2 + 1) * Math.ceil(h / 2 + 1));
-    const marks = { gen: 0, cells, cw: Math.ceil(w / 2 + 1) };
+    const cells = new Uint32Array(Math.ceil(w / 3 + 1) * Math.ceil(h / 3 + 1));
+    const marks = { gen: 0, cells, cw: Math.ceil(w / 3 + 1) };
     this.lanes.forEach((lane, n) => { if (this.moving.has(lane.path)) this.drawLane(g, lane, n, view, w, h, marks, false); });
     // tolerance previews: dashed
     g.setLineDash([5, 4]);
@@ -775,8 +803,13 @@ export class CurveEditor {
       const names = NAMES[/** @type {keyof NAMES} */ (s.types.get(path)?.name ?? '')] ?? '';
       const legend = this.lanes.length > 1 ? `${this.lanes.length} tracks`
         : [...names.slice(0, lane?.dims ?? 0)].map((n, i) => `<b style="color:${CHANNELS[i]}">${n}</b>`).join(' ');
-      const what = trail?.live ? `recording · ${trail.times.length} samples (dots) · ${(s.pieces.get(path) ?? []).length} reduced pieces (thick)`
-        : lane ? `${lane.curve.coef.length} control points · ${lane.kt.length} keys${lane.curve.edited ? ' · edited' : ''}` : 'no track yet';
+      const sent = [...s.takes].reverse().find((l) => l.sampler.paths.includes(path))?.sampler.tolerance[path]
+        ?? s.performer.grab?.take?.tolerance[path];
+      const said = sent ? formatTolerance(sent, sent.input, sent.unit) : '';
+      const tol = lane && !(sent && Math.abs(sent.tol - lane.curve.tol) <= 1e-12 * lane.curve.tol) ? `tol ${Number(lane.curve.tol.toPrecision(2))}` : said;
+      const what = trail?.live ? `recording · ${trail.times.length} samples (dots) · ${(s.pieces.get(path) ?? []).length} reduced pieces (thick) · ${said}`
+        : lane ? `${lane.curve.coef.length} control points · ${lane.kt.length} keys · ${tol}${smoothing(lane.curve)}${lane.curve.edited ? ' · edited by hand' : ''}`
+          : 'no track yet';
       html = `<span class="path">${path}</span> ${legend} <span class="what">${what}</span>`;
     }
     if (html !== this.lastTitle) {
@@ -985,7 +1018,8 @@ export class CurveEditor {
         u.forEach((wt, j) => { if (wt) next[j][ch] += (shift / a) * wt; });
       }
       lane.shown = { ...lane.curve, coef: next };
-      this.computeData(lane);
+      const changed = next.flatMap((row, j) => (row.some((v, k) => v !== coef[j][k]) ? [j] : []));
+      if (changed.length) this.reshaped(lane, changed[0], changed[changed.length - 1]);
       this.place(lane, view, w, h);
     }
   }
@@ -1119,12 +1153,25 @@ export class CurveEditor {
 }
 
 /**
- * Mark a 2 px cell as drawn; false if it already was (in this pass).
+ * How a curve's takes were smoothed, as its title says it (" · smoothed 0.05 s", " · 1 of 2
+ * takes smoothed 0.02 s"; nothing when none was): its tolerance holds against those samples.
+ * @param {CurveTrack} curve
+ */
+function smoothing(curve) {
+  const smoothed = curve.takes.filter((t) => t.smoothing > 0);
+  if (!smoothed.length) return '';
+  const widths = [...new Set(smoothed.map((t) => t.smoothing))].join(' / ');
+  const which = smoothed.length === curve.takes.length ? '' : `${smoothed.length} of ${curve.takes.length} takes `;
+  return ` · ${which}smoothed ${widths} s`;
+}
+
+/**
+ * Mark a 3 px cell as drawn; false if it already was (in this pass).
  * @param {{gen: number, cells: Uint32Array, cw: number}} marks @param {number} x @param {number} y
  */
 function mark(marks, x, y) {
   if (x < 0 || y < 0) return true;
-  const cell = (x >> 1) + (y >> 1) * marks.cw;
+  const cell = ((x / 3) | 0) + ((y / 3) | 0) * marks.cw;
   if (cell >= marks.cells.length) return true;
   if (marks.cells[cell] === marks.gen) return false;
   marks.cells[cell] = marks.gen;
@@ -1132,7 +1179,7 @@ function mark(marks, x, y) {
 }
 
 /**
- * Small dots, one per 2 px cell.
+ * Small dots, one per 3 px cell.
  * @param {CanvasRenderingContext2D} g @param {Float32Array} xs @param {Float32Array} ys
  * @param {number} a @param {number} b @param {number} r
  * @param {{gen: number, cells: Uint32Array, cw: number}} marks @param {number} h
