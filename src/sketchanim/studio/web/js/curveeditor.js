@@ -22,7 +22,7 @@
  * Drawing is cached: every track's sampled curve and its points' screen positions are
  * computed when the curve or the view changes; what does not move is drawn once into a
  * layer that each frame copies, and a frame draws only when something changed. Marks are
- * drawn once per 3 px cell; hit tests search the points, sorted by time, by bisection.
+ * drawn once per 3 px cell, and not at all for a track denser than one per 4 px (zoom in); hit tests search the points, sorted by time, by bisection.
  * While a take is recorded over the shown attribute, its raw trail (dots) and the reduced
  * pieces (thick) grow as the server finishes them.
  */
@@ -41,6 +41,8 @@ const TOP = 8;
 const BOTTOM = 16;
 /** Pixels within which a point, a key or a handle is hit. */
 const HIT = 6;
+/** Pixels per point or key below which a track's unselected points and keys are not drawn (zoom in to see them; they are still hit and selected). */
+const DENSE = 4;
 /** Pixels from a key to its handles' ends. */
 const HANDLE = 30;
 
@@ -362,7 +364,7 @@ export class CurveEditor {
   place(lane, view, w, h) {
     const key = `${view.t0},${view.t1},${view.v0},${view.v1},${w},${h}`;
     if (lane.at === key) return;
-    lane.line = this.sampleLine(lane, view, Math.max(2, Math.round(w)));
+    lane.line = this.sampleLine(lane, view, Math.max(2, Math.round(w / 2)));                 // a sample per 2 px
     const X = (/** @type {number} */ t) => ((t - view.t0) / (view.t1 - view.t0)) * w;
     const ph = h - TOP - BOTTOM;
     const Y = (/** @type {number} */ v) => TOP + ((view.v1 - v) / (view.v1 - view.v0)) * ph;
@@ -616,7 +618,7 @@ export class CurveEditor {
       g.stroke();
       g.lineWidth = 1;
       g.globalAlpha = 0.9;
-      if (!lane.euler && !lane.speed) {                                      // control points: hollow squares
+      if (!lane.euler && !lane.speed && pb - pa <= w / DENSE) {              // control points: hollow squares
         g.strokeStyle = colour;
         marks.gen += 1;
         g.beginPath();
@@ -630,7 +632,7 @@ export class CurveEditor {
       g.fillStyle = '#f4f4f4';                                               // keys: diamonds
       marks.gen += 1;
       g.beginPath();
-      for (let i = ka; i < kb; i++) {
+      for (let i = ka; i < (kb - ka <= w / DENSE ? kb : ka); i++) {
         const x = lane.kx[i], y = lane.ky[ch][i];
         if (y < 0 || y > h || !mark(marks, x, y)) continue;
         g.moveTo(x, y - 3.5); g.lineTo(x + 3.5, y); g.lineTo(x, y + 3.5); g.lineTo(x - 3.5, y); g.closePath();
@@ -812,14 +814,17 @@ export class CurveEditor {
           : 'no track yet';
       html = `<span class="path">${path}</span> ${legend} <span class="what">${what}</span>`;
     }
+    const notes = [];
+    if (this.lanes.some((l) => l.euler && !l.speed)) notes.push('orientation: Euler angles in degrees; keys drag, control points (quaternions) do not');
+    if (this.lanes.some((l) => l.speed)) notes.push('speed: view only');
+    const w = this.canvas.clientWidth;
+    if (this.lanes.some((l) => l.at && rangeOf(l.kx, 0, w).reduce((a, b) => b - a) > w / DENSE)) notes.push('keys too dense to draw: zoom in (wheel) to see them');
+    if (this.normalised) notes.push('normalised: each channel -1..1');
+    const note = notes.join(' · ');
+    if (note !== this.note.textContent) this.note.textContent = note;
     if (html !== this.lastTitle) {
       this.title.innerHTML = html;
       this.lastTitle = html;
-      const notes = [];
-      if (this.lanes.some((l) => l.euler && !l.speed)) notes.push('orientation: Euler angles in degrees; keys drag, control points (quaternions) do not');
-      if (this.lanes.some((l) => l.speed)) notes.push('speed: view only');
-      if (this.normalised) notes.push('normalised: each channel -1..1');
-      this.note.textContent = notes.join(' · ');
       this.speedButton.classList.toggle('on', this.speed);
       this.speedButton.disabled = !this.shownPaths().some((p) => s.types.get(p)?.name === 'position');
       this.normButton.classList.toggle('on', this.normalised);
