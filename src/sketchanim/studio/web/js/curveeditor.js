@@ -172,8 +172,8 @@ export class CurveEditor {
     this.frameKey = '';
     this.overlayVersion = 0;
     this.lastTitle = '';
-    /** Script milliseconds of the last frames the editor drew (for benchmarks). */
-    this.stats = { draw: /** @type {number[]} */ ([]) };
+    /** Script milliseconds of the last frames the editor drew, and of its pointer moves (a drag's preview), for benchmarks. */
+    this.stats = { draw: /** @type {number[]} */ ([]), move: /** @type {number[]} */ ([]) };
     for (const signal of /** @type {const} */ (['selection', 'attribute', 'tracks', 'state'])) {
       studio.signals.on(signal, () => { this.lanesDirty = true; });
     }
@@ -941,6 +941,7 @@ export class CurveEditor {
   move(e) {
     const d = this.drag;
     if (!d) return;
+    const started = performance.now();
     const { x, y } = this.local(e);
     d.x = x;
     d.y = y;
@@ -957,6 +958,8 @@ export class CurveEditor {
       this.preview(d, this.currentView(w, h), w, h);
     }
     this.overlayVersion += 1;
+    this.stats.move.push(performance.now() - started);
+    if (this.stats.move.length > 600) this.stats.move.shift();
   }
 
   /**
