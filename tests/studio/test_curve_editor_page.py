@@ -240,6 +240,8 @@ def test_dragging_on_10_tracks_of_2000_keys_stays_responsive(tmp_path: Path, bro
         page.evaluate("studio.select('rig')")
         page.locator("[data-testid=curve-all]").check()
         page.wait_for_function("() => curveEditor.lanes.length === 10", timeout=30_000)
+        tolerance = page.locator("[data-testid=tolerance]")          # tracks without takes: nothing to re-reduce
+        assert tolerance.is_disabled() and "no takes" in tolerance.get_attribute("title")
         page.keyboard.press("Home")
         page.wait_for_timeout(300)
         start = _screen(page, "p", 1000, 1)
@@ -256,3 +258,31 @@ def test_dragging_on_10_tracks_of_2000_keys_stays_responsive(tmp_path: Path, bro
         assert max(medians) < 50, f"frame script, editor frame, pointer move: {medians} ms"
         assert drew_something(page) > 5 and not page.errors
         page.close()
+
+
+def test_i_inserts_a_knot_at_the_playhead_and_delete_removes_it(recorded) -> None:  # noqa: ANN001
+    page, url, _ = recorded
+    before, entry0 = _entry(url)
+    steps = _steps(page)
+    page.evaluate("studio.transport.seek(1.37)")
+    page.keyboard.press("i")
+    _wait_steps(page, steps + 1)
+    after, entry1 = _entry(url)
+    assert len(entry1["knots"]) == len(entry0["knots"]) + 1 and 1.37 in entry1["knots"]
+    t = np.linspace(0, 3, 1001)
+    assert np.abs(after(t) - before(t)).max() < 1e-9                  # inserting a knot keeps the curve
+    page.wait_for_function("() => Array.from(curveEditor.lanes[0].kt).some((t) => Math.abs(t - 1.37) < 1e-12)")
+    i = page.evaluate("Array.from(curveEditor.lanes[0].kt).findIndex((t) => Math.abs(t - 1.37) < 1e-12)")
+    key = _screen(page, "k", i, 0)
+    page.mouse.click(key["x"], key["y"])
+    assert page.evaluate("studio.points") == [{"path": "box.position", "kind": "key", "index": entry1["knots"].index(1.37)}]
+    page.keyboard.press("Delete")
+    _wait_steps(page, steps + 2)
+    _, entry2 = _entry(url)
+    assert len(entry2["knots"]) == len(entry0["knots"]) and 1.37 not in entry2["knots"]
+    assert page.evaluate("studio.selected") == "box"                  # Delete took the key, not the object
+    _undo(page, steps + 1)
+    _undo(page, steps)
+    _, entry3 = _entry(url)
+    assert entry3["coef"] == entry0["coef"] and entry3["knots"] == entry0["knots"]
+    assert drew_something(page) > 5 and not page.errors
