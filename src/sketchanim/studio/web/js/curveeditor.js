@@ -236,7 +236,7 @@ export class CurveEditor {
     this.lanes = lanes;
     this.lanesDirty = false;
     this.version += 1;
-    this.tolerance.setTracks(paths[0] ?? null, paths);
+    this.tolerance.setTracks(lanes[0]?.path ?? paths[0] ?? null, lanes.length ? lanes.map((l) => l.path) : paths);
     this.layerKey = '';
   }
 
@@ -798,7 +798,7 @@ export class CurveEditor {
   showTitle(trail) {
     const s = this.studio;
     const lane = this.lanes[0];
-    const path = s.selected ? `${s.selected}.${s.attribute}` : null;
+    const path = lane?.path ?? (s.selected ? `${s.selected}.${s.attribute}` : null);
     let html;
     if (!path) html = 'Curves: select an object';
     else {
