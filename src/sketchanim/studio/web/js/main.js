@@ -5,7 +5,7 @@
  * performance.now(), playback of every track, the performer's samples — then drawing).
  */
 import { Connection } from './Connection.js';
-import { CurveView } from './curves.js';
+import { CurveEditor } from './curveeditor.js';
 import { Header } from './header.js';
 import { Inspector } from './inspector.js';
 import { LockBanner } from './banner.js';
@@ -31,7 +31,7 @@ new Outliner(studio, $('outliner'));
 new Inspector(studio, $('inspector'));
 new TransportBar(studio, $('transport'));
 new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
-new CurveView(studio, $('curves'));
+const curveEditor = new CurveEditor(studio, $('curves'));
 bindKeyboard(window, studioActions(studio, viewport));
 
 /** Per-frame timings (ms) of the last frames, for benchmarks: playback (evaluate every track,
@@ -76,4 +76,4 @@ window.addEventListener('blur', () => {
   if (studio.performer.grab && !viewport.drag && !viewport.pad) studio.performer.release();
 });
 
-Object.assign(window, { studio, viewport, studioStats: stats });
+Object.assign(window, { studio, viewport, curveEditor, studioStats: stats });
