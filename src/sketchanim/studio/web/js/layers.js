@@ -150,7 +150,7 @@ export class Layers {
     const act = (/** @type {TakeOp} */ op, /** @type {{to?: number}} */ args = {}) => () => s.editTake(path, i, op, args);
     const lastPlaying = !take.muted && playing === 1;
     const buttons = [
-      button('take-mute', take.muted ? '◌' : '●', take.muted ? 'Unmute: the take plays again' : lastPlaying ? 'The only take that plays cannot be muted' : 'Mute: leave the take out of the curve',
+      button('take-mute', 'M', take.muted ? 'Unmute: the take plays again' : lastPlaying ? 'The only take that plays cannot be muted' : 'Mute: leave the take out of the curve',
         act(take.muted ? 'unmute' : 'mute'), lastPlaying),
       button('take-solo', 'S', 'Solo: mute every other take', act('solo'), takes.length === 1),
       button('take-up', '↑', 'Move up: composed earlier', act('move', { to: i - 1 }), i === 0),
@@ -158,7 +158,8 @@ export class Layers {
     ];
     if (pass) buttons.push(button('take-keep', 'keep', 'Keep this pass of the loop recording (mute the other passes)', act('keep'), false));
     buttons.push(button('take-delete', '✕', takes.length === 1 ? 'Delete the take (the last one: the track goes)' : 'Delete the take', act('delete'), false));
-    buttons[0].classList.toggle('on', !take.muted);
+    buttons[0].classList.toggle('on', !!take.muted);
+    buttons[0].setAttribute('aria-pressed', String(!!take.muted));
     const tools = el('div', { class: 'take-tools' });
     tools.append(...buttons);
     for (const b of buttons) b.disabled = b.disabled || s.readOnly;

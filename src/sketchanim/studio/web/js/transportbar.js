@@ -37,7 +37,7 @@ export class TransportBar {
     const fps = choice('fps', FRAME_RATES.map((r) => [String(r), String(r)]), String(studio.fps), (v) => studio.setFps(Number(v)), 'fps');
     fps.wrap.title = "The project's frame rate: frame numbers, ← / → steps and snapping count in it (every tab shows it)";
     this.fps = fps.select;
-    this.snapButton = el('button', { class: 'toggle', 'data-testid': 'snap', title: 'Snap edits in time (knots, the playhead) to frames (Shift+S)' }, '⌗ snap');
+    this.snapButton = el('button', { class: 'toggle', 'data-testid': 'snap', title: 'Snap edits in time (knots, the playhead) to frames (Shift+S)' }, 'snap');
     this.snapButton.addEventListener('click', () => { studio.snap = !studio.snap; studio.signals.emit('projectSettings'); });
     this.loopButton = el('button', { class: 'toggle', 'data-testid': 'loop', title: 'Loop the range (L); shift-drag on the timeline sets it' }, '⟲ loop');
     this.loopButton.addEventListener('click', () => t.toggleLoop());
