@@ -123,7 +123,11 @@ export class Layers {
     }
     const passes = loopPasses(curve.takes);
     const playing = curve.takes.filter((t) => !t.muted).length;
-    this.list.replaceChildren(...curve.takes.map((_, i) => this.row(curve.path, curve.takes, i, passes.get(i) ?? null, playing)));
+    this.list.replaceChildren(...curve.takes.flatMap((_, i) => {
+      const pass = passes.get(i) ?? null;
+      const row = this.row(curve.path, curve.takes, i, pass, playing);
+      return pass?.pass === 1 ? [el('li', { class: 'loop-head' }, `⟲ loop recording · ${pass.of} passes`), row] : [row];
+    }));
     const input = this.list.querySelector('input');
     if (input) input.focus();
   }
