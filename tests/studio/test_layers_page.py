@@ -36,15 +36,20 @@ def _takes() -> list[Take]:
             Take(late, np.c_[-1 + 0 * late, 0.5 + 0 * late, late])]
 
 
-@pytest.fixture
-def takes_studio(tmp_path: Path):  # noqa: ANN201
-    """A studio on the default scene with the box's position recorded in three takes."""
+def _takes_project(folder: Path) -> Path:
+    """A project of the default scene with the box's position recorded in three takes."""
     track = None
     for take in _takes():
         track = recorded_over(PATH, POSITION, track, take, TOL, ORDER)
-    path = tmp_path / "takes.sketchanim"
+    path = folder / "takes.sketchanim"
     Project(path).save(default_scene(), {PATH: track})
-    with studio_server(path) as url:
+    return path
+
+
+@pytest.fixture
+def takes_studio(tmp_path: Path):  # noqa: ANN201
+    """A studio on :func:`_takes_project`."""
+    with studio_server(_takes_project(tmp_path)) as url:
         yield url
 
 
@@ -198,7 +203,7 @@ def test_objects_deleted_renamed_and_duplicated_from_the_outliner_undo_exactly(_
 def test_a_new_object_goes_in_front_of_the_camera_clear_of_the_others(_page, takes_studio: str) -> None:  # noqa: ANN001
     page = _page(takes_studio)
     # the view looks at the box from its front: straight ahead, 3 m on, is the box (and the ball beside it)
-    page.evaluate("viewport.camera.position.set(0, 1.6, 3.5); viewport.camera.lookAt(0, 0.5, 0); viewport.camera.updateMatrixWorld()")
+    page.evaluate("viewport.camera.position.set(0, 1.6, 3.5); viewport.orbit.target.set(0, 0.5, 0); viewport.orbit.update()")
     steps = _history(page)
     page.click("[data-testid=add-object]")
     page.wait_for_function(f"() => studio.history.undo.length === {steps + 1}")
@@ -275,3 +280,18 @@ def test_the_help_overlay_opens_from_every_transport_control_and_lists_every_sho
     page.mouse.click(5, 300)                                           # outside the card
     assert help_.is_hidden() and page.evaluate("studio.selected") == "ball"
     assert drew_something(page) > 5 and not page.errors
+
+
+def test_a_read_only_project_offers_no_take_or_object_edits(_page, tmp_path: Path) -> None:  # noqa: ANN001
+    with studio_server(_takes_project(tmp_path), "--read-only") as url:
+        page = _page(url)
+        _show_box(page)
+        buttons = page.locator("[data-testid=layers] button, [data-testid=layers-undo], [data-testid=layers-redo]")
+        assert buttons.count() >= 15
+        assert buttons.evaluate_all("(bs) => bs.filter((b) => !b.disabled).map((b) => b.dataset.testid)") == []
+        for tool in ("object-rename", "object-duplicate", "object-delete", "add-object", "fps"):
+            assert page.locator(f"[data-testid={tool}]").is_disabled(), tool
+        page.dblclick("[data-take='0'] [data-testid=take-name]")
+        page.keyboard.press("F2")
+        assert page.locator("[data-testid=layers] input, [data-testid=outliner] input").count() == 0
+        assert drew_something(page) > 5 and not page.errors
