@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from sketchanim.anim.attributes import BOOL, ORIENTATION, POSITION
 from sketchanim.anim.history import History
-from sketchanim.anim.edits import moved_point, scaled, shifted, with_knot, without_knot, without_range
+from sketchanim.anim.edits import moved_points, scaled, shifted, with_knots, without_knots, without_range
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack
@@ -48,13 +48,13 @@ def test_undo_then_redo_round_trips_any_sequence_of_edits(seed, edits) -> None:
             name = "shift"
         n = len(getattr(track.spline, "c", [])) if isinstance(track, ContinuousTrack) else 0
         if name == "move":
-            history.edit(path, name, moved_point, int(rng.integers(n)), rng.normal(0, 1, track.type.dim) + [0, 0, 0, 2][: track.type.dim])
+            history.edit(path, name, moved_points, {int(rng.integers(n)): rng.normal(0, 1, track.type.dim) + [0, 0, 0, 2][: track.type.dim]})
         elif name == "insert":
-            history.edit(path, name, with_knot, float(rng.uniform(track.start + 0.01, track.end - 0.01)))
+            history.edit(path, name, with_knots, [float(rng.uniform(track.start + 0.01, track.end - 0.01))])
         elif name == "remove":
             k = track.spline.k
             if len(track.spline.c) > k + 1:
-                history.edit(path, name, without_knot, int(rng.integers(k + 1, len(track.spline.t) - k - 1)))
+                history.edit(path, name, without_knots, [int(rng.integers(k + 1, len(track.spline.t) - k - 1))])
         elif name == "shift":
             history.edit(path, name, shifted, float(rng.normal()))
         elif name == "scale":
@@ -81,9 +81,9 @@ def test_edits_do_what_they_say() -> None:
     player, rng = setup(3)
     track = player.tracks["box.position"]
     t = np.linspace(track.start, track.end, 200)
-    more = with_knot(track, 2.2)
+    more = with_knots(track, [2.2])
     assert more.n_coefficients == track.n_coefficients + 1 and np.allclose(more.evaluate(t), track.evaluate(t))
-    less = without_knot(more, int(np.searchsorted(more.spline.t, 2.2)))
+    less = without_knots(more, [int(np.searchsorted(more.spline.t, 2.2))])
     assert less.n_coefficients == track.n_coefficients
     assert np.allclose(less.evaluate(t), track.evaluate(t), atol=1e-8)        # removing what was inserted
     moved = shifted(track, 1.5)
@@ -97,14 +97,14 @@ def test_edits_do_what_they_say() -> None:
         v0, d0, v1, d1 = one_sided(cut.spline, x)
         assert np.allclose(v0, v1) and np.allclose(d0, d1)
     with pytest.raises(ArgumentError, match="control point 99 of 12"):
-        moved_point(track, 99, [0, 0, 0])
+        moved_points(track, {99: [0, 0, 0]})
     with pytest.raises(ArgumentError, match="not an interior knot"):
-        without_knot(track, 0)
+        without_knots(track, [0])
     with pytest.raises(ArgumentError, match="time scale must be > 0"):
         scaled(track, 0.0)
     with pytest.raises(ArgumentError, match="needs t0 < t1"):
         without_range(track, 2.0, 1.0)
     history = History(player)
     with pytest.raises(ArgumentError, match="no track for 'lamp.color'"):
-        history.edit("lamp.color", "move", moved_point, 0, [0, 0, 0])
+        history.edit("lamp.color", "move", moved_points, {0: [0, 0, 0]})
     assert history.undo() is None and history.redo() is None

@@ -11,7 +11,7 @@ from scipy.interpolate import BSpline
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.attributes import FLOAT, ORIENTATION, POSITION, AttributeType
-from sketchanim.anim.layers import compose, punch_in, reduce_samples
+from sketchanim.anim.layers import compose, composition, punch_in, reduce_samples
 from sketchanim.anim.tracks import Take
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer.metric import rotation_angle
@@ -127,9 +127,11 @@ def test_additive_layers_add_and_compose_replays_takes_at_any_tolerance() -> Non
     offset = np.c_[0.3 * np.sin(np.pi * (s - 1) / 2), np.zeros(len(s)), np.zeros(len(s))]
     takes = [Take(t, base), Take(s, offset, "additive", blend=0.0)]
     for tol in (0.01, 0.001):
-        curve = compose(POSITION, takes, tol, 4)
+        made = composition(POSITION, takes, tol, 4)
+        assert np.abs(made.curve(made.times) - made.targets).max() <= tol * (1 + 1e-9)
+        # the layer's targets are the offsets on the curve below (itself within tol of the base)
         expected = np.r_[base[t < 1], base[(t >= 1) & (t <= 3)] + offset, base[t > 3]]
-        assert np.abs(curve(t) - expected).max() <= tol * (1 + 1e-9)
+        assert np.abs(made.curve(t) - expected).max() <= 2 * tol * (1 + 1e-9)
     coarse, fine = (len(compose(POSITION, takes, tol, 4).c) for tol in (0.01, 0.001))
     assert coarse < fine                                    # re-reduced from raw, not from the coarse curve
 

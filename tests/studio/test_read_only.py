@@ -34,6 +34,13 @@ EDIT_MESSAGES = [
     {"type": "undo"},
     {"type": "redo"},
     {"type": "tolerance.set", "path": "box.position", "amount": 2},
+    {"type": "object.duplicate", "name": "box", "to": "box2"},
+    {"type": "curve.points", "edits": [{"path": "box.position", "index": 0, "value": [0, 0, 0]}]},
+    {"type": "curve.key", "path": "box.position", "time": 0.5, "value": [0, 0, 0]},
+    {"type": "curve.knots", "path": "box.position", "insert": [0.5]},
+    {"type": "track.reduce", "paths": ["box.position"], "tol": 0.01},
+    {"type": "take.edit", "path": "box.position", "take": 0, "op": "mute"},
+    {"type": "settings", "fps": 30},
 ]
 
 
@@ -51,7 +58,7 @@ def project(tmp_path):
 
 def test_every_edit_is_listed_and_what_remains_only_reads():
     assert {m["type"] for m in EDIT_MESSAGES} == EDITS
-    assert set(HANDLERS) - EDITS == {"ping", "state", "transport", "export"}
+    assert set(HANDLERS) - EDITS == {"ping", "state", "transport", "export", "track.samples"}
 
 
 def test_a_read_only_session_plays_refuses_edits_and_exports(project):

@@ -9,11 +9,13 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.spatial.transform import Rotation
 
+from sketchanim.anim.layers import compose
 from sketchanim.anim.tracks import ContinuousTrack
 from sketchanim.formats.recordings import read_tum
 from sketchanim.studio import protocol as p
 from sketchanim.studio.outbound import layout
 from sketchanim.studio.session import Session
+from sketchanim.studio.takes import ORDER
 import tolerance
 
 OWNER = 1
@@ -209,8 +211,18 @@ def test_loop_recording_keeps_the_last_pass_as_one_step(session):
     assert session.history.labels[0] == ["take lamp.intensity", "take lamp.intensity"]
     track = session.player.tracks["lamp.intensity"]
     assert abs(track.evaluate([1.0])[0, 0] - 1.3) <= track.tol
-    assert len(track.takes) == 2                           # recorded over the base, not the earlier passes
+    # recorded over the base, not the earlier passes, which are kept muted after it
+    assert [(tk.muted, tk.loop, tk.loop_pass) for tk in track.takes] == [
+        (False, None, 0), (True, "L", 0), (True, "L", 1), (False, "L", 2)]
+    assert track.takes[0] is base.takes[0]
     assert "box.position" not in session.player.tracks     # pass 1 only armed it; the last pass is what stays
+    session.edit_take("lamp.intensity", 1, "keep", None, None)          # keep the first pass instead
+    kept = session.player.tracks["lamp.intensity"]
+    assert abs(kept.evaluate([1.0])[0, 0] - 1.1) <= kept.tol
+    assert [tk.muted for tk in kept.takes] == [False, False, True, True]
+    np.testing.assert_array_equal(kept.spline.c, compose(kept.type, [kept.takes[0], kept.takes[1]], kept.tol, ORDER).c)
+    session.undo()
+    assert session.player.tracks["lamp.intensity"] is track
     session.undo()
     assert session.player.tracks["lamp.intensity"] is base
 

@@ -10,6 +10,7 @@ of a loop recording.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from copy import deepcopy
 from dataclasses import replace
 
 from sketchanim.anim.player import Player
@@ -192,6 +193,33 @@ class RenameObject(Change):
                 tracks[p], tracks[moved] = None, replace(t, path=moved)
         super().__init__(player, f"rename {name} to {to}", tracks,
                          ((lambda: scene.rename(name, to), lambda: scene.rename(to, name)),))
+
+
+class DuplicateObject(Change):
+    """Copy the object ``name`` as ``to``: its attributes with their values, and its
+    tracks (placed after it in the scene's order).
+
+    >>> from sketchanim.anim.scene import Scene
+    >>> scene = Scene(); _ = scene.add("box")
+    >>> player = Player(scene)
+    >>> DuplicateObject(player, "box", "box2").do(); list(scene.objects)
+    ['box', 'box2']
+    """
+
+    def __init__(self, player: Player, name: str, to: str) -> None:
+        scene = player.scene
+        obj = scene.objects.get(name)
+        if obj is None:
+            raise ArgumentError("object", f"no object {name!r}")
+        if to in scene.objects:
+            raise ArgumentError("object", f"{to!r} exists already")
+        check_name(to, "object")
+        copy = SceneObject(to, obj.kind, {n: replace(a, value=deepcopy(a.value)) for n, a in obj.attributes.items()})
+        at = scene.index(name) + 1
+        tracks: dict[str, Track | None] = {f"{to}.{p.split('.')[1]}": replace(t, path=f"{to}.{p.split('.')[1]}")
+                                           for p, t in player.tracks.items() if _owner(p) == name}
+        super().__init__(player, f"duplicate {name} as {to}", tracks,
+                         ((lambda: scene.insert(copy, at), lambda: scene.remove(to)),))
 
 
 class RecordTake(Change):

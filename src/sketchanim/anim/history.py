@@ -24,14 +24,14 @@ class History:
     >>> import numpy as np
     >>> from scipy.interpolate import BSpline
     >>> from sketchanim.anim.attributes import FLOAT
-    >>> from sketchanim.anim.edits import moved_point
+    >>> from sketchanim.anim.edits import moved_points
     >>> from sketchanim.anim.scene import Scene
     >>> from sketchanim.anim.tracks import ContinuousTrack
     >>> scene = Scene(); obj = scene.add("a"); _ = obj.add("x", FLOAT)
     >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.c_[[0.0, 1.0]], 1)
     >>> player = Player(scene, [ContinuousTrack("a.x", FLOAT, s, 0.01)])
     >>> history = History(player)
-    >>> history.edit("a.x", "move point", moved_point, 1, [5.0])
+    >>> history.edit("a.x", "move point", moved_points, {1: [5.0]})
     >>> float(player.tracks["a.x"].evaluate([1.0])[0, 0]), history.undo(), float(player.tracks["a.x"].evaluate([1.0])[0, 0])
     (5.0, 'move point', 1.0)
     >>> history.set("a.x", [2.0], "nudge", merge="nudge"); history.set("a.x", [3.0], "nudge", merge="nudge")

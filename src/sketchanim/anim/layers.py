@@ -21,7 +21,7 @@ holds against those; its raw samples stay in the take (:func:`resmoothed` change
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.interpolate import BSpline
@@ -38,9 +38,18 @@ from sketchanim.reducer.splice import hold, join, snapped, split
 from sketchanim.spline import elevate_degree, insert_knots
 
 
-def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, tol: float, order: int) -> BSpline:
+#: How takes are reduced when a track is composed: the windowed (incremental) reducer, the
+#: one that reduced the take while it was recorded, so composing again at the same
+#: tolerance gives the curve back; it is several times faster than the global method on
+#: long takes (a tolerance slider answers while it is dragged), for a few more points.
+METHOD = "incremental"
+
+
+def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, tol: float, order: int,
+                   method: str = METHOD) -> BSpline:
     """A reduction of samples of an attribute of ``type`` within ``tol`` (in the type's
-    unit: degrees for an orientation), as a spline of (m, dim) values.
+    unit: degrees for an orientation), as a spline of (m, dim) values, by the reducer's
+    ``method`` (:data:`METHOD` as tracks are composed; ``"global"`` for the fewest points).
 
     >>> from sketchanim.anim.attributes import POSITION
     >>> t = np.linspace(0, 1, 121)
@@ -49,9 +58,9 @@ def reduce_samples(type: AttributeType, times: np.ndarray, values: np.ndarray, t
     (True, True)
     """
     if type.is_rotation:
-        r = reduce_rotations(times, values, tol, order=order)
+        r = reduce_rotations(times, values, tol, order=order, method=method)
     else:
-        r = reduce(times, values, tol, order=order, bounds=type.bounds)
+        r = reduce(times, values, tol, order=order, bounds=type.bounds, method=method)
     return r.columns
 
 
@@ -178,6 +187,61 @@ def _seat_start(m: BSpline, value: np.ndarray, slope: np.ndarray, times: np.ndar
     raise ArgumentError("take", f"cannot join the take at {a} s within tolerance")
 
 
+@dataclass(frozen=True)
+class _Plan:
+    """How :func:`punch_in` puts a take over a curve: its times and targets, the curve
+    it goes over (``base``, None: nothing below a replacing take), cut at ``cut_a`` and
+    ``cut_b`` into ``left`` and ``right`` (None where the take reaches past the curve),
+    and the bound its targets are kept within (radians for an orientation: ``angle``)."""
+
+    times: np.ndarray
+    targets: np.ndarray
+    base: BSpline | None = None
+    left: BSpline | None = None
+    right: BSpline | None = None
+    cut_a: float = 0.0
+    cut_b: float = 0.0
+    angle: float = 0.0
+    bound: np.ndarray | None = None
+
+    @property
+    def seams(self) -> tuple[bool, bool]:
+        return self.left is not None, self.right is not None
+
+
+def _plan(type: AttributeType, old: BSpline | None, take: Take, tol: float, order: int) -> _Plan:
+    times = np.asarray(take.times, dtype=float)
+    values = smoothed_samples(type, times, take.values, take.smoothing)
+    a, b = take.start, take.end
+    if old is None and take.mode == "replace":
+        return _Plan(times, np.asarray(values, dtype=float))
+    base = hold(a, b, type.default, order) if old is None else old
+    if base.k + 1 < order:
+        base = elevate_degree(base, order - base.k - 1)
+    k0 = base.k
+    lo, hi = float(base.t[k0]), float(base.t[-k0 - 1])
+    ext = [base]
+    if a < lo:
+        ext.insert(0, hold(a, lo, np.asarray(base.c)[0], k0 + 1))
+    if b > hi:
+        ext.append(hold(hi, b, np.asarray(base.c)[-1], k0 + 1))
+    ext = join(ext)
+    cut_a, cut_b = snapped(ext, a), snapped(ext, b)
+    left, rest = split(ext, cut_a) if cut_a > ext.t[k0] else (None, ext)
+    right = split(rest, cut_b)[1] if cut_b < rest.t[-k0 - 1] else None
+    angle = np.radians(tol) if type.is_rotation else 0.0
+    bound = np.array([angle]) if angle else np.full(type.dim, tol)
+    old_values = held_values(base, times, type.is_rotation)
+    seams = (left is not None, right is not None)
+    targets = _targets(type, old_values, values, take.mode, _weights(times, a, b, take.blend, *seams))
+    for side, i, seam in (("start", 0, left), ("end", -1, right)):
+        gap = max_errors(old_values[[i]], targets[[i]], angle)
+        if seam is not None and np.any(gap > bound):
+            raise ArgumentError("blend", f"the take's {side} at {times[i]} s is {gap.max():.6g} from the curve, "
+                                         f"more than the tolerance {tol}: a continuous join needs blend > 0")
+    return _Plan(times, targets, base, left, right, cut_a, cut_b, angle, bound)
+
+
 def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, order: int,
              streamed: tuple[BSpline, tuple[bool, bool]] | None = None) -> BSpline:
     """The curve ``old`` with ``take`` recorded over it (see the module's description).
@@ -216,35 +280,16 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
     >>> [round(float(d(x)[0]), 6) for x in (1.0, 2.0)]      # slope 1 on both sides: C1
     [1.0, 1.0]
     """
-    times = np.asarray(take.times, dtype=float)
-    values = smoothed_samples(type, times, take.values, take.smoothing)
-    a, b = take.start, take.end
-    if old is None and take.mode == "replace":
-        return reduce_samples(type, times, values, tol, order)
-    base = hold(a, b, type.default, order) if old is None else old
-    if base.k + 1 < order:
-        base = elevate_degree(base, order - base.k - 1)
-    k0 = base.k
-    lo, hi = float(base.t[k0]), float(base.t[-k0 - 1])
-    ext = [base]
-    if a < lo:
-        ext.insert(0, hold(a, lo, np.asarray(base.c)[0], k0 + 1))
-    if b > hi:
-        ext.append(hold(hi, b, np.asarray(base.c)[-1], k0 + 1))
-    ext = join(ext)
-    cut_a, cut_b = snapped(ext, a), snapped(ext, b)
-    left, rest = split(ext, cut_a) if cut_a > ext.t[k0] else (None, ext)
-    right = split(rest, cut_b)[1] if cut_b < rest.t[-k0 - 1] else None
-    angle = np.radians(tol) if type.is_rotation else 0.0
-    bound = np.array([angle]) if angle else np.full(type.dim, tol)
-    old_values = held_values(base, times, type.is_rotation)
-    seams = (left is not None, right is not None)
-    targets = _targets(type, old_values, values, take.mode, _weights(times, a, b, take.blend, *seams))
-    for side, i, seam in (("start", 0, left), ("end", -1, right)):
-        gap = max_errors(old_values[[i]], targets[[i]], angle)
-        if seam is not None and np.any(gap > bound):
-            raise ArgumentError("blend", f"the take's {side} at {times[i]} s is {gap.max():.6g} from the curve, "
-                                         f"more than the tolerance {tol}: a continuous join needs blend > 0")
+    return _punch(type, _plan(type, old, take, tol, order), tol, order, streamed)
+
+
+def _punch(type: AttributeType, plan: _Plan, tol: float, order: int,
+           streamed: tuple[BSpline, tuple[bool, bool]] | None = None) -> BSpline:
+    """:func:`punch_in` as ``plan`` says."""
+    if plan.base is None:
+        return reduce_samples(type, plan.times, plan.targets, tol, order)
+    k0, times, targets, angle, bound = plan.base.k, plan.times, plan.targets, plan.angle, plan.bound
+    left, right, seams, cut_a, cut_b = plan.left, plan.right, plan.seams, plan.cut_a, plan.cut_b
     if streamed is not None and streamed[0].k == k0 and streamed[1] == seams:
         mid = streamed[0]
     else:
@@ -287,21 +332,121 @@ def recorded_over(path: str, type: AttributeType, below: ContinuousTrack | None,
 
 
 def compose(type: AttributeType, takes: Sequence[Take], tol: float, order: int) -> BSpline:
-    """The curve that ``takes``, recorded in order, leave on a track.
+    """The curve that ``takes``, recorded in order, leave on a track (muted takes left out).
 
     >>> from sketchanim.anim.attributes import FLOAT
     >>> t = np.linspace(0, 2, 241)
     >>> takes = [Take(t, np.c_[np.sin(t)]), Take(t[60:120], np.c_[0.2 * np.ones(60)], "additive")]
     >>> s = compose(FLOAT, takes, 0.001, 4)
-    >>> round(float(s(0.75)[0] - np.sin(0.75)), 3), bool(abs(s(1.5)[0] - np.sin(1.5)) <= 0.001)
+    >>> round(float(s(0.75)[0] - np.sin(0.75)), 2), bool(abs(s(1.5)[0] - np.sin(1.5)) <= 0.001)
     (0.2, True)
     """
+    return composition(type, takes, tol, order).curve
+
+
+@dataclass(frozen=True)
+class Composition:
+    """What :func:`composition` makes of takes: the ``curve``, and the samples it keeps
+    within the tolerance: each take's targets (its samples faded onto what was below,
+    smoothed if it was) where no later take covers them, in time order, ``times`` (n,)
+    and ``targets`` (n, dim)."""
+
+    curve: BSpline
+    times: np.ndarray
+    targets: np.ndarray
+
+
+def composition(type: AttributeType, takes: Sequence[Take], tol: float, order: int) -> Composition:
+    """The curve ``takes`` leave on a track (:func:`compose`) and the samples it keeps.
+
+    >>> from sketchanim.anim.attributes import FLOAT
+    >>> t = np.linspace(0, 2, 201)
+    >>> made = composition(FLOAT, [Take(t, np.c_[t]), Take(t[50:100], np.c_[t[50:100] + 1])], 0.01, 4)
+    >>> len(made.times), float(made.targets[made.times == 1.0][0, 0])
+    (201, 1.0)
+    """
+    playing = [take for take in takes if not take.muted]
+    if not playing:
+        raise ArgumentError("takes", "needs at least one take that is not muted")
+    curve, plans = None, []
+    for take in playing:
+        plans.append(_plan(type, curve, take, tol, order))
+        curve = _punch(type, plans[-1], tol, order)
+    times, targets = [], []
+    for i, plan in enumerate(plans):
+        keep = np.ones(len(plan.times), dtype=bool)
+        for later in plans[i + 1:]:
+            keep &= (plan.times < later.times[0]) | (plan.times > later.times[-1])
+        times.append(plan.times[keep])
+        targets.append(plan.targets[keep])
+    t, x = np.concatenate(times), np.concatenate(targets)
+    by_time = np.argsort(t, kind="stable")
+    return Composition(curve, t[by_time], x[by_time])
+
+
+def largest_error(type: AttributeType, spline: BSpline, times: np.ndarray, values: np.ndarray) -> float:
+    """The largest distance of ``spline`` from ``values`` at ``times``, in the type's unit
+    (per channel; the angle in degrees for an orientation), as tolerances are kept.
+
+    >>> from sketchanim.anim.attributes import FLOAT
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.c_[[0.0, 1.0]], 1)
+    >>> largest_error(FLOAT, s, np.array([0.0, 0.5]), np.c_[[0.1, 0.5]])
+    0.1
+    """
+    if not len(times):
+        return 0.0
+    angle = 1.0 if type.is_rotation else 0.0
+    errors = max_errors(held_values(spline, times, type.is_rotation), values, angle)
+    worst = float(np.max(errors))
+    return float(np.degrees(worst)) if type.is_rotation else worst
+
+
+@dataclass(frozen=True)
+class Rereduction:
+    """A track re-reduced from its takes (:func:`rereduced`): the ``source`` track, the
+    new ``track``, and its largest ``error`` from the samples it keeps (the type's unit)."""
+
+    source: ContinuousTrack
+    track: ContinuousTrack
+    error: float
+
+
+def rereduced(track: ContinuousTrack, tol: float, order: int) -> Rereduction:
+    """``track`` reduced again from its raw takes within ``tol`` (never from its curve),
+    with its largest error from the samples it keeps.
+
+    >>> from sketchanim.anim.attributes import FLOAT
+    >>> t = np.linspace(0, 1, 121)
+    >>> track = recorded_over("a.x", FLOAT, None, Take(t, np.c_[np.sin(3 * t)]), 0.0005, 4)
+    >>> made = rereduced(track, 0.01, 4)
+    >>> made.track.n_coefficients < track.n_coefficients, made.error <= 0.01
+    (True, True)
+    """
+    if not track.takes:
+        raise ArgumentError("track", f"{track.path}: has no takes to re-reduce it from")
+    made = composition(track.type, track.takes, tol, order)
+    new = ContinuousTrack(track.path, track.type, made.curve, float(tol), track.takes)
+    return Rereduction(track, new, largest_error(track.type, made.curve, made.times, made.targets))
+
+
+def recomposed(track: ContinuousTrack, takes: Sequence[Take] | None = None, tol: float | None = None,
+               order: int = 4) -> ContinuousTrack:
+    """``track`` composed again (:func:`compose`) from ``takes`` (its own if None) within
+    ``tol`` (its own if None): hand edits of its curve are dropped. A track without
+    takes (a curve made otherwise) cannot be: :class:`ArgumentError`.
+
+    >>> from sketchanim.anim.attributes import FLOAT
+    >>> t = np.linspace(0, 1, 101)
+    >>> track = recorded_over("a.x", FLOAT, None, Take(t, np.c_[np.sin(3 * t)]), 0.001, 4)
+    >>> looser = recomposed(track, tol=0.01)
+    >>> looser.tol, looser.n_coefficients < track.n_coefficients
+    (0.01, True)
+    """
+    takes = track.takes if takes is None else tuple(takes)
+    tol = track.tol if tol is None else float(tol)
     if not takes:
-        raise ArgumentError("takes", "needs at least one take")
-    curve = None
-    for take in takes:
-        curve = punch_in(type, curve, take, tol, order)
-    return curve
+        raise ArgumentError("track", f"{track.path}: has no takes to compose it from")
+    return ContinuousTrack(track.path, track.type, compose(track.type, takes, tol, order), tol, tuple(takes))
 
 
 def resmoothed(track: ContinuousTrack, smoothing: float, order: int, index: int = -1) -> ContinuousTrack:
@@ -322,5 +467,4 @@ def resmoothed(track: ContinuousTrack, smoothing: float, order: int, index: int 
         takes[index] = replace(takes[index], smoothing=smoothing)
     except IndexError:
         raise ArgumentError("index", f"{track.path}: has {len(takes)} takes, got {index}") from None
-    return ContinuousTrack(track.path, track.type, compose(track.type, takes, track.tol, order), track.tol,
-                           tuple(takes))
+    return recomposed(track, takes, order=order)

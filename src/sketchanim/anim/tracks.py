@@ -44,6 +44,15 @@ class Take:
         Seconds: the width its samples are smoothed over before they are reduced
         (:mod:`sketchanim.reducer.smoothing`; 0: not smoothed). ``values`` stay raw; the
         tolerance holds against the smoothed samples.
+    name : str
+        What the animator called it ("": not named).
+    muted : bool
+        Left out when the track's curve is composed (:func:`.layers.compose`).
+    loop : str or None
+        The loop recording it is part of (its passes share the key; one pass is kept, the
+        others muted), or None.
+    loop_pass : int
+        Which pass of that loop recording (0, 1, ...; a pass may be several takes).
     """
 
     times: np.ndarray
@@ -51,6 +60,10 @@ class Take:
     mode: str = "replace"
     blend: float = BLEND
     smoothing: float = 0.0
+    name: str = ""
+    muted: bool = False
+    loop: str | None = None
+    loop_pass: int = 0
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -100,6 +113,9 @@ class ContinuousTrack:
     takes : tuple of Take
         The recordings it was made of, in order, raw (:func:`.layers.compose` rebuilds
         the curve from them at any tolerance); empty for a curve made otherwise.
+    edited : bool
+        Its curve was edited by hand (:mod:`.edits`) since it was composed from its takes:
+        composing it again drops those edits.
 
     >>> from sketchanim.anim.attributes import POSITION
     >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 2, 3]]), 1)
@@ -112,6 +128,7 @@ class ContinuousTrack:
     spline: BSpline
     tol: float
     takes: tuple[Take, ...] = ()
+    edited: bool = False
 
     def __post_init__(self) -> None:
         c = np.asarray(self.spline.c)

@@ -111,7 +111,7 @@ def written_curve(track: ContinuousTrack) -> BSpline:
     error = max_errors(track.evaluate(t), x, 1.0 if rotation else 0.0).max()
     spline = track.spline
     if (np.degrees(error) if rotation else error) > budget:
-        spline = reduce_samples(track.type, t, x, budget, track.spline.k + 1)
+        spline = reduce_samples(track.type, t, x, budget, track.spline.k + 1, "global")
     return unit_keys(spline, t, x, np.radians(budget))[0] if rotation else spline
 
 

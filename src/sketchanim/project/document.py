@@ -26,6 +26,8 @@ TYPE_NAMES = ("position", "orientation", "scale", "color", "intensity", "fov", "
 _Number = Annotated[float, Field(allow_inf_nan=False)]
 _Name = Annotated[str, Field(min_length=1, max_length=64)]
 _Items = Field(max_length=MAX_ITEMS)
+#: A project's frame rate until one is set (film's and Blender's).
+DEFAULT_FPS = 24.0
 
 
 class _Doc(BaseModel):
@@ -60,6 +62,7 @@ class CurveDoc(_Doc):
     knots: list[_Number] = _Items
     coef: list[list[_Number]] = _Items
     takes: list[int] = Field(default_factory=list, max_length=100_000)
+    edited: bool = False
 
 
 class StepsDoc(_Doc):
@@ -82,7 +85,9 @@ class ProjectDoc(_Doc):
     referenced by id), the take tolerances by attribute path (none in a document
     from before them), and the smoothing of each smoothed take, in seconds by take id
     (:attr:`~sketchanim.anim.tracks.Take.smoothing`; a take not there, as in a
-    document from before smoothing, is not smoothed)."""
+    document from before smoothing, is not smoothed); by take id too, the takes'
+    names, which are muted, and the loop recording and pass each loop take is part of
+    (none in a document from before them); the frame rate."""
 
     format: Literal["sketchanim-project"] = FORMAT
     version: Literal[1] = FORMAT_VERSION
@@ -93,6 +98,11 @@ class ProjectDoc(_Doc):
                                                                                   max_length=100_000)
     smoothing: dict[int, Annotated[float, Field(gt=0, allow_inf_nan=False)]] = Field(default_factory=dict,
                                                                                      max_length=100_000)
+    names: dict[int, Annotated[str, Field(max_length=64)]] = Field(default_factory=dict, max_length=100_000)
+    muted: list[int] = Field(default_factory=list, max_length=100_000)
+    loops: dict[int, tuple[Annotated[str, Field(max_length=128)], Annotated[int, Field(ge=0)]]] = Field(
+        default_factory=dict, max_length=100_000)
+    fps: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] = DEFAULT_FPS
 
 
 def load_document(text: str, source: str) -> ProjectDoc:
@@ -105,10 +115,10 @@ def load_document(text: str, source: str) -> ProjectDoc:
         raise FileFormatError(source, f"{where}: {first['msg']} ({err.error_count()} problems)") from None
 
 
-def to_document(scene: Scene, tracks: dict[str, Track],
-                tolerances: dict[str, ToleranceDoc] | None = None) -> tuple[ProjectDoc, list[Take]]:
-    """The document of a scene, its tracks and take tolerances (those of attributes the
-    scene holds), and the takes it refers to by index.
+def to_document(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None,
+                fps: float = DEFAULT_FPS) -> tuple[ProjectDoc, list[Take]]:
+    """The document of a scene, its tracks, take tolerances (those of attributes the
+    scene holds) and frame rate, and the takes it refers to by index.
 
     >>> scene = Scene(); _ = scene.add("box")
     >>> doc, _ = to_document(scene, {}, {"box.position": ToleranceDoc(amount=2, unit="px"),
@@ -135,10 +145,14 @@ def to_document(scene: Scene, tracks: dict[str, Track],
                 takes.append(take)
         curves.append(CurveDoc(path=track.path, tol=track.tol, order=track.spline.k + 1,
                                knots=np.asarray(track.spline.t).tolist(), coef=np.asarray(track.spline.c).tolist(),
-                               takes=ids))
+                               takes=ids, edited=track.edited))
     kept = {path: t for path, t in (tolerances or {}).items() if _holds(scene, path)}
     smoothing = {i: float(t.smoothing) for i, t in enumerate(takes) if t.smoothing > 0}
-    return ProjectDoc(objects=objects, curves=curves, steps=steps, tolerances=kept, smoothing=smoothing), takes
+    return ProjectDoc(objects=objects, curves=curves, steps=steps, tolerances=kept, smoothing=smoothing,
+                      names={i: t.name for i, t in enumerate(takes) if t.name},
+                      muted=[i for i, t in enumerate(takes) if t.muted],
+                      loops={i: (t.loop, t.loop_pass) for i, t in enumerate(takes) if t.loop is not None},
+                      fps=fps), takes
 
 
 def _holds(scene: Scene, path: str) -> bool:
@@ -161,8 +175,11 @@ def document_tolerances(doc: ProjectDoc, scene: Scene, source: str) -> dict[str,
 def from_document(doc: ProjectDoc, takes: dict[int, Take], source: str) -> tuple[Scene, dict[str, Track]]:
     """The scene and tracks of a validated document; :class:`FileFormatError` naming
     what does not fit (a value of the wrong type, a track for no attribute...). The
-    takes get their smoothing from the document."""
-    takes = {i: replace(t, smoothing=doc.smoothing[i]) if i in doc.smoothing else t for i, t in takes.items()}
+    takes get their smoothing, names, muting and loops from the document."""
+    muted = set(doc.muted)
+    takes = {i: replace(t, smoothing=doc.smoothing.get(i, t.smoothing), name=doc.names.get(i, t.name),
+                        muted=i in muted, loop=doc.loops[i][0] if i in doc.loops else None,
+                        loop_pass=doc.loops[i][1] if i in doc.loops else 0) for i, t in takes.items()}
     scene = Scene()
     tracks: dict[str, Track] = {}
     try:
@@ -191,7 +208,7 @@ def from_document(doc: ProjectDoc, takes: dict[int, Take], source: str) -> tuple
             if coef is None:
                 raise FileFormatError(source, f"{c.path}: coefficients need {kind.dim} numbers each")
             spline = BSpline(np.array(c.knots), coef, c.order - 1)
-            tracks[c.path] = ContinuousTrack(c.path, kind, spline, c.tol, tuple(takes[i] for i in c.takes))
+            tracks[c.path] = ContinuousTrack(c.path, kind, spline, c.tol, tuple(takes[i] for i in c.takes), c.edited)
         for s in doc.steps:
             tracks[s.path] = DiscreteTrack(s.path, scene.type(s.path), list(s.times), list(s.values))
     except FileFormatError:

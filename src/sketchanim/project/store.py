@@ -29,7 +29,7 @@ from sketchanim.errors import FileFormatError, InputError, load_json
 from sketchanim.project.checksums import CHECKSUMS, document_digest, take_digest
 from sketchanim.project.database import (COLUMNS, CREATE_TABLES, FORMAT, FORMAT_VERSION, MAX_TAKE_SAMPLES, connect,
                                          floats, reading, use_wal, writable)
-from sketchanim.project.document import (MAX_DOCUMENT_BYTES, ToleranceDoc, document_tolerances, from_document,
+from sketchanim.project.document import (DEFAULT_FPS, MAX_DOCUMENT_BYTES, ToleranceDoc, document_tolerances, from_document,
                                          load_document, to_document)
 from sketchanim.project.journal import Journal, journaled_take
 
@@ -152,16 +152,17 @@ class Project:
 
     # -- documents --------------------------------------------------------------------------
 
-    def save(self, scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None) -> None:
-        """Store the scene, the tracks (with their takes) and the take tolerances (those
-        of attributes the scene holds) in one transaction; the
+    def save(self, scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None,
+             fps: float = DEFAULT_FPS) -> None:
+        """Store the scene, the tracks (with their takes), the take tolerances (those
+        of attributes the scene holds) and the frame rate in one transaction; the
         journal of a take now stored is cleared with it; the checksums with them (an
         older project gets them here). A project opened read-only, or whose tables
         cannot be written, raises :class:`FileFormatError` and is left as it was."""
         source = str(self.path)
         if self.read_only:
             raise FileFormatError(source, "opened read-only: cannot save (export it, or save to a writable copy)")
-        doc, takes = to_document(scene, tracks, tolerances)
+        doc, takes = to_document(scene, tracks, tolerances, fps)
         body = doc.model_dump_json()
         rows = [(i, t.mode, float(t.blend), t.values.shape[1], len(t.times), np.asarray(t.times, "<f8").tobytes(),
                  np.asarray(t.values, "<f8").tobytes()) for i, t in enumerate(takes)]
@@ -211,6 +212,14 @@ class Project:
         with reading(source, "unreadable"):
             row = self.db.execute("SELECT body FROM documents WHERE name = 'project'").fetchone()
         return {} if row is None else document_tolerances(load_document(row[0], source), scene, source)
+
+    def fps(self) -> float:
+        """The frame rate last saved (:data:`~.document.DEFAULT_FPS` in a new project or one
+        from before frame rates)."""
+        source = str(self.path)
+        with reading(source, "unreadable"):
+            row = self.db.execute("SELECT body FROM documents WHERE name = 'project'").fetchone()
+        return DEFAULT_FPS if row is None else load_document(row[0], source).fps
 
     def salvage(self) -> Salvaged:
         """Everything undamaged in the project: the scene and its tracks if the document
@@ -274,7 +283,7 @@ class Project:
         """Write the project as saved, takes included, as one JSON file (atomically;
         :func:`export_text`)."""
         scene, tracks = self.load()
-        return write_atomic(path, export_text(scene, tracks, self.tolerances(scene)))
+        return write_atomic(path, export_text(scene, tracks, self.tolerances(scene), self.fps()))
 
     def import_json(self, path: str | os.PathLike[str]) -> None:
         """Replace the project's contents by a JSON file written by :meth:`export_json`."""
@@ -294,7 +303,7 @@ class Project:
             raise FileFormatError(source, f"not a project export ({type(err).__name__}: {err})") from None
         doc = load_document(json.dumps(body), source)
         scene, tracks = from_document(doc, takes, source)
-        self.save(scene, tracks, document_tolerances(doc, scene, source))
+        self.save(scene, tracks, document_tolerances(doc, scene, source), doc.fps)
 
     # -- the journal -------------------------------------------------------------------------
 
@@ -314,7 +323,8 @@ class Project:
         return journaled_take(self.db, str(self.path))
 
 
-def export_text(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None) -> str:
+def export_text(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None,
+                fps: float = DEFAULT_FPS) -> str:
     """The project export's JSON (what :meth:`Project.export_json` writes and
     :meth:`Project.import_json` reads): the document, with every take's samples.
 
@@ -323,7 +333,7 @@ def export_text(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, To
     >>> [o["name"] for o in body["objects"]], body["takes"]
     (['box'], [])
     """
-    doc, takes = to_document(scene, tracks, tolerances)
+    doc, takes = to_document(scene, tracks, tolerances, fps)
     body = json.loads(doc.model_dump_json())
     body["takes"] = [{"mode": t.mode, "blend": t.blend, "times": t.times.tolist(), "values": t.values.tolist()}
                      for t in takes]

@@ -114,6 +114,24 @@ def greville(knots: ArrayLike, order: int) -> np.ndarray:
     return window.mean(axis=1)
 
 
+def derivative(spline: BSpline) -> BSpline:
+    """The first derivative, also of a spline with a knot of full multiplicity inside
+    (scipy's :meth:`BSpline.derivative` refuses those): right-continuous there, as the
+    spline is evaluated.
+
+    >>> s = BSpline([0, 0, 1, 1, 2, 2], [0.0, 1.0, 3.0, 3.0], 1)     # a jump in slope at 1
+    >>> derivative(s)([0.5, 1.5]).tolist()
+    [1.0, 0.0]
+    """
+    t, c, p = np.asarray(spline.t, dtype=float), np.asarray(spline.c, dtype=float), spline.k
+    if p == 0:
+        return BSpline(t[1:-1], np.zeros_like(c[:-1] if len(c) > 1 else c), 0)
+    width = (t[p + 1 : len(c) + p] - t[1 : len(c)]).reshape((-1,) + (1,) * (c.ndim - 1))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = np.where(width > 0, p * np.diff(c, axis=0) / np.where(width > 0, width, 1.0), 0.0)
+    return BSpline(t[1:-1], d, p - 1)
+
+
 def elevate_degree(spline: BSpline, times: int = 1) -> BSpline:
     """The same spline as one of higher degree (each knot's multiplicity rises by one).
 

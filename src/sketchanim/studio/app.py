@@ -30,7 +30,7 @@ from pydantic import BaseModel
 
 from sketchanim.errors import InputError
 from sketchanim.studio import protocol
-from sketchanim.studio.handlers import error_code, handle
+from sketchanim.studio.handlers import check_writable, error_code, handle
 from sketchanim.studio.session import Session
 
 WEB = Path(__file__).parent / "web"
@@ -174,6 +174,9 @@ class Hub:
     def __init__(self, session: Session) -> None:
         self.session = session
         self.thread = ThreadPoolExecutor(1, thread_name_prefix="sketchanim-model")
+        #: Where tracks are reduced again from their takes (``track.reduce``), one at a time.
+        self.reductions = ThreadPoolExecutor(1, thread_name_prefix="sketchanim-reductions")
+        self._reducing: set[asyncio.Task] = set()
         self.clients: dict[int, Client] = {}
         self._numbers = iter(range(1, 2**62))
 
@@ -242,8 +245,28 @@ class Hub:
         except protocol.BadMessage as err:
             client.put(error(err.code, str(err), err.id, err.type))
             return
+        if message.type == "track.reduce":       # reduced in its own thread: the model's goes on meanwhile
+            task = asyncio.create_task(self.carry_out(client, message, lambda: self.reduce(message)))
+            self._reducing.add(task)
+            task.add_done_callback(self._reducing.discard)
+            return
+        await self.carry_out(client, message, lambda: self.call(handle, self.session, message, client.number))
+
+    async def reduce(self, message: protocol.TrackReduce) -> list[protocol.Out]:
+        """A ``track.reduce``: checked and put in the model's thread, the tracks reduced
+        again from their takes in the reductions' thread (the model's serves the other
+        messages meanwhile; a track changed meanwhile is refused when put)."""
+        check_writable(self.session, message)
+        work = await self.call(self.session.reduction, message.paths, message.tol)
+        made = await asyncio.get_running_loop().run_in_executor(self.reductions, work)
+        return await self.call(self.session.reduced, made, message.preview)
+
+    async def carry_out(self, client: Client, message: protocol.Message,
+                        run: Callable[[], Awaitable[list[protocol.Out]]]) -> None:
+        """Run ``message`` (``run`` does), send what it says and its ``ack``, or an error
+        reply for anything refused (the socket stays open)."""
         try:
-            out = await self.call(handle, self.session, message, client.number)
+            out = await run()
         except InputError as err:
             client.put(error(error_code(message, err, self.session), str(err), message.id, message.type))
             return
@@ -359,6 +382,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
         try:
             yield
         finally:
+            tasks += hub._reducing                  # a reduction in flight is dropped (it changed nothing yet)
             for task in tasks:
                 task.cancel()
             await asyncio.gather(*tasks, return_exceptions=True)

@@ -5,14 +5,17 @@ its scene. It notes what changed, so that the session can tell the pages.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from dataclasses import dataclass
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, replace
 
-from sketchanim.anim.commands import AddObject, Command, RemoveObject, RenameObject, SetValue
+from sketchanim.anim.commands import AddObject, Change, Command, DuplicateObject, RemoveObject, RenameObject, SetValue
+from sketchanim.anim.edits import moved_key, moved_points, with_knots, without_knots
 from sketchanim.anim.history import History
+from sketchanim.anim.layers import recomposed
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
-from sketchanim.anim.tracks import Track
+from sketchanim.anim.take_edits import edited_takes
+from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError
 from sketchanim.studio.defaults import new_object
 from sketchanim.studio.outbound import plain
@@ -102,9 +105,57 @@ class Editor:
             if path in self._before and self._exists(path):
                 self.scene.set(path, self._before.pop(path))
 
-    def add_object(self, name: str, kind: str) -> None:
-        """Add an object (with a ``shape`` if it is a plain object)."""
-        self.run(AddObject(self.player, new_object(name, kind)))
+    def add_object(self, name: str, kind: str, position: Sequence[float] | None = None) -> None:
+        """Add an object (with a ``shape`` if it is a plain object), at ``position`` if given."""
+        obj = new_object(name, kind)
+        if position is not None:
+            obj.attributes["position"].value = obj.attributes["position"].type.check(position, f"{name}.position")
+        self.run(AddObject(self.player, obj))
+
+    def duplicate_object(self, name: str, to: str) -> None:
+        """Copy an object, its values and tracks, as ``to``."""
+        self.run(DuplicateObject(self.player, name, to))
+
+    def curve(self, path: str) -> ContinuousTrack:
+        """The curve of ``path``; :class:`ArgumentError` if it has none."""
+        track = self.player.tracks.get(path)
+        if not isinstance(track, ContinuousTrack):
+            raise ArgumentError("path", f"{path}: has no curve" + ("" if track is None else " (a discrete track)"))
+        return track
+
+    def move_points(self, moves: Mapping[str, Mapping[int, Sequence[float]]], label: str | None) -> None:
+        """Move control points (path -> index -> value) of one or more curves, as one step."""
+        made = {path: moved_points(self.curve(path), points) for path, points in moves.items()}
+        count = sum(len(points) for points in moves.values())
+        self.run(Change(self.player, label or f"move {count} point{'s' * (count != 1)} of {', '.join(made)}", made))
+
+    def move_key(self, path: str, time: float, value: Sequence[float] | None, slope: Sequence[float] | None,
+                 label: str | None) -> None:
+        """Set the curve's value and / or slope at ``time`` (a key dragged), as one step."""
+        what = "key" if slope is None else "tangent" if value is None else "key and tangent"
+        made = moved_key(self.curve(path), time, value, slope)
+        self.run(Change(self.player, label or f"move {what} of {path} at {time:.3f} s", {path: made}))
+
+    def edit_knots(self, path: str, insert: Sequence[float], remove: Sequence[int]) -> None:
+        """Remove the interior knots ``remove`` (indices into the curve's knots), then
+        insert knots at ``insert``, as one step."""
+        if not insert and not remove:
+            raise ArgumentError("knots", f"{path}: no knot to insert or remove")
+        track = self.curve(path)
+        track = without_knots(track, remove) if remove else track
+        track = with_knots(track, insert) if insert else track
+        what = " and ".join(x for x in (f"insert {len(insert)}" if insert else "",
+                                        f"remove {len(remove)}" if remove else "") if x)
+        self.run(Change(self.player, f"{what} knot{'s' * (len(insert) + len(remove) != 1)} on {path}", {path: track}))
+
+    def edit_take(self, path: str, index: int, op: str, name: str | None, to: int | None, order: int) -> None:
+        """Change a take of the curve of ``path`` (see :func:`~sketchanim.anim.take_edits.edited_takes`)
+        and compose the curve again from its takes, as one step; deleting its last take
+        removes the track."""
+        track = self.curve(path)
+        takes = edited_takes(track.takes, index, op, name, to)
+        made = (replace(track, takes=takes) if op == "rename" else recomposed(track, takes, order=order)) if takes else None
+        self.run(Change(self.player, f"{op} take {index + 1} of {path}", {path: made}))
 
     def remove_object(self, name: str) -> None:
         """Remove an object and its tracks."""

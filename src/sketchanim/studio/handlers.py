@@ -29,7 +29,8 @@ HANDLERS: dict[str, Handler] = {
     "state": lambda s, m, client: [("self", s.state())],
     "set": lambda s, m, client: s.set(m.path, m.value, m.label, m.merge),
     "preview": lambda s, m, client: s.preview(m, client),
-    "object.add": lambda s, m, client: s.add_object(m.name, m.kind),
+    "object.add": lambda s, m, client: s.add_object(m.name, m.kind, None if m.position is None else list(m.position)),
+    "object.duplicate": lambda s, m, client: s.duplicate_object(m.name, m.to),
     "object.remove": lambda s, m, client: s.remove_object(m.name),
     "object.rename": lambda s, m, client: s.rename_object(m.name, m.to),
     "take.begin": lambda s, m, client: s.begin_take(client, m.take, m.paths, m.mode, m.blend, m.time, m.speed,
@@ -42,11 +43,29 @@ HANDLERS: dict[str, Handler] = {
     "transport": lambda s, m, client: s.set_transport(m),
     "tolerance.set": lambda s, m, client: s.set_tolerance(m.path, m.amount, m.unit),
     "export": lambda s, m, client: [("self", p.wire(p.Exported(file=s.export(m.file, m.overwrite).name)))],
+    "curve.points": lambda s, m, client: s.move_points(m.edits, m.label),
+    "curve.key": lambda s, m, client: s.move_key(m.path, m.time, m.value, m.slope, m.label),
+    "curve.knots": lambda s, m, client: s.edit_knots(m.path, m.insert, m.remove),
+    "track.reduce": lambda s, m, client: s.reduce(m.paths, m.tol, m.preview),
+    "track.samples": lambda s, m, client: s.kept_samples(m.path),
+    "take.edit": lambda s, m, client: s.edit_take(m.path, m.take, m.op, m.name, m.to),
+    "settings": lambda s, m, client: s.set_settings(m.fps),
 }
 
-#: The messages that change the project (refused on a read-only one).
-EDITS = frozenset({"set", "preview", "object.add", "object.remove", "object.rename", "take.begin", "take.samples",
-                   "take.end", "take.cancel", "undo", "redo", "tolerance.set"})
+#: The messages that change the project (refused on a read-only one; a ``track.reduce``
+#: preview changes nothing and is not refused).
+EDITS = frozenset({"set", "preview", "object.add", "object.duplicate", "object.remove", "object.rename", "take.begin",
+                   "take.samples", "take.end", "take.cancel", "undo", "redo", "tolerance.set", "curve.points",
+                   "curve.key", "curve.knots", "track.reduce", "take.edit", "settings"})
+
+
+def check_writable(session: Session, message: p.Message) -> None:
+    """Raise :class:`ReadOnlyProject` if ``message`` would change (:data:`EDITS`, but a
+    preview) a project open read-only."""
+    if session.read_only and message.type in EDITS and not getattr(message, "preview", False):
+        raise ReadOnlyProject(f"{message.type}: {session.path.name} is open read-only (started with --read-only, or "
+                              "its file or folder cannot be written), so edits are refused; playback and export "
+                              "still work (export to a writable folder: start the studio with --exports DIR)")
 
 
 class ReadOnlyProject(InputError):
@@ -80,7 +99,7 @@ def error_code(message: p.Message, err: InputError, session: Session) -> p.Error
 
 def handle(session: Session, message: p.Message, client: int) -> list[p.Out]:
     """Run ``message`` on ``session`` for ``client``; the messages to send. An edit
-    (:data:`EDITS`) on a read-only project raises :class:`ReadOnlyProject`.
+    on a read-only project raises :class:`ReadOnlyProject` (:func:`check_writable`).
 
     >>> import tempfile, pathlib
     >>> session = Session(pathlib.Path(tempfile.mkdtemp()) / "a.sketchanim")
@@ -88,8 +107,5 @@ def handle(session: Session, message: p.Message, client: int) -> list[p.Out]:
     ('all', {'type': 'values', 'values': {'lamp.intensity': [2.0]}})
     >>> session.close()
     """
-    if session.read_only and message.type in EDITS:
-        raise ReadOnlyProject(f"{message.type}: {session.path.name} is open read-only (started with --read-only, or "
-                              "its file or folder cannot be written), so edits are refused; playback and export "
-                              "still work (export to a writable folder: start the studio with --exports DIR)")
+    check_writable(session, message)
     return HANDLERS[message.type](session, message, client)

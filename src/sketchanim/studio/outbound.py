@@ -50,9 +50,10 @@ def track_info(track: Track) -> p.CurveInfo | p.StepsInfo:
                        tol=track.tol, knots=np.asarray(s.t).tolist(), coef=np.asarray(s.c).tolist(),
                        start=track.start, end=track.end,
                        takes=[p.TakeSpan(start=t.start, end=t.end, mode=t.mode, n=len(t.times),
-                                         smoothing=t.smoothing) for t in track.takes],
+                                         smoothing=t.smoothing, name=t.name, muted=t.muted, loop=t.loop,
+                                         loop_pass=t.loop_pass) for t in track.takes],
                        bounds=None if track.type.bounds is None else
-                       [float(b) if np.isfinite(b) else None for b in track.type.bounds])
+                       [float(b) if np.isfinite(b) else None for b in track.type.bounds], edited=track.edited)
 
 
 def objects_info(scene: Scene) -> list[p.ObjectInfo]:

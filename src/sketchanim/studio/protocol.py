@@ -332,8 +332,8 @@ class ObjectInfo(_Outbound):
 class TakeSpan(_Outbound):
     """One take of a curve: its span, mode, number of samples, the seconds they were
     smoothed over before the reduction (0: not smoothed), its name (empty: none given),
-    whether it is muted (left out of the curve), and the loop recording it is a pass of
-    (None: not a pass)."""
+    whether it is muted (left out of the curve), and the loop recording it is part of
+    (None: none) with the number of its pass (0, 1, ...; a pass may be several takes)."""
 
     start: float
     end: float
@@ -343,6 +343,7 @@ class TakeSpan(_Outbound):
     name: str = ""
     muted: bool = False
     loop: str | None = None
+    loop_pass: int = 0
 
 
 class CurveInfo(_Outbound):

@@ -17,11 +17,13 @@ import errno
 import logging
 import os
 import time
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
 import numpy as np
 
-from sketchanim.anim.commands import RecordTake
+from sketchanim.anim.commands import Change, RecordTake
+from sketchanim.anim.layers import Rereduction, composition, rereduced
 from sketchanim.anim.history import History
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
@@ -40,6 +42,9 @@ from sketchanim.studio.saving import SaveStatus, rescue, write_fault
 from sketchanim.studio.takes import ORDER, SILENCE, RunningTake, TakeRecorder
 
 log = logging.getLogger("sketchanim.studio")
+
+#: Tracks re-reduced from their takes, by path (what :meth:`Session.reduction`'s work makes).
+Reductions = dict[str, Rereduction]
 
 
 class Session:
@@ -93,6 +98,8 @@ class Session:
             raise
         #: The animator's take tolerances by path (the project keeps them; not History).
         self.tolerances: dict[str, ToleranceDoc] = self.project.tolerances(scene)
+        #: The project's frame rate (a project setting, not History).
+        self.fps = self.project.fps()
         fresh = not scene.objects
         self.editor = Editor(default_scene() if fresh else scene, tracks.values())
         self.takes = TakeRecorder(self.editor, lambda: self.project.journal())
@@ -152,7 +159,7 @@ class Session:
                               history=history_info(self.history), transport=self.transport,
                               take=None if take is None else take.info(self.editor),
                               tolerances=self._tolerance_info(), saved=self.saving.info(),
-                              read_only=self.read_only))
+                              read_only=self.read_only, settings=p.SettingsInfo(fps=self.fps)))
 
     def _tolerance_info(self) -> dict[str, p.ToleranceInfo]:
         return {path: p.ToleranceInfo(amount=t.amount, unit=t.unit) for path, t in self.tolerances.items()}
@@ -225,10 +232,116 @@ class Session:
             self._try_save()
         return out + self.saving.news()
 
-    def add_object(self, name: str, kind: str) -> list[p.Out]:
-        """Add an object (with a ``shape`` if it is a plain object) as one step."""
-        self.editor.add_object(name, kind)
+    def add_object(self, name: str, kind: str, position: list[float] | None = None) -> list[p.Out]:
+        """Add an object (with a ``shape`` if it is a plain object), at ``position`` if
+        given, as one step."""
+        self.editor.add_object(name, kind, position)
         return self._told()
+
+    def duplicate_object(self, name: str, to: str) -> list[p.Out]:
+        """Copy an object, its values, tracks and take tolerances, as ``to`` (one step)."""
+        self.takes.refuse_while_recording("object.duplicate")
+        self.editor.duplicate_object(name, to)
+        for path, t in list(self.tolerances.items()):
+            if path.split(".", 1)[0] == name:
+                self.tolerances[f"{to}.{path.split('.', 1)[1]}"] = t
+        return self._told()
+
+    # -- curve edits -----------------------------------------------------------------------
+
+    def move_points(self, edits: list[p.PointMove], label: str | None) -> list[p.Out]:
+        """Move control points of one or more curves, as one step."""
+        self._refuse_recorded(e.path for e in edits)
+        moves: dict[str, dict[int, list[float]]] = {}
+        for e in edits:
+            moves.setdefault(e.path, {})[e.index] = e.value
+        self.editor.move_points(moves, label)
+        return self._told()
+
+    def move_key(self, path: str, time: float, value: list[float] | None, slope: list[float] | None,
+                 label: str | None) -> list[p.Out]:
+        """Set a curve's value and / or slope at ``time`` (a key dragged), as one step."""
+        self._refuse_recorded([path])
+        self.editor.move_key(path, time, value, slope, label)
+        return self._told()
+
+    def edit_knots(self, path: str, insert: list[float], remove: list[int]) -> list[p.Out]:
+        """Remove and insert knots of a curve, as one step."""
+        self._refuse_recorded([path])
+        self.editor.edit_knots(path, insert, remove)
+        return self._told()
+
+    def edit_take(self, path: str, take: int, op: str, name: str | None, to: int | None) -> list[p.Out]:
+        """Change a take of a track and compose it again from its takes, as one step."""
+        self._refuse_recorded([path])
+        self.editor.edit_take(path, take, op, name, to, ORDER)
+        return self._told()
+
+    def reduction(self, paths: list[str], tol: float) -> Callable[[], Reductions]:
+        """What re-reducing ``paths`` from their raw takes within ``tol`` takes: checked
+        now, in the model's thread; the work (the call returned) runs anywhere (it reads
+        only the tracks as they are now, which are never changed in place), and
+        :meth:`reduced` puts its result.
+
+        >>> import tempfile
+        >>> session = Session(Path(tempfile.mkdtemp()) / "r.sketchanim")
+        >>> session.reduction(["box.position"], 0.01)
+        Traceback (most recent call last):
+        ...
+        sketchanim.errors.ArgumentError: path: box.position: has no curve
+        >>> session.close()
+        """
+        tracks = {path: self.editor.curve(path) for path in dict.fromkeys(paths)}
+        for path, track in tracks.items():
+            if not track.takes:
+                raise ArgumentError("path", f"{path}: its curve was not recorded (no takes to re-reduce it from)")
+        return lambda: {path: rereduced(track, tol, ORDER) for path, track in tracks.items()}
+
+    def reduced(self, made: Reductions, preview: bool) -> list[p.Out]:
+        """Put the tracks a :meth:`reduction` made (one step), or with ``preview`` only
+        tell the page what they would be; refused if a track changed meanwhile."""
+        results = [p.Reduction(path=path, tol=r.track.tol, n=r.track.n_coefficients, error=r.error)
+                   for path, r in made.items()]
+        if preview:
+            return [("self", p.wire(p.Reduced(preview=True, results=results,
+                                              curves=[track_info(r.track) for r in made.values()])))]
+        self._refuse_recorded(made)
+        changed = [path for path, r in made.items() if self.player.tracks.get(path) is not r.source]
+        if changed:
+            raise ArgumentError("path", f"{', '.join(changed)} changed while being re-reduced: try again")
+        tol = next(iter(made.values())).track.tol
+        self.editor.run(Change(self.player, f"tolerance {tol:.4g} on {', '.join(made)}",
+                               {path: r.track for path, r in made.items()}))
+        return [*self._told(), ("self", p.wire(p.Reduced(preview=False, results=results)))]
+
+    def reduce(self, paths: list[str], tol: float, preview: bool) -> list[p.Out]:
+        """:meth:`reduction` and :meth:`reduced` in one call (in the model's thread)."""
+        return self.reduced(self.reduction(paths, tol)(), preview)
+
+    def kept_samples(self, path: str) -> list[p.Out]:
+        """The samples the curve of ``path`` keeps within its tolerance, for the page."""
+        track = self.editor.curve(path)
+        if track.takes and any(not t.muted for t in track.takes):
+            made = composition(track.type, track.takes, track.tol, ORDER)
+            times, values = made.times.tolist(), made.targets.tolist()
+        else:
+            times, values = [], []
+        return [("self", p.wire(p.Samples(path=path, tol=track.tol, times=times, values=values)))]
+
+    def _refuse_recorded(self, paths: Iterable[str]) -> None:
+        """Refuse an edit of a track the running take records (its end would undo it)."""
+        take = self.take
+        hit = take is not None and [path for path in paths if path in take.paths]
+        if hit:
+            raise ArgumentError("path", f"{', '.join(hit)}: being recorded; edit it once the take ends")
+
+    def set_settings(self, fps: float) -> list[p.Out]:
+        """The project's frame rate (a project setting, not a History step); every page gets it."""
+        if not (np.isfinite(fps) and 0 < fps <= 1000):
+            raise ArgumentError("fps", f"a frame rate is > 0 and at most 1000, got {fps!r}")
+        self.fps = float(fps)
+        self.editor.dirty = True
+        return [("all", p.wire(p.SettingsInfo(fps=self.fps)))]
 
     def remove_object(self, name: str) -> list[p.Out]:
         """Remove an object and its tracks as one step."""
@@ -345,7 +458,7 @@ class Session:
         try:
             self._reopen_if_gone()
             if self.editor.dirty:
-                self.project.save(self.scene, dict(self.player.tracks), self.tolerances)
+                self.project.save(self.scene, dict(self.player.tracks), self.tolerances, self.fps)
             else:
                 self.project.clear_journal()
             self.editor.dirty = self._journal_stale = False
@@ -373,7 +486,7 @@ class Session:
     def export_document(self) -> bytes:
         """The project as ``sketchanim export PROJECT -o X.json`` writes it: the model
         as the pages see it, saved or not."""
-        return export_text(self.scene, dict(self.player.tracks), self.tolerances).encode("utf-8")
+        return export_text(self.scene, dict(self.player.tracks), self.tolerances, self.fps).encode("utf-8")
 
     def export(self, name: str, overwrite: bool = False) -> Path:
         """Write the scene (``.glb``) or the project (``.json``) to ``name`` in the

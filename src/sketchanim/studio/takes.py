@@ -43,8 +43,8 @@ from __future__ import annotations
 import logging
 import time
 import warnings
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -325,6 +325,8 @@ class TakeRecorder:
         made: dict[str, Track | None] = dict(tk.result)
         if made:
             last_pass = None if tk.loop is None else self.editor.history.replaced_by_last(tk.loop)
+            if tk.loop is not None:
+                made = {path: self._as_pass(path, track, tk.loop, last_pass) for path, track in made.items()}
             if last_pass is not None:               # what the last pass put and this one did not goes back
                 made = {**{path: t for path, t in last_pass.items() if path not in made}, **made}
             self.editor.run(RecordTake(self.editor.player, made, label or f"take {', '.join(tk.result)}", tk.loop))
@@ -332,6 +334,20 @@ class TakeRecorder:
         ms = 1000 * (time.perf_counter() - clock)
         return [*notices, p.TakeEnded(take=take, label=self.editor.history.labels[0][-1] if made else None,
                                       paths=list(made), ms=ms, gaps=tk.gaps, smoothing=tk.smoothing, reason=reason)]
+
+    def _as_pass(self, path: str, track: Track | None, loop: str, last_pass: Mapping[str, Track | None] | None
+                 ) -> Track | None:
+        """``track``, recorded by a pass of the loop recording ``loop`` over what was there
+        before the loop, with the earlier passes' takes kept (muted) before this pass's."""
+        if not isinstance(track, ContinuousTrack):
+            return track
+        before = None if last_pass is None else last_pass.get(path)
+        below = len(before.takes) if isinstance(before, ContinuousTrack) else 0
+        now = self.editor.player.tracks.get(path) if last_pass is not None else None
+        earlier = now.takes[below:] if isinstance(now, ContinuousTrack) else ()
+        number = 1 + max((t.loop_pass for t in earlier if t.loop == loop), default=-1)
+        mine = tuple(replace(t, loop=loop, loop_pass=number) for t in track.takes[below:])
+        return replace(track, takes=track.takes[:below] + tuple(replace(t, muted=True) for t in earlier) + mine)
 
     def cancel(self, owner: int, take: str) -> list[p.TakeEnded | p.Notice]:
         """Drop the take: nothing changes."""

@@ -492,9 +492,9 @@
 
 /**
  * One take of a curve: its span, mode, samples, smoothing (s), name ('' none given), whether
- * it is muted, and the loop recording it is a pass of (null: none).
+ * it is muted, the loop recording it is part of (null: none) and its pass (0, 1, ...).
  * @typedef {{start: number, end: number, mode: string, n: number, smoothing: number, name?: string, muted?: boolean,
- *   loop?: string | null}} TakeSpanInfo
+ *   loop?: string | null, loop_pass?: number}} TakeSpanInfo
  */
 
 /**
