@@ -16,9 +16,11 @@ test('a span reads in frames at the project frame rate and in seconds', () => {
   assert.equal(spanText(take({ start: 1, end: 2 }), 29.97), 'f 30–60 · 1.00–2.00 s');
 });
 
-test('passes of one loop recording are numbered among themselves, whatever lies between', () => {
-  const takes = [take({}), take({ loop: 'a' }), take({ loop: 'b' }), take({ loop: 'a' }), take({ loop: null }), take({ loop: 'a' })];
+test('passes of one loop recording are numbered among themselves, a pass of several takes once', () => {
+  const takes = [take({}), take({ loop: 'a', loop_pass: 0 }), take({ loop: 'b', loop_pass: 0 }), take({ loop: 'a', loop_pass: 1 }),
+    take({ loop: null }), take({ loop: 'a', loop_pass: 1 }), take({ loop: 'a', loop_pass: 3 })];
   const passes = loopPasses(takes);
-  assert.deepEqual([...passes.entries()].sort((x, y) => x[0] - y[0]),
-    [[1, { pass: 1, of: 3 }], [2, { pass: 1, of: 1 }], [3, { pass: 2, of: 3 }], [5, { pass: 3, of: 3 }]]);
+  assert.deepEqual([...passes.entries()].sort((x, y) => x[0] - y[0]), [
+    [1, { pass: 1, of: 3, first: true }], [2, { pass: 1, of: 1, first: true }], [3, { pass: 2, of: 3, first: false }],
+    [5, { pass: 2, of: 3, first: false }], [6, { pass: 3, of: 3, first: false }]]);
 });

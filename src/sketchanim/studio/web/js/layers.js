@@ -43,17 +43,28 @@ export function spanText(take, fps) {
 }
 
 /**
- * The loop recordings among `takes`: for each take that is a pass, its pass number (from 1)
- * and the number of passes of its loop.
+ * The loop recordings among `takes`: for each take that is part of one, its pass (from 1;
+ * a pass may be several takes), the number of passes of its loop, and whether it is the
+ * loop's first take (where the panel heads the loop).
  * @param {TakeSpanInfo[]} takes
- * @returns {Map<number, {pass: number, of: number}>} by take index
+ * @returns {Map<number, {pass: number, of: number, first: boolean}>} by take index
+ *
+ * @example
+ * const t = {start: 0, end: 1, mode: 'replace', n: 9, smoothing: 0};
+ * loopPasses([t, {...t, loop: 'a', loop_pass: 0}, {...t, loop: 'a', loop_pass: 1}]).get(2);   // {pass: 2, of: 2, first: false}
  */
 export function loopPasses(takes) {
-  /** @type {Map<string, number[]>} */
+  /** @type {Map<string, Set<number>>} the passes of each loop recording */
   const byLoop = new Map();
-  takes.forEach((t, i) => { if (t.loop) byLoop.set(t.loop, [...(byLoop.get(t.loop) ?? []), i]); });
+  for (const t of takes) if (t.loop) byLoop.set(t.loop, (byLoop.get(t.loop) ?? new Set()).add(t.loop_pass ?? 0));
   const passes = new Map();
-  for (const indices of byLoop.values()) indices.forEach((i, k) => passes.set(i, { pass: k + 1, of: indices.length }));
+  const headed = new Set();
+  takes.forEach((t, i) => {
+    if (!t.loop) return;
+    const ids = [...(byLoop.get(t.loop) ?? [])].sort((x, y) => x - y);
+    passes.set(i, { pass: ids.indexOf(t.loop_pass ?? 0) + 1, of: ids.length, first: !headed.has(t.loop) });
+    headed.add(t.loop);
+  });
   return passes;
 }
 
@@ -126,7 +137,7 @@ export class Layers {
     this.list.replaceChildren(...curve.takes.flatMap((_, i) => {
       const pass = passes.get(i) ?? null;
       const row = this.row(curve.path, curve.takes, i, pass, playing);
-      return pass?.pass === 1 ? [el('li', { class: 'loop-head' }, `⟲ loop recording · ${pass.of} passes`), row] : [row];
+      return pass?.first ? [el('li', { class: 'loop-head' }, `⟲ loop recording · ${pass.of} passes`), row] : [row];
     }));
     const input = this.list.querySelector('input');
     if (input) input.focus();
@@ -137,7 +148,7 @@ export class Layers {
    * @param {string} path
    * @param {TakeSpanInfo[]} takes
    * @param {number} i
-   * @param {{pass: number, of: number} | null} pass
+   * @param {{pass: number, of: number, first: boolean} | null} pass
    * @param {number} playing how many takes are not muted
    */
   row(path, takes, i, pass, playing) {
