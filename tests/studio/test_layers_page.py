@@ -217,23 +217,29 @@ def test_a_new_object_goes_in_front_of_the_camera_clear_of_the_others(_page, tak
     assert drew_something(page) > 5 and not page.errors
 
 
+def _frame_shown(page, frame: int) -> None:  # noqa: ANN001
+    """The transport is on ``frame`` and the bar shows it (the bar's text follows at the next frame)."""
+    assert page.evaluate("studio.transport.frame") == frame
+    page.wait_for_function(f"() => document.querySelector('[data-testid=frame]').textContent === '{frame}'")
+
+
 def test_frames_show_step_and_follow_the_frame_rate_in_every_tab(_page, takes_studio: str) -> None:  # noqa: ANN001
     page = _page(takes_studio)
     other = _page(takes_studio)
     page.click("[data-testid=frame-on]")
     page.keyboard.press("ArrowRight")
     page.keyboard.press("ArrowRight")
-    assert page.locator("[data-testid=frame]").inner_text() == "3"
+    _frame_shown(page, 3)
     assert page.evaluate("studio.transport.time * 24") == pytest.approx(3, abs=1e-9)
     page.keyboard.press("ArrowLeft")
     page.click("[data-testid=frame-back]")
-    assert page.locator("[data-testid=frame]").inner_text() == "1"
+    _frame_shown(page, 1)
     page.select_option("[data-testid=fps]", "30")
     other.wait_for_function("() => studio.fps === 30")
     assert other.locator("[data-testid=fps]").input_value() == "30"
     page.wait_for_function("() => studio.fps === 30")
     page.keyboard.press("ArrowRight")                                  # 1/24 s is frame 1 at 30 fps; one on: frame 2
-    assert page.locator("[data-testid=frame]").inner_text() == "2"
+    _frame_shown(page, 2)
     assert page.evaluate("studio.transport.time * 30") == pytest.approx(2, abs=1e-9)
     page.keyboard.press("Shift+S")
     assert page.locator("[data-testid=snap]").get_attribute("aria-pressed") == "true"
