@@ -200,20 +200,25 @@ def test_objects_deleted_renamed_and_duplicated_from_the_outliner_undo_exactly(_
     assert drew_something(page) > 5 and not page.errors
 
 
-def test_a_new_object_goes_in_front_of_the_camera_clear_of_the_others(_page, takes_studio: str) -> None:  # noqa: ANN001
+def test_a_new_object_goes_where_the_camera_looks_clear_of_the_others(_page, takes_studio: str) -> None:  # noqa: ANN001
     page = _page(takes_studio)
-    # the view looks at the box from its front: straight ahead, 3 m on, is the box (and the ball beside it)
-    page.evaluate("viewport.camera.position.set(0, 1.6, 3.5); viewport.orbit.target.set(0, 0.5, 0); viewport.orbit.update()")
+    # the view looks at the box: where its line of sight meets the floor's height is taken (the box and the
+    # ball and cone beside it): the new object goes sideways, to the right, till it is clear of all three
+    page.evaluate("viewport.camera.position.set(0, 2.5, 8); viewport.orbit.target.set(0, 0.5, 0); viewport.orbit.update()")
     steps = _history(page)
     page.click("[data-testid=add-object]")
     page.wait_for_function(f"() => studio.history.undo.length === {steps + 1}")
     added = page.evaluate("studio.objects.at(-1).name")
     position = np.array(page.evaluate(f"studio.values.get('{added}.position')"))
-    assert position[1] == pytest.approx(0.5)
+    assert position[1] == pytest.approx(0.5) and abs(position[2]) < 1e-6, position   # moved sideways only
+    assert position[0] > 1.25, "not moved to the right of the box"
     for name in ("box", "ball", "cone"):
         other = np.array(page.evaluate(f"studio.values.get('{name}.position')"))
         assert np.linalg.norm(position - other) >= 0.75 + 0.5 - 1e-9, f"{added} at {position} is inside {name}"
-    assert abs(position[2] - 0.5) < 1e-6, "not 3 m in front of the camera"   # moved sideways only
+    page.wait_for_timeout(100)
+    seen = page.evaluate(f"viewport.screenOf('{added}')")
+    box = page.locator("#viewport canvas").first.bounding_box()
+    assert box["x"] < seen["x"] < box["x"] + box["width"] and box["y"] < seen["y"] < box["y"] + box["height"], "not in view"
     assert drew_something(page) > 5 and not page.errors
 
 

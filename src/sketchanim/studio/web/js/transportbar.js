@@ -30,9 +30,9 @@ export class TransportBar {
     this.playButton.addEventListener('click', () => t.togglePlay());
     this.clockText = el('span', { class: 'clock', 'data-testid': 'time' }, '0:00.00');
     this.frameText = el('span', { class: 'frame', 'data-testid': 'frame', title: 'The frame the playhead is on (at the project\'s frame rate)' }, '0');
-    const back = el('button', { 'data-testid': 'frame-back', title: 'One frame back (←)' }, '◂');
+    const back = el('button', { class: 'step', 'data-testid': 'frame-back', title: 'One frame back (←)' }, '◂');
     back.addEventListener('click', () => t.stepFrames(-1));
-    const on = el('button', { 'data-testid': 'frame-on', title: 'One frame on (→)' }, '▸');
+    const on = el('button', { class: 'step', 'data-testid': 'frame-on', title: 'One frame on (→)' }, '▸');
     on.addEventListener('click', () => t.stepFrames(1));
     const fps = choice('fps', FRAME_RATES.map((r) => [String(r), String(r)]), String(studio.fps), (v) => studio.setFps(Number(v)), 'fps');
     fps.wrap.title = "The project's frame rate: frame numbers, ← / → steps and snapping count in it (every tab shows it)";
@@ -69,9 +69,8 @@ export class TransportBar {
     this.status = el('span', { class: 'take-status', 'data-testid': 'take-status' });
     const signals = studio.signals;
     const group = (/** @type {HTMLElement[]} */ ...items) => { const g = el('div', { class: 'group' }); g.append(...items); return g; };
-    bar.append(group(this.recordButton, mode.wrap, smooth.wrap, countIn.wrap, capture.wrap, loopRec),
+    bar.append(group(this.recordButton, mode.wrap, smooth.wrap, countIn.wrap, capture.wrap, loopRec), group(fps.wrap, this.snapButton),
       group(stopButton, back, this.playButton, on, this.clockText, this.frameText, speed.wrap, this.loopButton),
-      group(fps.wrap, this.snapButton),
       this.status, group(this.undoButton, this.redoButton));
     signals.on('history', () => this.showHistory());
     signals.on('state', () => this.showHistory());
