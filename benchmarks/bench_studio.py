@@ -1,7 +1,7 @@
 """The studio page in a browser (Debian's chromium, headless, WebGL through SwiftShader,
 driven by Playwright) against a real server.
 
-    .venv/bin/python benchmarks/bench_studio.py [--takes 20] [--objects 50] [--seconds 4]
+    .venv/bin/python benchmarks/bench_studio.py [--takes 20] [--objects 50] [--seconds 4] [--only page|curves]
 
 1. Capture: ``--takes`` drags of the box in record mode (0.4 to 1.2 s each): samples per
    second of each take against the page's frame rate (one sample per animation frame is
@@ -11,6 +11,13 @@ driven by Playwright) against a real server.
    track (5 s, 24 control points), played in a loop for ``--seconds``: the page's
    per-frame time to evaluate every track and write the values into the three.js scene
    (target <= 4 ms), the whole frame's script, and the frame rate.
+3. Curve editor: an object with 10 position tracks of 2,000 keys each (60 s), all shown:
+   the editor's script per drawn frame and the page's whole script per frame while the
+   view zooms (every frame draws everything again) and while a control point is dragged
+   (the cached layer copied, the dragged track drawn over it); target <= 8 ms.
+4. Tolerance after the take: a 60 s take at 120 Hz, its tolerance changed in the editor:
+   change to the new curve in the page (one History step), a slider preview's answer, and
+   the page's frame interval and script meanwhile.
 
 Software WebGL draws every pixel on the CPU, so the frame rate here is bounded by
 rasterisation on this machine, not by the page's script; the script times are what a
@@ -31,13 +38,17 @@ from scipy.interpolate import BSpline
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.attributes import ORIENTATION, POSITION
+from sketchanim.anim.layers import recorded_over
 from sketchanim.anim.scene import Scene
-from sketchanim.anim.tracks import ContinuousTrack
+from sketchanim.anim.tracks import ContinuousTrack, Take
 from sketchanim.project.store import Project
+from sketchanim.studio.defaults import default_scene
+from sketchanim.studio.takes import ORDER
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tests"))
 from studio_browser import drag, last_take, launch, open_page, studio_server  # noqa: E402
+from studio.test_curve_editor_page import many_keys_project  # noqa: E402
 
 
 def capture(browser, url: str, takes: int, rng: np.random.Generator) -> dict:  # noqa: ANN001
@@ -96,11 +107,92 @@ def playback(browser, url: str, seconds: float) -> dict:  # noqa: ANN001
     return {k: np.array(v) for k, v in stats.items()} | {"tracks": tracks}
 
 
+CLEAR = ("for (const k of Object.keys(studioStats)) studioStats[k].length = 0;"
+         " curveEditor.stats.draw.length = 0; curveEditor.stats.move.length = 0")
+STATS = "({script: studioStats.script, interval: studioStats.interval, draw: curveEditor.stats.draw, move: curveEditor.stats.move})"
+
+
+def curve_editor(browser, url: str) -> dict:  # noqa: ANN001
+    """10 tracks of 2,000 keys in the editor: per-frame times while zooming, then while dragging a point."""
+    page = open_page(browser, url, size=(1280, 800))
+    page.evaluate("studio.select('rig')")
+    page.locator("[data-testid=curve-all]").check()
+    page.wait_for_function("() => curveEditor.lanes.length === 10", timeout=60_000)
+    page.keyboard.press("Home")
+    page.wait_for_timeout(500)
+    box = page.locator("[data-testid=curve-editor]").bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.evaluate(CLEAR)
+    for i in range(40):
+        page.mouse.wheel(0, -60 if i < 20 else 60)
+        page.wait_for_timeout(16)
+    page.wait_for_timeout(200)
+    zoom = {k: np.array(v) for k, v in page.evaluate(STATS).items()}
+    page.keyboard.press("Home")
+    page.wait_for_timeout(300)
+    xy = page.evaluate("() => { const l = curveEditor.lanes[0]; return [l.px[1000], l.py[1][1000]]; }")
+    steps = page.evaluate("studio.history.undo.length")
+    page.evaluate(CLEAR)
+    drag(page, {"x": box["x"] + xy[0], "y": box["y"] + xy[1]}, [(0, -k) for k in range(1, 61)])
+    page.wait_for_function(f"() => studio.history.undo.length === {steps + 1}", timeout=60_000)
+    dragging = {k: np.array(v) for k, v in page.evaluate(STATS).items()}
+    page.close()
+    return {"zoom": zoom, "drag": dragging}
+
+
+def long_take_project(path: Path) -> None:
+    """The box with one recorded position take of 60 s at 120 Hz (a wandering hand, 1 mm of jitter)."""
+    rng = np.random.default_rng(11)
+    t = np.arange(0, 60, 1 / 120)
+    x = np.c_[np.sin(0.7 * t) + 0.3 * np.sin(2.3 * t), 0.5 + 0.2 * np.cos(1.1 * t), 0.4 * np.sin(0.37 * t)]
+    x += rng.normal(0, 0.001, x.shape)
+    track = recorded_over("box.position", POSITION, None, Take(t, x), 0.005, ORDER)
+    with Project(path) as project:
+        project.save(default_scene(), {"box.position": track}, {})
+
+
+#: Sets the tolerance input and times the answer: the new curve (a `tracks` message) or a preview (`reduced`).
+RETOLERANCE = """([tol, preview]) => new Promise((done) => {
+  const started = performance.now();
+  const signal = preview ? 'reduced' : 'tracks';
+  let waiting = true;
+  studio.signals.on(signal, () => { if (waiting) { waiting = false; done(performance.now() - started); } });
+  if (preview) {
+    const s = document.querySelector('[data-testid=tolerance-slider]');
+    s.value = String(Number(s.value) + 40); s.dispatchEvent(new Event('input'));
+  } else {
+    const i = document.querySelector('[data-testid=tolerance]');
+    i.value = String(tol); i.dispatchEvent(new Event('change'));
+  }
+})"""
+
+
+def retolerance(browser, url: str, repeats: int = 5) -> dict:  # noqa: ANN001
+    """The tolerance of a 60 s, 120 Hz take changed `repeats` times: ms to the new curve, to a preview; frames meanwhile."""
+    page = open_page(browser, url, size=(1280, 800))
+    page.evaluate("studio.select('box'); studio.showAttribute('position')")
+    page.wait_for_function("() => curveEditor.lanes.length === 1")
+    page.wait_for_timeout(300)
+    applied, previews, interval, script = [], [], [], []
+    for i in range(repeats):
+        previews.append(page.evaluate(RETOLERANCE, [0, True]))
+        page.evaluate("curveEditor.tolerance.previewing = false")
+        page.evaluate(CLEAR)
+        applied.append(page.evaluate(RETOLERANCE, [[0.01, 0.02, 0.005][i % 3], False]))
+        stats = page.evaluate(STATS)
+        interval += stats["interval"]
+        script += stats["script"]
+        page.wait_for_timeout(200)
+    page.close()
+    return {"applied": np.array(applied), "preview": np.array(previews), "interval": np.array(interval), "script": np.array(script)}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--takes", type=int, default=20)
     parser.add_argument("--objects", type=int, default=50)
     parser.add_argument("--seconds", type=float, default=4.0)
+    parser.add_argument("--only", choices=("page", "curves"), help="only sections 1-2 (page) or 3-4 (curves)")
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
@@ -108,13 +200,29 @@ def main() -> None:
     console = Console()
     with tempfile.TemporaryDirectory() as tmp, sync_playwright() as p:
         browser = launch(p)
-        with studio_server(Path(tmp) / "capture.sketchanim") as url:
-            cap = capture(browser, url, args.takes, rng)
-        animated_project(Path(tmp) / "play.sketchanim", args.objects, rng)
-        with studio_server(Path(tmp) / "play.sketchanim") as url:
-            play = playback(browser, url, args.seconds)
+        if args.only != "curves":
+            with studio_server(Path(tmp) / "capture.sketchanim") as url:
+                cap = capture(browser, url, args.takes, rng)
+            animated_project(Path(tmp) / "play.sketchanim", args.objects, rng)
+            with studio_server(Path(tmp) / "play.sketchanim") as url:
+                play = playback(browser, url, args.seconds)
+            browser.close()
+            page_tables(console, args, cap, play)
+            if args.only == "page":
+                return
+            browser = launch(p)
+        many_keys_project(Path(tmp) / "keys.sketchanim")
+        with studio_server(Path(tmp) / "keys.sketchanim") as url:
+            editor = curve_editor(browser, url)
+        long_take_project(Path(tmp) / "long.sketchanim")
+        with studio_server(Path(tmp) / "long.sketchanim") as url:
+            tol = retolerance(browser, url)
         browser.close()
+    curve_tables(console, editor, tol)
 
+
+def page_tables(console: Console, args: argparse.Namespace, cap: dict, play: dict) -> None:
+    """The tables of sections 1 and 2."""
     table = Table(title=f"Capture: {args.takes} drags in record mode (chromium, SwiftShader)")
     for col in ("measure", "p50", "p99", "target"):
         table.add_column(col, justify="right" if col != "measure" else "left")
@@ -134,6 +242,37 @@ def main() -> None:
     table.add_row("  of which render calls", f"{np.median(play['render']):.3f}", f"{np.percentile(play['render'], 99):.3f}", "")
     fps = 1000 / np.median(play["interval"])
     table.add_row("frame rate (frames / s)", f"{fps:.1f}", f"{1000 / np.percentile(play['interval'], 99):.1f} (slowest 1%)", "60")
+    console.print(table)
+
+
+def drag_script(m: dict) -> np.ndarray:
+    """The editor's script per drawn frame while dragging: the frame's drawing and its share of
+    the pointer moves' previews (the moves spread evenly over the frames)."""
+    return m["draw"] + m["move"].sum() / max(len(m["draw"]), 1)
+
+
+def curve_tables(console: Console, editor: dict, tol: dict) -> None:
+    """The tables of sections 3 and 4."""
+    table = Table(title="Curve editor: 10 tracks of 2,000 keys, all shown")
+    for col in ("per frame", "frames", "median ms", "p99 ms", "target"):
+        table.add_column(col, justify="right" if col != "per frame" else "left")
+    rows = [("zooming: the editor's frame (everything redrawn)", editor["zoom"]["draw"], ""),
+            ("  the page's whole frame script", editor["zoom"]["script"], ""),
+            ("dragging a point: the editor's frame (layer + dragged track)", editor["drag"]["draw"], "<= 8"),
+            ("  its pointer move (preview on a copy of the curve)", editor["drag"]["move"], ""),
+            ("  frame + moves, per frame (the drag's script)", drag_script(editor["drag"]), "<= 8"),
+            ("  the page's whole frame script", editor["drag"]["script"], "")]
+    for name, m, target in rows:
+        table.add_row(name, str(len(m)), f"{np.median(m):.2f}", f"{np.percentile(m, 99):.2f}", target)
+    console.print(table)
+
+    table = Table(title="Tolerance after the take: a 60 s take at 120 Hz (7,200 samples)")
+    for col in ("measure", "median", "max"):
+        table.add_column(col, justify="right" if col != "measure" else "left")
+    table.add_row("change to the new curve in the page, ms", f"{np.median(tol['applied']):.1f}", f"{tol['applied'].max():.1f}")
+    table.add_row("slider move to its preview, ms", f"{np.median(tol['preview']):.1f}", f"{tol['preview'].max():.1f}")
+    table.add_row("frame interval meanwhile, ms", f"{np.median(tol['interval']):.1f}", f"{tol['interval'].max():.1f}")
+    table.add_row("page script per frame meanwhile, ms", f"{np.median(tol['script']):.2f}", f"{tol['script'].max():.2f}")
     console.print(table)
 
 

@@ -109,3 +109,23 @@ def test_an_orientation_key_takes_a_unit_quaternion_on_the_curves_side_and_no_sl
         moved_key(track, 2.0, None, [0, 0, 0, 1])
     with pytest.raises(ArgumentError, match="within"):
         moved_key(track, 99.0, q)
+
+
+@pytest.mark.realdata
+def test_edits_of_a_real_camera_path_stay_local(data_dir):
+    from sketchanim.anim.layers import recorded_over
+    from sketchanim.anim.tracks import Take
+    from sketchanim.formats.recordings import read_tum
+
+    t, pos, _ = read_tum(data_dir / "camera" / "freiburg1_xyz-groundtruth.txt")
+    track = recorded_over("cam.position", POSITION, None, Take(t - t[0], pos), 0.002, 4)
+    knots, order = np.asarray(track.spline.t), track.spline.k + 1
+    i = track.n_coefficients // 2
+    changed_only_within(track, moved_points(track, {i: track.spline.c[i] + 0.05}), knots[i], knots[i + order])
+    time = float(knots[i + 1] + 0.3 * (knots[i + 2] - knots[i + 1]))
+    keyed = moved_key(track, time, track.evaluate([time])[0] + 0.02, [0.1, 0, 0])
+    span = int(np.searchsorted(knots, time, side="right") - 1)
+    changed_only_within(track, keyed, knots[span - order + 1], knots[span + order])
+    assert np.allclose(keyed.evaluate([time])[0], track.evaluate([time])[0] + 0.02)
+    j = i + 2
+    changed_only_within(track, without_knots(track, [j]), knots[j - order], knots[j + order])

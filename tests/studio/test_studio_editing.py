@@ -280,3 +280,15 @@ def test_a_reduction_runs_beside_the_model_which_answers_meanwhile(client, monke
         release.set()
         reply, _ = receive_until(a, "reduced", limit=200)
         assert reply["preview"] and reply["results"][0]["path"] == "box.position"
+
+
+def test_the_samples_a_curve_keeps_are_its_takes_targets_all_within_its_tolerance(session):
+    track = layered_track(9, ["additive", "replace"])
+    put(session, track)
+    (audience, reply), = send(session, {"type": "track.samples", "path": "box.position"})
+    kept = composition(track.type, track.takes, track.tol, ORDER)
+    assert audience == "self" and reply["tol"] == track.tol
+    np.testing.assert_array_equal(reply["times"], kept.times)
+    np.testing.assert_array_equal(reply["values"], kept.targets)
+    assert np.all(np.diff(reply["times"]) >= 0)
+    assert np.abs(track.evaluate(reply["times"]) - reply["values"]).max() <= track.tol * (1 + 1e-9)

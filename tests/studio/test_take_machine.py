@@ -291,3 +291,17 @@ class Takes(RuleBasedStateMachine):
 
 Takes.TestCase.settings = settings(max_examples=40, stateful_step_count=40, deadline=None)
 test_take_machine = Takes.TestCase
+
+
+def test_a_part_after_a_stall_fades_in_even_when_the_first_part_kept_nothing(tmp_path):
+    """Found by the machine: an eased first part of one sample keeps nothing; the part after
+    the stall is not the one that joins the ease, and fades in over ``blend``."""
+    session = Session(tmp_path / "p.sketchanim")
+    try:
+        session.begin_take(1, "t", ["box.position"], "replace", 0.1, 0.0, 1.0, {}, None, GAP)
+        for t in (np.array([1 / 60]), 1 / 60 + 2 * GAP + np.arange(1, 3) / 60):
+            session.samples(1, "t", t, [row(["box.position"], x) for x in t])
+        ended = session.end_take(1, "t", None)[-1][1]
+        assert ended["label"] == "take box.position" and len(ended["gaps"]) == 1
+    finally:
+        session.close()

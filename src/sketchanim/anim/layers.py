@@ -284,16 +284,16 @@ def punch_in(type: AttributeType, old: BSpline | None, take: Take, tol: float, o
 
 
 def _punch(type: AttributeType, plan: _Plan, tol: float, order: int,
-           streamed: tuple[BSpline, tuple[bool, bool]] | None = None) -> BSpline:
-    """:func:`punch_in` as ``plan`` says."""
+           streamed: tuple[BSpline, tuple[bool, bool]] | None = None, method: str = METHOD) -> BSpline:
+    """:func:`punch_in` as ``plan`` says (its takes reduced by the reducer's ``method``)."""
     if plan.base is None:
-        return reduce_samples(type, plan.times, plan.targets, tol, order)
+        return reduce_samples(type, plan.times, plan.targets, tol, order, method)
     k0, times, targets, angle, bound = plan.base.k, plan.times, plan.targets, plan.angle, plan.bound
     left, right, seams, cut_a, cut_b = plan.left, plan.right, plan.seams, plan.cut_a, plan.cut_b
     if streamed is not None and streamed[0].k == k0 and streamed[1] == seams:
         mid = streamed[0]
     else:
-        mid = reduce_samples(type, times, targets, tol, k0 + 1)
+        mid = reduce_samples(type, times, targets, tol, k0 + 1, method)
     knots = np.array(mid.t)
     knots[: k0 + 1], knots[-k0 - 1 :] = cut_a, cut_b
     mid = BSpline(knots, mid.c, mid.k)
@@ -328,7 +328,9 @@ def recorded_over(path: str, type: AttributeType, below: ContinuousTrack | None,
     if streamed is not None and streamed[1] is None:
         return ContinuousTrack(path, type, streamed[0], tol, (take,))
     spline = punch_in(type, None if below is None else below.spline, take, tol, order, streamed)
-    return ContinuousTrack(path, type, spline, tol, (() if below is None else below.takes) + (take,))
+    if below is None:
+        return ContinuousTrack(path, type, spline, tol, (take,))
+    return ContinuousTrack(path, type, spline, tol, below.takes + (take,), below.edited)     # its edits stay outside the take
 
 
 def compose(type: AttributeType, takes: Sequence[Take], tol: float, order: int) -> BSpline:
@@ -356,8 +358,11 @@ class Composition:
     targets: np.ndarray
 
 
-def composition(type: AttributeType, takes: Sequence[Take], tol: float, order: int) -> Composition:
-    """The curve ``takes`` leave on a track (:func:`compose`) and the samples it keeps.
+def composition(type: AttributeType, takes: Sequence[Take], tol: float, order: int,
+                method: str = METHOD) -> Composition:
+    """The curve ``takes`` leave on a track (:func:`compose`) and the samples it keeps
+    (the takes reduced by the reducer's ``method``: :data:`METHOD`, or ``"global"`` for
+    the fewest points).
 
     >>> from sketchanim.anim.attributes import FLOAT
     >>> t = np.linspace(0, 2, 201)
@@ -371,7 +376,7 @@ def composition(type: AttributeType, takes: Sequence[Take], tol: float, order: i
     curve, plans = None, []
     for take in playing:
         plans.append(_plan(type, curve, take, tol, order))
-        curve = _punch(type, plans[-1], tol, order)
+        curve = _punch(type, plans[-1], tol, order, method=method)
     times, targets = [], []
     for i, plan in enumerate(plans):
         keep = np.ones(len(plan.times), dtype=bool)
@@ -411,9 +416,9 @@ class Rereduction:
     error: float
 
 
-def rereduced(track: ContinuousTrack, tol: float, order: int) -> Rereduction:
-    """``track`` reduced again from its raw takes within ``tol`` (never from its curve),
-    with its largest error from the samples it keeps.
+def rereduced(track: ContinuousTrack, tol: float, order: int, method: str = METHOD) -> Rereduction:
+    """``track`` reduced again from its raw takes within ``tol`` (never from its curve,
+    by the reducer's ``method``), with its largest error from the samples it keeps.
 
     >>> from sketchanim.anim.attributes import FLOAT
     >>> t = np.linspace(0, 1, 121)
@@ -424,7 +429,7 @@ def rereduced(track: ContinuousTrack, tol: float, order: int) -> Rereduction:
     """
     if not track.takes:
         raise ArgumentError("track", f"{track.path}: has no takes to re-reduce it from")
-    made = composition(track.type, track.takes, tol, order)
+    made = composition(track.type, track.takes, tol, order, method)
     new = ContinuousTrack(track.path, track.type, made.curve, float(tol), track.takes)
     return Rereduction(track, new, largest_error(track.type, made.curve, made.times, made.targets))
 

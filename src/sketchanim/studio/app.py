@@ -245,8 +245,9 @@ class Hub:
         except protocol.BadMessage as err:
             client.put(error(err.code, str(err), err.id, err.type))
             return
-        if message.type == "track.reduce":       # reduced in its own thread: the model's goes on meanwhile
-            task = asyncio.create_task(self.carry_out(client, message, lambda: self.reduce(message)))
+        if message.type in ("track.reduce", "track.samples"):     # reduced in their own thread, the model's goes on
+            work = self.reduce if message.type == "track.reduce" else self.kept_samples
+            task = asyncio.create_task(self.carry_out(client, message, lambda: work(message)))
             self._reducing.add(task)
             task.add_done_callback(self._reducing.discard)
             return
@@ -260,6 +261,12 @@ class Hub:
         work = await self.call(self.session.reduction, message.paths, message.tol)
         made = await asyncio.get_running_loop().run_in_executor(self.reductions, work)
         return await self.call(self.session.reduced, made, message.preview)
+
+    async def kept_samples(self, message: protocol.TrackSamples) -> list[protocol.Out]:
+        """A ``track.samples``: the track taken in the model's thread, the samples its
+        curve keeps found in the reductions' thread."""
+        work = await self.call(self.session.kept_samples, message.path)
+        return await asyncio.get_running_loop().run_in_executor(self.reductions, work)
 
     async def carry_out(self, client: Client, message: protocol.Message,
                         run: Callable[[], Awaitable[list[protocol.Out]]]) -> None:

@@ -47,7 +47,7 @@ HANDLERS: dict[str, Handler] = {
     "curve.key": lambda s, m, client: s.move_key(m.path, m.time, m.value, m.slope, m.label),
     "curve.knots": lambda s, m, client: s.edit_knots(m.path, m.insert, m.remove),
     "track.reduce": lambda s, m, client: s.reduce(m.paths, m.tol, m.preview),
-    "track.samples": lambda s, m, client: s.kept_samples(m.path),
+    "track.samples": lambda s, m, client: s.kept_samples(m.path)(),
     "take.edit": lambda s, m, client: s.edit_take(m.path, m.take, m.op, m.name, m.to),
     "settings": lambda s, m, client: s.set_settings(m.fps),
 }

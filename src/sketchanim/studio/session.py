@@ -318,15 +318,21 @@ class Session:
         """:meth:`reduction` and :meth:`reduced` in one call (in the model's thread)."""
         return self.reduced(self.reduction(paths, tol)(), preview)
 
-    def kept_samples(self, path: str) -> list[p.Out]:
-        """The samples the curve of ``path`` keeps within its tolerance, for the page."""
+    def kept_samples(self, path: str) -> Callable[[], list[p.Out]]:
+        """What answering ``track.samples`` for ``path`` takes (checked now; the work, the
+        call returned, runs anywhere, as :meth:`reduction`'s): the samples its curve keeps
+        within its tolerance, for the page (none for a curve without takes)."""
         track = self.editor.curve(path)
-        if track.takes and any(not t.muted for t in track.takes):
-            made = composition(track.type, track.takes, track.tol, ORDER)
-            times, values = made.times.tolist(), made.targets.tolist()
-        else:
-            times, values = [], []
-        return [("self", p.wire(p.Samples(path=path, tol=track.tol, times=times, values=values)))]
+
+        def work() -> list[p.Out]:
+            times: list[float] = []
+            values: list[list[float]] = []
+            if any(not t.muted for t in track.takes):
+                made = composition(track.type, track.takes, track.tol, ORDER)
+                times, values = made.times.tolist(), made.targets.tolist()
+            return [("self", p.wire(p.Samples(path=path, tol=track.tol, times=times, values=values)))]
+
+        return work
 
     def _refuse_recorded(self, paths: Iterable[str]) -> None:
         """Refuse an edit of a track the running take records (its end would undo it)."""

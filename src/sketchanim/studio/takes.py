@@ -223,7 +223,7 @@ class TakeRecorder:
         take = self.take
         rec = Recorder(self.editor.scene, order=ORDER, journal=self.journal())
         for path in take.paths:
-            eased = path in take.eased and not take.result          # the first part joins the ease unfaded
+            eased = path in take.eased and not take.gaps            # the first part joins the ease unfaded
             rec.arm(path, tol=take.tol.get(path), mode=take.mode, blend=0.0 if eased else take.blend,
                     smoothing=take.smoothing)
         rec.start({**take.over, **take.result})

@@ -5,7 +5,7 @@
  * performance.now(), playback of every track, the performer's samples — then drawing).
  */
 import { Connection } from './Connection.js';
-import { CurveView } from './curves.js';
+import { CurveEditor } from './curveeditor.js';
 import { Header } from './header.js';
 import { Help } from './help.js';
 import { Inspector } from './inspector.js';
@@ -34,7 +34,7 @@ new Inspector(studio, $('inspector'));
 new Layers(studio, $('inspector'));
 new TransportBar(studio, $('transport'));
 new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
-new CurveView(studio, $('curves'));
+const curveEditor = new CurveEditor(studio, $('curves'));
 new Help(studio, /** @type {HTMLElement} */ (document.querySelector('header.top')), window);   // before the keys: its Escape goes first
 bindKeyboard(window, studioActions(studio, viewport));
 
@@ -80,4 +80,4 @@ window.addEventListener('blur', () => {
   if (studio.performer.grab && !viewport.drag && !viewport.pad) studio.performer.release();
 });
 
-Object.assign(window, { studio, viewport, studioStats: stats });
+Object.assign(window, { studio, viewport, curveEditor, studioStats: stats });
