@@ -442,6 +442,12 @@ export class Studio {
     else if (this.selected) this.removeObject(this.selected);
   }
 
+  /** Snap edits in time to frames on / off (the `projectSettings` signal tells the panels). */
+  toggleSnap() {
+    this.snap = !this.snap;
+    this.signals.emit('projectSettings');
+  }
+
   /**
    * A time snapped to the project's frames when `snap` is on (else as it is).
    * @param {number} t

@@ -144,7 +144,7 @@ export function studioActions(studio, viewport) {
     'next-frame': () => t.stepFrames(1),
     delete: () => studio.deleteSelection(),
     duplicate: () => { if (studio.selected) studio.duplicateObject(studio.selected); },
-    snap: () => { studio.snap = !studio.snap; studio.signals.emit('projectSettings'); },
+    snap: () => studio.toggleSnap(),
     ...panelActions(studio),
   };
 }

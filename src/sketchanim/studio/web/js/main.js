@@ -7,7 +7,9 @@
 import { Connection } from './Connection.js';
 import { CurveEditor } from './curveeditor.js';
 import { Header } from './header.js';
+import { Help } from './help.js';
 import { Inspector } from './inspector.js';
+import { Layers } from './layers.js';
 import { LockBanner } from './banner.js';
 import { bindKeyboard, studioActions } from './keyboard.js';
 import { Notices } from './notices.js';
@@ -27,11 +29,13 @@ new SaveStatus(studio, $('save-status'));
 const viewport = new Viewport(studio, $('viewport'));
 new Notices(studio, $('notices'));
 new LockBanner(studio, $('viewport'));
-new Outliner(studio, $('outliner'));
+new Outliner(studio, $('outliner'), viewport);
 new Inspector(studio, $('inspector'));
+new Layers(studio, $('inspector'));
 new TransportBar(studio, $('transport'));
 new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
 const curveEditor = new CurveEditor(studio, $('curves'));
+new Help(studio, /** @type {HTMLElement} */ (document.querySelector('header.top')), window);   // before the keys: its Escape goes first
 bindKeyboard(window, studioActions(studio, viewport));
 
 /** Per-frame timings (ms) of the last frames, for benchmarks: playback (evaluate every track,

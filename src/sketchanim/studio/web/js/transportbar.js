@@ -1,12 +1,16 @@
 // @ts-check
 /**
  * The transport bar: record, punch-in or additive, smoothing, count-in, capture speed, loop recording;
- * stop, play / pause, the time, speed, loop; what is being recorded; undo and redo.
+ * stop, play / pause, one frame back / on, the time and the frame, speed, loop; the project's
+ * frame rate and snapping to frames; what is being recorded; undo and redo.
  */
 import { choice, el } from './dom.js';
 import { SMOOTHING } from './Performer.js';
 import { formatTolerance } from './resolution.js';
 import { formatTime } from './timescale.js';
+
+/** The frame rates the project can have (frames per second; the server's protocol.FRAME_RATES). */
+export const FRAME_RATES = [12, 15, 23.976, 24, 25, 29.97, 30, 48, 50, 59.94, 60, 120];
 
 export class TransportBar {
   /**
@@ -25,6 +29,16 @@ export class TransportBar {
     this.playButton = el('button', { class: 'play', 'data-testid': 'play', title: 'Play / pause (Space)' }, '▶');
     this.playButton.addEventListener('click', () => t.togglePlay());
     this.clockText = el('span', { class: 'clock', 'data-testid': 'time' }, '0:00.00');
+    this.frameText = el('span', { class: 'frame', 'data-testid': 'frame', title: 'The frame the playhead is on (at the project\'s frame rate)' }, '0');
+    const back = el('button', { class: 'step', 'data-testid': 'frame-back', title: 'One frame back (←)' }, '◂');
+    back.addEventListener('click', () => t.stepFrames(-1));
+    const on = el('button', { class: 'step', 'data-testid': 'frame-on', title: 'One frame on (→)' }, '▸');
+    on.addEventListener('click', () => t.stepFrames(1));
+    const fps = choice('fps', FRAME_RATES.map((r) => [String(r), String(r)]), String(studio.fps), (v) => studio.setFps(Number(v)), 'fps');
+    fps.wrap.title = "The project's frame rate: frame numbers, ← / → steps and snapping count in it (every tab shows it)";
+    this.fps = fps.select;
+    this.snapButton = el('button', { class: 'toggle', 'data-testid': 'snap', title: 'Snap edits in time (knots, the playhead) to frames (Shift+S)' }, 'snap');
+    this.snapButton.addEventListener('click', () => studio.toggleSnap());
     this.loopButton = el('button', { class: 'toggle', 'data-testid': 'loop', title: 'Loop the range (L); shift-drag on the timeline sets it' }, '⟲ loop');
     this.loopButton.addEventListener('click', () => t.toggleLoop());
     const speed = choice('speed', [['0.25', '¼×'], ['0.5', '½×'], ['1', '1×'], ['2', '2×'], ['-1', '−1×']], '1',
@@ -53,11 +67,11 @@ export class TransportBar {
     this.redoButton = el('button', { 'data-testid': 'redo', title: 'Redo (Ctrl+Shift+Z)' }, '↷ redo');
     this.redoButton.addEventListener('click', () => studio.redo());
     this.status = el('span', { class: 'take-status', 'data-testid': 'take-status' });
-    const group = (/** @type {HTMLElement[]} */ ...items) => { const g = el('div', { class: 'group' }); g.append(...items); return g; };
-    bar.append(group(this.recordButton, mode.wrap, smooth.wrap, countIn.wrap, capture.wrap, loopRec),
-      group(stopButton, this.playButton, this.clockText, speed.wrap, this.loopButton),
-      this.status, group(this.undoButton, this.redoButton));
     const signals = studio.signals;
+    const group = (/** @type {HTMLElement[]} */ ...items) => { const g = el('div', { class: 'group' }); g.append(...items); return g; };
+    bar.append(group(this.recordButton, mode.wrap, smooth.wrap, countIn.wrap, capture.wrap, loopRec), group(fps.wrap, this.snapButton),
+      group(stopButton, back, this.playButton, on, this.clockText, this.frameText, speed.wrap, this.loopButton),
+      this.status, group(this.undoButton, this.redoButton));
     signals.on('history', () => this.showHistory());
     signals.on('state', () => this.showHistory());
     signals.on('record', () => this.showTransport());
@@ -65,6 +79,18 @@ export class TransportBar {
     signals.on('settings', () => this.showSettings());
     signals.on('lock', () => { this.showTransport(); this.showHistory(); });
     signals.on('frame', () => this.showTime());
+    signals.on('projectSettings', () => this.showProjectSettings());
+    signals.on('state', () => this.showProjectSettings());
+    signals.on('lock', () => this.showProjectSettings());
+  }
+
+  /** The project's frame rate (as the server holds it) and whether edits snap to frames. */
+  showProjectSettings() {
+    const s = this.studio;
+    this.fps.value = String(s.fps);
+    this.fps.disabled = s.readOnly;
+    this.snapButton.classList.toggle('on', s.snap);
+    this.snapButton.setAttribute('aria-pressed', String(s.snap));
   }
 
   /** Undo and redo: what they would do (the History is the server's, in memory: it reaches
@@ -106,6 +132,7 @@ export class TransportBar {
   showTime() {
     const { transport: t, performer: p } = this.studio;
     this.clockText.textContent = formatTime(t.time);
+    this.frameText.textContent = String(t.frame);
     const counting = t.countingIn;
     const take = p.grab?.take;
     const remote = this.studio.remoteTake;
