@@ -267,6 +267,9 @@ def test_the_help_overlay_opens_from_every_transport_control_and_lists_every_sho
     assert [action for action, _ in listed] == [s["action"] for s in shortcuts]
     for (_, text), s in zip(listed, shortcuts):
         assert s["does"] in text and all(k in text for k in s["keys"]), text
+    gestures = page.evaluate("import('/js/keyboard.js').then((m) => m.GESTURES)")
+    shown = help_.locator("[data-testid=help-gestures] tr").all_text_contents()
+    assert len(shown) == len(gestures) and all(g["does"] in row for g, row in zip(gestures, shown))
     controls = page.locator("[data-testid=transport] button:enabled, [data-testid=transport] select, [data-testid=transport] input")
     count = controls.count()
     assert count >= 14

@@ -1,13 +1,14 @@
 // @ts-check
 /**
- * The help overlay: every shortcut of the studio (keyboard.js's SHORTCUTS), opened by `?`
+ * The help overlay: every shortcut of the studio (keyboard.js's SHORTCUTS) and the mouse's
+ * gestures (GESTURES), opened by `?`
  * (the `command` signal 'help') or the `?` button in the header; closed by Escape, `?` or a
  * click outside its card. While it is open, its own key listener (on the window, in the
  * capture phase, added before the keyboard's: main.js builds it first) takes Escape and `?`
  * and stops them there, so Escape closes the overlay without also selecting nothing.
  */
 import { el } from './dom.js';
-import { SHORTCUTS } from './keyboard.js';
+import { GESTURES, SHORTCUTS } from './keyboard.js';
 
 /** Whether the keys read Cmd for Ctrl (a Mac). */
 const MAC = typeof navigator !== 'undefined' && /Mac|iPhone|iPad/.test(navigator.platform);
@@ -35,7 +36,13 @@ export class Help {
       row.append(keys, el('td', {}, s.does));
       table.append(row);
     }
-    card.append(el('div', { class: 'panel-head' }, 'Keyboard shortcuts'), table,
+    const gestures = el('table', { class: 'help-keys', 'data-testid': 'help-gestures' });
+    for (const g of GESTURES) {
+      const row = el('tr');
+      row.append(el('td', { class: 'keys' }, g.where), el('td', {}, `${g.gesture}: ${g.does}`));
+      gestures.append(row);
+    }
+    card.append(el('div', { class: 'panel-head' }, 'Keyboard shortcuts'), table, el('div', { class: 'panel-head' }, 'Mouse'), gestures,
       el('p', { class: 'hint' }, 'Esc, ? or a click outside closes this.'));
     this.overlay.append(card);
     this.overlay.addEventListener('click', (e) => { if (e.target === this.overlay) this.close(); });

@@ -58,6 +58,19 @@ export const SHORTCUTS = [
   { action: 'help', keys: ['?'], does: 'this list of shortcuts' },
 ];
 
+/** @type {{where: string, gesture: string, does: string}[]} the mouse's gestures, as the help overlay lists them */
+export const GESTURES = [
+  { where: 'view', gesture: 'drag an object', does: 'move it (in record mode: perform a take)' },
+  { where: 'view', gesture: 'drag a path handle', does: "move that control point of the object's path" },
+  { where: 'timeline', gesture: 'drag / Shift-drag', does: 'scrub / set the loop range' },
+  { where: 'curves', gesture: 'drag a point, a key or a handle', does: 'move it (one undo step on release; Esc cancels)' },
+  { where: 'curves', gesture: 'drag on empty space / Shift-click', does: 'box-select / add to the selection' },
+  { where: 'curves', gesture: 'double-click a curve', does: 'insert a knot there' },
+  { where: 'curves', gesture: 'wheel / Ctrl- or Shift-wheel', does: 'zoom time / zoom values' },
+  { where: 'curves', gesture: 'middle-drag or Alt-drag', does: 'pan' },
+  { where: 'outliner, takes', gesture: 'double-click a name', does: 'rename it (Enter keeps, Esc cancels)' },
+];
+
 /** @type {Record<string, KeyAction>} the plain keys (no Ctrl, Cmd or Alt; Shift ignored), by their lower-case `key` */
 const PLAIN = { r: 'record', ' ': 'play', enter: 'stop', l: 'loop', c: 'camera', escape: 'deselect',
   w: 'translate', e: 'rotate', s: 'scale', arrowleft: 'previous-frame', arrowright: 'next-frame', delete: 'delete',
