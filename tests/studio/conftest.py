@@ -1,4 +1,4 @@
-"""The studio's shared fixtures: an app on a fresh project through FastAPI's TestClient;
+"""The studio's shared fixtures: a session, and an app, on a fresh project (the app through FastAPI's TestClient);
 for page tests, a headless chromium (one per module), a real server on a fresh project
 (:func:`studio_browser.studio_server`) and an opener of pages on it."""
 
@@ -10,6 +10,7 @@ import pytest
 from fastapi.testclient import TestClient
 
 from sketchanim.studio.app import create_app
+from sketchanim.studio.session import Session
 from studio_browser import drew_something, launch, open_page, studio_server, viewport_drew
 
 
@@ -20,6 +21,14 @@ def client(tmp_path):
     with TestClient(app) as c:
         yield c
     app.state.hub.session.close()
+
+
+@pytest.fixture
+def session(tmp_path):
+    """A :class:`Session` on a fresh project, ``tmp_path / "s.sketchanim"``, closed after."""
+    s = Session(tmp_path / "s.sketchanim")
+    yield s
+    s.close()
 
 
 @pytest.fixture(scope="module")

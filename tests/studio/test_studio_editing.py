@@ -44,13 +44,6 @@ def layered_track(seed: int, modes: list[str], tol: float = 0.002):
     return track
 
 
-@pytest.fixture
-def session(tmp_path):
-    s = Session(tmp_path / "p.sketchanim")
-    yield s
-    s.close()
-
-
 def put(session, track):
     session.player.add(track)
     session.editor.changes()

@@ -48,13 +48,6 @@ def motion(seed: int, n: int, rate: float):
     return t, pos, rot
 
 
-@pytest.fixture
-def session(tmp_path):
-    s = Session(tmp_path / "s.sketchanim")
-    yield s
-    s.close()
-
-
 @settings(max_examples=8)
 @given(seed=st.integers(0, 2**31), n=st.integers(3, 400), batch=st.integers(1, 40), rate=st.sampled_from([30.0, 60.0, 144.0]))
 def test_take_from_batches_keeps_every_sample_and_its_time(tmp_path_factory, seed, n, batch, rate):

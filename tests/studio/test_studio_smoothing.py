@@ -39,13 +39,6 @@ def perform(session: Session, name: str, t: np.ndarray, x: np.ndarray, **begin) 
     return next(m for m in send(session, type="take.end", take=name) if m["type"] == "take.ended")
 
 
-@pytest.fixture
-def session(tmp_path):
-    s = Session(tmp_path / "s.sketchanim")
-    yield s
-    s.close()
-
-
 def test_a_smoothed_take_holds_tol_against_the_smoothed_samples_and_keeps_the_raw(session, tmp_path):
     t, x = jittery_drag()
     ended = perform(session, "raw", t, x)
