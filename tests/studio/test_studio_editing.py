@@ -181,7 +181,7 @@ def test_objects_duplicated_renamed_removed_are_undone_exactly(session):
     assert list(session.scene.objects)[:2] == ["box", "box2"]
     copy = session.player.tracks["box2.position"]
     np.testing.assert_array_equal(copy.spline.c, session.player.tracks["box.position"].spline.c)
-    assert session.tolerances["box2.position"] == session.tolerances["box.position"]
+    assert "box2.position" not in session.tolerances          # a recording setting: not copied, nothing to undo
     send(session, {"type": "object.rename", "name": "box2", "to": "crate"})
     send(session, {"type": "object.remove", "name": "box"})
     send(session, {"type": "object.add", "name": "o1", "position": [1, 0.5, -2]})
@@ -230,6 +230,29 @@ def test_a_read_only_project_previews_a_reduction_but_refuses_the_step(tmp_path)
             send(ro, {"type": "track.reduce", "paths": ["box.position"], "tol": 0.01})
     finally:
         ro.close()
+
+
+def test_over_the_socket_a_read_only_project_previews_a_reduction_and_refuses_the_step(tmp_path):
+    from fastapi.testclient import TestClient
+
+    from sketchanim.studio.app import create_app
+
+    path = tmp_path / "ro.sketchanim"
+    s = Session(path)
+    put(s, layered_track(10, []))
+    s.editor.dirty = True
+    s.close()
+    app = create_app(path, warm=False, read_only=True)
+    with TestClient(app) as c, c.websocket_connect("/ws") as ws:
+        ws.receive_json()
+        ws.send_json({"type": "track.reduce", "paths": ["box.position"], "tol": 0.02, "preview": True})
+        assert receive_until(ws, "reduced", limit=50)[0]["preview"]
+        ws.send_json({"type": "track.reduce", "paths": ["box.position"], "tol": 0.02, "id": 7})
+        refused, _ = receive_until(ws, "error", limit=50)
+        assert (refused["code"], refused["ref"], refused["id"]) == ("read_only", "track.reduce", 7)
+        ws.send_json({"type": "track.samples", "path": "box.position"})
+        assert receive_until(ws, "samples", limit=50)[0]["path"] == "box.position"
+    app.state.hub.session.close()
 
 
 @pytest.mark.realdata

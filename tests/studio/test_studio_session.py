@@ -392,3 +392,18 @@ def test_a_take_that_starts_where_the_value_is_is_the_take_alone(session):
     take(session, "a", ["box.position"], t, x)
     track = session.player.tracks["box.position"]
     assert len(track.takes) == 1 and track.start == t[0] and track_within(track, t, x)
+
+
+def test_a_loop_pass_over_a_path_the_earlier_passes_left_keeps_its_takes_once(session):
+    """Pass 2 records a path pass 1 did not: its takes from before the loop stay as they
+    were (not taken for an earlier pass), and the pass is numbered as the loop's second."""
+    t = np.arange(0, 2, 1 / 60)
+    take(session, "base", ["box.position"], t, np.c_[t, 0 * t, 0 * t])
+    take(session, "p1", ["lamp.intensity"], t[30:90], (1.1 + 0 * t[30:90])[:, None], loop="L")
+    take(session, "p2", ["lamp.intensity", "box.position"], t[30:90],
+         np.c_[1.2 + 0 * t[30:90], t[30:90], 0 * t[30:90] + 1, 0 * t[30:90]], loop="L")
+    box = session.player.tracks["box.position"]
+    assert [(tk.muted, tk.loop, tk.loop_pass) for tk in box.takes] == [(False, None, 0), (False, "L", 1)]
+    lamp = session.player.tracks["lamp.intensity"]
+    passes = {(tk.loop_pass, tk.muted) for tk in lamp.takes if tk.loop == "L"}        # a pass may be several takes
+    assert passes == {(0, True), (1, False)}

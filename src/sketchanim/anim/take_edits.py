@@ -21,8 +21,8 @@ def edited_takes(takes: Sequence[Take], index: int, op: str, name: str | None = 
     """``takes`` after ``op`` on take ``index``: ``rename`` it ``name`` ("" clears it),
     ``mute`` / ``unmute`` it, ``solo`` it (it alone plays), ``delete`` it, ``move`` it
     to index ``to``, or ``keep`` its pass of a loop recording (that pass's takes play,
-    the other passes' are muted). Muting every take is refused: a track plays at
-    least one (delete the track instead).
+    the other passes' are muted). Leaving only muted takes is refused: a track plays at
+    least one (deleting its last take leaves none: the track goes).
 
     >>> import numpy as np
     >>> t = np.linspace(0, 1, 5)
@@ -44,7 +44,9 @@ def edited_takes(takes: Sequence[Take], index: int, op: str, name: str | None = 
     elif op == "solo":
         out = tuple(replace(t, muted=i != index) for i, t in enumerate(takes))
     elif op == "delete":
-        return takes[:index] + takes[index + 1:]
+        out = takes[:index] + takes[index + 1:]
+        if not out:
+            return out                                     # the track goes with its last take
     elif op == "move":
         if to is None or not 0 <= to < len(takes):
             raise ArgumentError("to", f"a take moves to an index in 0..{len(takes) - 1}, got {to!r}")

@@ -17,6 +17,7 @@ from typing import Annotated, Any, Literal, get_args
 from pydantic import BaseModel, ConfigDict, Field, StrictBool, TypeAdapter, ValidationError
 
 from sketchanim.anim.tracks import BLEND, MODES
+from sketchanim.project.document import DEFAULT_FPS
 from sketchanim.errors import load_json
 
 #: Largest message the server reads, in bytes of UTF-8 (larger: ``too_large``).
@@ -193,7 +194,7 @@ class TakeEdit(_Message):
     to: Annotated[int, Field(ge=0, le=100_000)] | None = None
 
 
-#: Frame rates the studio offers (frames per second).
+#: Frame rates the page's menu offers (frames per second; a project may have any in (0, 1000]).
 FRAME_RATES = (12.0, 15.0, 23.976, 24.0, 25.0, 29.97, 30.0, 48.0, 50.0, 59.94, 60.0, 120.0)
 
 
@@ -202,7 +203,7 @@ class Settings(_Message):
     the frame rate the transport counts frames in and edits snap to."""
 
     type: Literal["settings"]
-    fps: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] = 24.0
+    fps: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)]
 
 
 class TakeBegin(_Message):
@@ -445,7 +446,7 @@ class SettingsInfo(_Outbound):
     """The project's settings (see :class:`Settings`), sent to every page when they change."""
 
     type: Literal["settings"] = "settings"
-    fps: float = 24.0
+    fps: float = DEFAULT_FPS
 
 
 class Reduction(_Outbound):

@@ -239,12 +239,11 @@ class Session:
         return self._told()
 
     def duplicate_object(self, name: str, to: str) -> list[p.Out]:
-        """Copy an object, its values, tracks and take tolerances, as ``to`` (one step)."""
+        """Copy an object, its values and tracks, as ``to`` (one step; its take
+        tolerances, a recording setting outside History, are not copied: an undo could
+        not take them back)."""
         self.takes.refuse_while_recording("object.duplicate")
         self.editor.duplicate_object(name, to)
-        for path, t in list(self.tolerances.items()):
-            if path.split(".", 1)[0] == name:
-                self.tolerances[f"{to}.{path.split('.', 1)[1]}"] = t
         return self._told()
 
     # -- curve edits -----------------------------------------------------------------------
@@ -342,9 +341,8 @@ class Session:
             raise ArgumentError("path", f"{', '.join(hit)}: being recorded; edit it once the take ends")
 
     def set_settings(self, fps: float) -> list[p.Out]:
-        """The project's frame rate (a project setting, not a History step); every page gets it."""
-        if not (np.isfinite(fps) and 0 < fps <= 1000):
-            raise ArgumentError("fps", f"a frame rate is > 0 and at most 1000, got {fps!r}")
+        """The project's frame rate (> 0, at most 1000: the protocol checks it; a project
+        setting, not a History step); every page gets it."""
         self.fps = float(fps)
         self.editor.dirty = True
         return [("all", p.wire(p.SettingsInfo(fps=self.fps)))]

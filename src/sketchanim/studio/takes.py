@@ -341,11 +341,17 @@ class TakeRecorder:
         before the loop, with the earlier passes' takes kept (muted) before this pass's."""
         if not isinstance(track, ContinuousTrack):
             return track
-        before = None if last_pass is None else last_pass.get(path)
-        below = len(before.takes) if isinstance(before, ContinuousTrack) else 0
-        now = self.editor.player.tracks.get(path) if last_pass is not None else None
-        earlier = now.takes[below:] if isinstance(now, ContinuousTrack) else ()
-        number = 1 + max((t.loop_pass for t in earlier if t.loop == loop), default=-1)
+        tracks = self.editor.player.tracks
+        now = tracks.get(path)
+        if last_pass is None or path not in last_pass:      # the loop's earlier passes did not record it
+            below = len(now.takes) if isinstance(now, ContinuousTrack) else 0
+            earlier: tuple[Take, ...] = ()
+        else:
+            before = last_pass[path]
+            below = len(before.takes) if isinstance(before, ContinuousTrack) else 0
+            earlier = now.takes[below:] if isinstance(now, ContinuousTrack) else ()
+        number = 1 + max((t.loop_pass for other in tracks.values() if isinstance(other, ContinuousTrack)
+                          for t in other.takes if t.loop == loop), default=-1)
         mine = tuple(replace(t, loop=loop, loop_pass=number) for t in track.takes[below:])
         return replace(track, takes=track.takes[:below] + tuple(replace(t, muted=True) for t in earlier) + mine)
 

@@ -141,7 +141,7 @@
  * @typedef {object} SettingsChange
  * @property {'settings'} type
  * @property {number | string | null} [id]
- * @property {number} [fps]
+ * @property {number} fps
  */
 
 /**

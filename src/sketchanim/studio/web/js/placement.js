@@ -27,7 +27,7 @@ export const TRIES = 64;
  * object is in view), else AHEAD m in front of the camera along the view direction flattened
  * onto the floor, at HEIGHT; moved sideways (right, left, further right, further left, by
  * STEP) until a sphere of RADIUS there is clear of every occupied sphere. Looking straight
- * down or up, "ahead" is the camera's −z.
+ * down or up (no flattened direction), "ahead" is the world's −z.
  * @param {Vec3} cameraPosition
  * @param {Vec3} cameraDirection where the camera looks (need not be unit length)
  * @param {Occupied[]} occupied

@@ -9,7 +9,7 @@ import { SMOOTHING } from './Performer.js';
 import { formatTolerance } from './resolution.js';
 import { formatTime } from './timescale.js';
 
-/** The frame rates the project can have (frames per second; the server's protocol.FRAME_RATES). */
+/** The frame rates the menu offers (frames per second; the server's protocol.FRAME_RATES; a project's own is added). */
 export const FRAME_RATES = [12, 15, 23.976, 24, 25, 29.97, 30, 48, 50, 59.94, 60, 120];
 
 export class TransportBar {
@@ -87,6 +87,9 @@ export class TransportBar {
   /** The project's frame rate (as the server holds it) and whether edits snap to frames. */
   showProjectSettings() {
     const s = this.studio;
+    if (![...this.fps.options].some((o) => o.value === String(s.fps))) {
+      this.fps.append(el('option', { value: String(s.fps) }, String(s.fps)));     // a project's own rate, off the list
+    }
     this.fps.value = String(s.fps);
     this.fps.disabled = s.readOnly;
     this.snapButton.classList.toggle('on', s.snap);
