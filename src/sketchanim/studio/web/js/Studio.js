@@ -47,6 +47,15 @@ import { Transport } from './Transport.js';
  * @property {number} index
  */
 
+/**
+ * Whether two knot vectors are the same (then a curve's point and key indices still name the same points).
+ * @param {number[]} a
+ * @param {number[]} b
+ */
+function sameKnots(a, b) {
+  return a.length === b.length && a.every((t, i) => t === b[i]);
+}
+
 /** The close code of a socket the server closed for a frame over its transport limit (16 MiB). */
 export const TOO_BIG = 1009;
 
@@ -167,12 +176,15 @@ export class Studio {
     switch (m.type) {
       case 'state': this.loadState(m); break;
       case 'tracks':
-        for (const track of m.changed) this.tracks.set(track.path, track);
+        for (const track of m.changed) {
+          const before = this.tracks.get(track.path);
+          if (before?.kind !== 'curve' || track.kind !== 'curve' || !sameKnots(before.knots, track.knots)) {
+            this.points = this.points.filter((q) => q.path !== track.path);     // its indices name other points now
+          }
+          this.tracks.set(track.path, track);
+        }
         for (const path of m.removed) this.tracks.delete(path);
-        this.points = this.points.filter((q) => {
-          const curve = this.tracks.get(q.path);
-          return curve?.kind === 'curve' && q.index < (q.kind === 'point' ? curve.coef.length : curve.knots.length);
-        });
+        this.points = this.points.filter((q) => this.tracks.has(q.path));
         this.span = m.span;
         this.repack();
         this.signals.emit('tracks');

@@ -112,13 +112,17 @@ export class Transport {
   }
 
   /**
-   * Pause and step `n` frames of the project's frame rate (back if negative), landing on a frame.
+   * Pause and step `n` frames of the project's frame rate (back if negative), landing on a frame
+   * (from between two frames, as after a change of frame rate, the first step lands on the next one).
    * @param {number} n
    */
   stepFrames(n) {
     if (this.clock.playing) this.pause();
     const fps = this.studio.fps;
-    this.seek((Math.round(this.time * fps) + n) / fps);
+    const at = this.time * fps;
+    const near = Math.round(at);
+    const on = Math.abs(at - near) < 1e-6 ? near : null;           // on a frame, or between two
+    this.seek(((on ?? (n > 0 ? Math.floor(at) : Math.ceil(at))) + n) / fps);
   }
 
   /** The frame the transport is on (the project's frame rate; frame 0 at time 0). */

@@ -180,6 +180,7 @@ export class CurveEditor {
     studio.signals.on('selection', () => { this.view = null; this.yRange = null; });
     studio.signals.on('attribute', () => { this.view = null; this.yRange = null; });
     studio.signals.on('points', () => { this.overlayVersion += 1; });
+    studio.signals.on('tracks', () => this.dropStaleDrag());
     studio.signals.on('samples', (m) => { this.samples.set(m.path, m); this.lanesDirty = true; });
     studio.signals.on('command', (c) => this.command(c));
     studio.signals.on('frame', () => this.frame());
@@ -908,6 +909,7 @@ export class CurveEditor {
       if (!e.shiftKey) this.studio.selectPoints([]);
       return;
     }
+    if (this.readOnlyRefused()) return;                      // a read-only project: nothing to drag
     if (hit.kind === 'handle') {
       this.drag = { ...base, kind: 'handle', hit };
       this.startMove(this.drag, 'key', [hit.i], hit.lane, true);
@@ -1072,6 +1074,16 @@ export class CurveEditor {
     this.endDrag();
   }
 
+  /** A curve being dragged changed under the drag (another tab's edit, an undo): the drag ends,
+   * nothing sent (its points and keys would name the curve as it was). */
+  dropStaleDrag() {
+    const lanes = new Map(this.lanes.map((l) => [l.path, l]));
+    const stale = [...this.moving].some((path) => this.studio.tracks.get(path) !== lanes.get(path)?.curve);
+    if (!this.drag || !stale) return;
+    this.cancel();
+    this.studio.tell('info', 'the curve changed while it was dragged (another tab, or an undo): drag it again', 'curve editor');
+  }
+
   endDrag() {
     this.moving.clear();
     for (const lane of this.lanes) {
@@ -1086,6 +1098,7 @@ export class CurveEditor {
 
   /** @param {MouseEvent} e a double-click on a curve inserts a knot there */
   doubleClick(e) {
+    if (this.readOnlyRefused()) return;
     const { x, y } = this.local(e);
     const { w, h } = this.size();
     const view = this.currentView(w, h);
@@ -1140,8 +1153,15 @@ export class CurveEditor {
       this.frameAll();
       this.lastTitle = '';
     } else if (c === 'insert-knot') {
-      if (this.lanes[0]) this.insertKnot(this.lanes[0], this.studio.snapped(this.studio.transport.time));
-    } else if (c === 'delete-points') this.deleteKeys();
+      if (this.lanes[0] && !this.readOnlyRefused()) this.insertKnot(this.lanes[0], this.studio.snapped(this.studio.transport.time));
+    } else if (c === 'delete-points' && !this.readOnlyRefused()) this.deleteKeys();
+  }
+
+  /** Whether the project is read-only (an edit then starts not at all; the page says why). */
+  readOnlyRefused() {
+    if (!this.studio.readOnly) return false;
+    this.studio.tell('info', 'read-only project: curves are shown, not edited', 'curve editor');
+    return true;
   }
 
   /** Delete: the selected keys' knots removed (the curve's ends stay), one step per track. */

@@ -4,8 +4,9 @@
  * gestures (GESTURES), opened by `?`
  * (the `command` signal 'help') or the `?` button in the header; closed by Escape, `?` or a
  * click outside its card. While it is open, its own key listener (on the window, in the
- * capture phase, added before the keyboard's: main.js builds it first) takes Escape and `?`
- * and stops them there, so Escape closes the overlay without also selecting nothing.
+ * capture phase, added before the keyboard's: main.js builds it first) stops every key there
+ * (no shortcut acts under the overlay; Tab still moves the focus), and Escape or `?` closes it,
+ * so Escape does not also select nothing.
  */
 import { el } from './dom.js';
 import { GESTURES, SHORTCUTS } from './keyboard.js';
@@ -50,9 +51,10 @@ export class Help {
     studio.signals.on('command', (c) => { if (c === 'help') this.toggle(); });
     win.addEventListener('keydown', (event) => {
       const e = /** @type {KeyboardEvent} */ (event);
-      if (!this.open || (e.key !== 'Escape' && e.key !== '?')) return;
+      if (!this.open || e.key === 'Tab') return;
+      e.stopImmediatePropagation();                 // no shortcut acts under the overlay
+      if (e.key !== 'Escape' && e.key !== '?') return;
       e.preventDefault();
-      e.stopImmediatePropagation();
       if (!e.repeat) this.close();
     }, { capture: true });
   }

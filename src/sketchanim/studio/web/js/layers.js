@@ -121,6 +121,9 @@ export class Layers {
 
   show() {
     const s = this.studio;
+    // a rename field keeps the focus across a rebuild of the rows (and takes it when just opened)
+    const open = this.list.querySelector('input');
+    const refocus = !open || open === document.activeElement;
     const path = this.path;
     const curve = this.curve;
     this.title.textContent = path ? `Takes · ${s.attribute}` : 'Takes';
@@ -140,7 +143,7 @@ export class Layers {
       return pass?.first ? [el('li', { class: 'loop-head' }, `⟲ loop recording · ${pass.of} passes`), row] : [row];
     }));
     const input = this.list.querySelector('input');
-    if (input) input.focus();
+    if (input && refocus) input.focus();
   }
 
   /**
@@ -197,6 +200,11 @@ export class Layers {
         placeholder: takeName(take, i) });
       input.value = editing.text;
       input.addEventListener('input', () => { editing.text = input.value; });
+      input.addEventListener('blur', () => {          // clicking away drops it (a rebuild removes the field unheard)
+        if (!input.isConnected || !this.renaming) return;
+        this.renaming = null;
+        this.show();
+      });
       input.addEventListener('keydown', (e) => {
         if (e.key !== 'Enter' && e.key !== 'Escape') return;
         this.renaming = null;

@@ -114,6 +114,9 @@ export class Outliner {
 
   show() {
     const s = this.studio;
+    // a rename field keeps the focus across a rebuild of the rows (and takes it when just opened)
+    const open = this.list.querySelector('input');
+    const refocus = !open || open === document.activeElement;
     const none = !s.selected || s.readOnly;
     this.renameButton.disabled = none;
     this.duplicateButton.disabled = none;
@@ -132,7 +135,7 @@ export class Outliner {
       return item;
     }));
     const input = this.list.querySelector('input');
-    if (input) input.focus();
+    if (input && refocus) input.focus();
   }
 
   /**
@@ -144,6 +147,11 @@ export class Outliner {
     const input = el('input', { type: 'text', class: 'name', 'data-testid': 'object-name', maxlength: '64', spellcheck: 'false' });
     input.value = r.text;
     input.addEventListener('input', () => { r.text = input.value; r.problem = ''; problem.textContent = ''; });
+    input.addEventListener('blur', () => {            // clicking away drops it (a rebuild removes the field unheard)
+      if (!input.isConnected || !this.renaming) return;
+      this.renaming = null;
+      this.show();
+    });
     input.addEventListener('keydown', (e) => {
       if (e.key === 'Enter') this.commitRename();
       else if (e.key === 'Escape') { this.renaming = null; this.show(); }

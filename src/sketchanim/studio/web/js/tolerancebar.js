@@ -62,6 +62,8 @@ export class ToleranceBar {
     this.inFlight = false;
     /** @type {number | null} a preview asked while one was in flight */
     this.pending = null;
+    /** @type {import('./messages.js').Track | null} the track the info text speaks of (the one answered for) */
+    this.answeredFor = null;
     /** The slider is being dragged (previews shown); false once released. */
     this.previewing = false;
     this.slider.addEventListener('input', () => {
@@ -74,10 +76,31 @@ export class ToleranceBar {
     this.number.addEventListener('change', () => {
       const tol = Number(this.number.value);
       if (tol > 0 && Number.isFinite(tol)) this.apply(tol);
-      else this.show();
+      else {
+        studio.tell('warning', `a tolerance is a number > 0 (${this.path ?? 'the track'} keeps its own)`, 'curve editor');
+        this.number.value = '';                     // show() puts the track's back
+        this.number.blur();
+        this.show();
+      }
     });
+    // a release where the drag began fires no change: there the previews end with the pointer
+    let from = this.slider.value;
+    this.slider.addEventListener('pointerdown', () => { from = this.slider.value; });
+    const released = () => {
+      if (!this.previewing || this.slider.value !== from) return;            // a change applies it
+      this.previewing = false;
+      this.pending = null;
+      this.preview.clear();
+      this.show();
+      this.changed();
+    };
+    this.slider.addEventListener('pointerup', released);
+    this.slider.addEventListener('pointercancel', released);
     this.all.addEventListener('change', () => this.show());
     studio.signals.on('reduced', (m) => this.answered(m));
+    // a preview refused, or lost with the socket, is answered by no `reduced`: the next one may go
+    studio.signals.on('error', (m) => { if (m.ref === 'track.reduce') this.unblock(); });
+    studio.signals.on('connection', () => this.unblock());
   }
 
   /** The attribute's default tolerance (the slider's middle). */
@@ -91,6 +114,7 @@ export class ToleranceBar {
    * @param {string[]} shown
    */
   setTracks(path, shown) {
+    if (path !== this.path) this.info.textContent = '';   // what it said was another track's
     this.path = path;
     this.shown = shown;
     this.show();
@@ -127,6 +151,7 @@ export class ToleranceBar {
       this.number.value = String(Number(curve.tol.toPrecision(3)));
       this.slider.value = String(sliderOf(curve.tol, this.base()));
     }
+    if (curve !== this.answeredFor) this.info.textContent = '';   // the track changed since the answer
     const edited = this.paths().some((p) => { const t = s.tracks.get(p); return t?.kind === 'curve' && t.edited; });
     this.warning.hidden = !edited;
     this.warning.textContent = edited ? 'edited by hand: re-reducing drops the hand edits (undo brings them back)' : '';
@@ -161,6 +186,12 @@ export class ToleranceBar {
     this.changed();
   }
 
+  /** No preview is in flight any more (it was refused or lost): the latest asked goes now. */
+  unblock() {
+    this.inFlight = false;
+    if (this.previewing && this.pending !== null) this.ask(this.pending);
+  }
+
   /** @param {import('./messages.js').Reduced} m */
   answered(m) {
     if (m.preview) {
@@ -174,6 +205,7 @@ export class ToleranceBar {
     const n = m.results.reduce((sum, r) => sum + r.n, 0);
     const error = Math.max(...m.results.map((r) => r.error));
     const unit = this.path ? this.studio.types.get(this.path)?.unit ?? '' : '';
+    this.answeredFor = this.path ? this.studio.tracks.get(this.path) ?? null : null;   // what the text is of
     this.info.textContent = `${m.preview ? 'preview: ' : ''}${n} control points · max error ${Number(error.toPrecision(3))} ${unit}`;
     this.changed();
   }
