@@ -200,11 +200,12 @@ export class Layers {
         placeholder: takeName(take, i) });
       input.value = editing.text;
       input.addEventListener('input', () => { editing.text = input.value; });
-      input.addEventListener('blur', () => {          // clicking away drops it (a rebuild removes the field unheard)
-        if (!input.isConnected || !this.renaming) return;
+      // clicking away drops it; a rebuild of the rows (which blurs it too) leaves the new field focused
+      input.addEventListener('blur', () => setTimeout(() => {
+        if (!this.renaming || this.list.querySelector('input') === document.activeElement) return;
         this.renaming = null;
         this.show();
-      });
+      }));
       input.addEventListener('keydown', (e) => {
         if (e.key !== 'Enter' && e.key !== 'Escape') return;
         this.renaming = null;

@@ -147,11 +147,12 @@ export class Outliner {
     const input = el('input', { type: 'text', class: 'name', 'data-testid': 'object-name', maxlength: '64', spellcheck: 'false' });
     input.value = r.text;
     input.addEventListener('input', () => { r.text = input.value; r.problem = ''; problem.textContent = ''; });
-    input.addEventListener('blur', () => {            // clicking away drops it (a rebuild removes the field unheard)
-      if (!input.isConnected || !this.renaming) return;
+    // clicking away drops it; a rebuild of the rows (which blurs it too) leaves the new field focused
+    input.addEventListener('blur', () => setTimeout(() => {
+      if (!this.renaming || this.list.querySelector('input') === document.activeElement) return;
       this.renaming = null;
       this.show();
-    });
+    }));
     input.addEventListener('keydown', (e) => {
       if (e.key === 'Enter') this.commitRename();
       else if (e.key === 'Escape') { this.renaming = null; this.show(); }
