@@ -19,6 +19,7 @@ from sketchanim.anim.tracks import Take
 from sketchanim.formats.recordings import read_tum
 from sketchanim.project.store import Project
 from sketchanim.studio import protocol as p
+from sketchanim.studio.defaults import default_scene
 from sketchanim.studio.handlers import handle
 from sketchanim.studio.session import Session
 from sketchanim.studio.takes import ORDER
@@ -217,13 +218,16 @@ def test_over_the_socket_a_reduction_answers_the_page_and_a_second_sees_the_trac
         assert seen == ["take box.position", "tolerance 0.05 on box.position"]
 
 
-def test_a_read_only_project_previews_a_reduction_but_refuses_the_step(tmp_path):
+def project_with_a_take(tmp_path, seed: int):
+    """A saved project whose box.position was recorded (one take)."""
     path = tmp_path / "ro.sketchanim"
-    s = Session(path)
-    put(s, layered_track(8, []))
-    s.editor.dirty = True
-    s.close()
-    ro = Session(path, read_only=True)
+    with Project(path) as project:
+        project.save(default_scene(), {"box.position": layered_track(seed, [])})
+    return path
+
+
+def test_a_read_only_project_previews_a_reduction_but_refuses_the_step(tmp_path):
+    ro = Session(project_with_a_take(tmp_path, 8), read_only=True)
     try:
         assert send(ro, {"type": "track.reduce", "paths": ["box.position"], "tol": 0.01, "preview": True})
         with pytest.raises(Exception, match="read-only"):
@@ -237,12 +241,7 @@ def test_over_the_socket_a_read_only_project_previews_a_reduction_and_refuses_th
 
     from sketchanim.studio.app import create_app
 
-    path = tmp_path / "ro.sketchanim"
-    s = Session(path)
-    put(s, layered_track(10, []))
-    s.editor.dirty = True
-    s.close()
-    app = create_app(path, warm=False, read_only=True)
+    app = create_app(project_with_a_take(tmp_path, 10), warm=False, read_only=True)
     with TestClient(app) as c, c.websocket_connect("/ws") as ws:
         ws.receive_json()
         ws.send_json({"type": "track.reduce", "paths": ["box.position"], "tol": 0.02, "preview": True})
