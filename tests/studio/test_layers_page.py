@@ -133,6 +133,11 @@ def test_a_take_renamed_inline_keeps_its_name_after_a_reload(_page, takes_studio
     assert page.locator("[data-take='0'] [data-testid=take-name]").inner_text() == "take 1"
     assert page.evaluate("studio.selected") == "box" and _history(page) == 0
     page.dblclick("[data-take='0'] [data-testid=take-name]")
+    page.keyboard.type("stray")
+    page.click("[data-testid=timeline]")                              # clicking away drops the field too
+    page.wait_for_function("() => !document.querySelector('[data-testid=layers] input')")
+    assert page.locator("[data-take='0'] [data-testid=take-name]").inner_text() == "take 1" and _history(page) == 0
+    page.dblclick("[data-take='0'] [data-testid=take-name]")
     steps = _history(page)
     page.keyboard.type("base")
     page.keyboard.press("Enter")
