@@ -189,6 +189,7 @@ def test_objects_deleted_renamed_and_duplicated_from_the_outliner_undo_exactly(_
         page.keyboard.press("Control+z")
         page.wait_for_function(f"() => studio.history.undo.length === {steps}")
         assert project(takes_studio) == before, f"renaming by {how} was not undone exactly"
+        page.wait_for_function("() => studio.selected === 'box'")        # the undone rename keeps it selected
 
         page.click(row)
         if how == "mouse":

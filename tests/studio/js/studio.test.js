@@ -3,6 +3,7 @@
 import test from 'node:test';
 import assert from 'node:assert/strict';
 import { frames, studio } from './fake_studio.mjs';
+import { renamedSelection } from '../../../src/sketchanim/studio/web/js/Studio.js';
 
 test("a hold in record mode is a take: each event's values at the event's transport time, sent in batches", () => {
   const { s, c } = studio();
@@ -270,4 +271,13 @@ test('the transport and record settings go to the server and come back from it',
   fresh.transport.receive(last);
   assert.deepEqual([fresh.transport.playSpeed, fresh.transport.countIn, fresh.transport.captureSpeed, fresh.performer.mode,
     fresh.performer.loopRecord, fresh.performer.smoothing], [0.5, 2, 0.25, 'additive', true, 0.05]);
+});
+
+test('a renamed object stays selected through the rename, its undo and its redo; a removed one does not', () => {
+  assert.equal(renamedSelection('box', ['box', 'ball'], ['crate', 'ball']), 'crate');
+  assert.equal(renamedSelection('crate', ['crate', 'ball'], ['box', 'ball']), 'box');
+  assert.equal(renamedSelection('box', ['box', 'ball'], ['ball']), null);
+  assert.equal(renamedSelection('ball', ['box', 'ball'], ['crate', 'ball']), 'ball');
+  assert.equal(renamedSelection('box', ['box', 'ball'], ['ball', 'x', 'y']), null);
+  assert.equal(renamedSelection(null, ['box'], ['crate']), null);
 });

@@ -48,6 +48,24 @@ import { Transport } from './Transport.js';
  */
 
 /**
+ * The selection after the scene's objects went from `before` to `after`: the same object; the
+ * one it became when it alone went and one object came (a rename, its undo or redo); else none.
+ * @param {string | null} selected
+ * @param {string[]} before
+ * @param {string[]} after
+ * @returns {string | null}
+ *
+ * @example
+ * renamedSelection('box', ['box', 'ball'], ['crate', 'ball']);    // 'crate'
+ */
+export function renamedSelection(selected, before, after) {
+  if (selected === null || after.includes(selected)) return selected;
+  const gone = before.filter((n) => !after.includes(n));
+  const came = after.filter((n) => !before.includes(n));
+  return gone.length === 1 && gone[0] === selected && came.length === 1 ? came[0] : null;
+}
+
+/**
  * Whether two knot vectors are the same (then a curve's point and key indices still name the same points).
  * @param {number[]} a
  * @param {number[]} b
@@ -245,6 +263,7 @@ export class Studio {
 
   /** @param {import('./messages.js').StateSnapshot} m */
   loadState(m) {
+    const before = this.objects.map((o) => o.name);
     this.project = m.project;
     this.objects = m.objects;
     this.types.clear();
@@ -268,7 +287,7 @@ export class Studio {
     this.history = m.history;
     this.ready = this.ready || m.ready;
     if (!this.loaded) this.transport.receive(m.transport);
-    if (this.selected && !this.objects.some((o) => o.name === this.selected)) this.selected = null;
+    this.selected = renamedSelection(this.selected, before, this.objects.map((o) => o.name));
     this.points = this.points.filter((q) => this.tracks.get(q.path)?.kind === 'curve');
     this.repack();
     this.loaded = true;
