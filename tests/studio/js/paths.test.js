@@ -1,7 +1,8 @@
 // @ts-check
 import test from 'node:test';
 import assert from 'node:assert/strict';
-import { AROUND, frameAt, framesIn, ghostTimes, pathRange, pointsActing, spanTimes, valuesAt, withPoints }
+import { valuesAt } from '../../../src/sketchanim/studio/web/js/evaluate.js';
+import { AROUND, frameAt, framesIn, ghostTimes, pathRange, pointsActing, spanTimes, withPoints }
   from '../../../src/sketchanim/studio/web/js/pathgeometry.js';
 
 /** A cubic with interior knots at 1 and 2 over [0, 3]: 6 control points. */

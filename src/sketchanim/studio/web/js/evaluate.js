@@ -172,6 +172,21 @@ export function stepValue(steps, t) {
 }
 
 /**
+ * A curve's values at `times`, end to end (times.length rows of the curve's dim numbers),
+ * as the page plays it.
+ * @param {Curve} curve
+ * @param {ArrayLike<number>} times
+ * @returns {Float64Array}
+ */
+export function valuesAt(curve, times) {
+  const p = pack([curve]);
+  const dim = p.dims[0];
+  const out = new Float64Array(times.length * dim);
+  for (let i = 0; i < times.length; i++) out.set(evaluate(p, times[i]), i * dim);
+  return out;
+}
+
+/**
  * A curve sampled at `count` evenly spaced times over [t0, t1] (for drawing).
  * @param {Curve} curve
  * @param {number} t0
@@ -180,14 +195,9 @@ export function stepValue(steps, t) {
  * @returns {{times: Float64Array, values: Float64Array[]}} values[channel][i]
  */
 export function sampleCurve(curve, t0, t1, count) {
-  const p = pack([curve]);
-  const times = new Float64Array(count);
-  const values = Array.from({ length: p.dims[0] }, () => new Float64Array(count));
-  for (let i = 0; i < count; i++) {
-    const t = count > 1 ? t0 + ((t1 - t0) * i) / (count - 1) : t0;
-    times[i] = t;
-    evaluate(p, t);
-    for (let ch = 0; ch < values.length; ch++) values[ch][i] = p.out[ch];
-  }
+  const times = Float64Array.from({ length: count }, (_, i) => (count > 1 ? t0 + ((t1 - t0) * i) / (count - 1) : t0));
+  const flat = valuesAt(curve, times);
+  const dim = count ? flat.length / count : (curve.coef[0]?.length ?? 0);
+  const values = Array.from({ length: dim }, (_, ch) => Float64Array.from({ length: count }, (_, i) => flat[i * dim + ch]));
   return { times, values };
 }

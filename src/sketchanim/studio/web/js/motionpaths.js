@@ -12,7 +12,8 @@
  * Geometry is rebuilt only when a path's curve, range, frame rate or playhead frame changed.
  */
 import * as THREE from 'three';
-import { frameAt, framesIn, pathRange, pointsActing, spanTimes, valuesAt, withPoints } from './pathgeometry.js';
+import { valuesAt } from './evaluate.js';
+import { frameAt, framesIn, pathRange, pointsActing, spanTimes, withPoints } from './pathgeometry.js';
 
 /** @typedef {import('./messages.js').CurveTrack} CurveTrack */
 /** @typedef {import('./Studio.js').PointSelection} PointSelection */

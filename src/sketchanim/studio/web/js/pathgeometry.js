@@ -1,10 +1,9 @@
 // @ts-check
 /**
  * The arithmetic of the 3D view's motion paths and onion skin, without three.js: the range
- * of time a path shows, the frames in it, a curve's values at given times, which control
+ * of time a path shows, the frames in it, which control
  * points act on a range, a curve with points moved, and the times of the onion skin's ghosts.
  */
-import { evaluate, pack } from './evaluate.js';
 
 /** @typedef {import('./evaluate.js').Curve} Curve */
 
@@ -73,21 +72,6 @@ export function framesIn(t0, t1, fps) {
 export function spanTimes(t0, t1, step) {
   const n = Math.max(1, Math.ceil((t1 - t0) / step - 1e-9));
   return Array.from({ length: n + 1 }, (_, i) => (i === n ? t1 : t0 + ((t1 - t0) * i) / n));
-}
-
-/**
- * A curve's values at `times`, end to end (times.length rows of the curve's dim numbers),
- * as the page plays it (evaluate.js).
- * @param {Curve} curve
- * @param {number[]} times
- * @returns {Float64Array}
- */
-export function valuesAt(curve, times) {
-  const p = pack([curve]);
-  const dim = p.dims[0];
-  const out = new Float64Array(times.length * dim);
-  times.forEach((t, i) => out.set(evaluate(p, t), i * dim));
-  return out;
 }
 
 /**
