@@ -21,6 +21,12 @@ import { Transport } from './Transport.js';
 /** @typedef {import('./messages.js').PageMessage} PageMessage */
 /** @typedef {import('./messages.js').TakePiece} TakePiece */
 /** @typedef {import('./take.js').TakeSampler} TakeSampler */
+/**
+ * A strip the timeline draws above its lanes, on the same time axis (the sound's waveform):
+ * `draw` paints `area` (canvas pixels) for the times `t0`..`t1` across its width.
+ * @typedef {{ id: string, label: string, height: number,
+ *   draw: (ctx: CanvasRenderingContext2D, area: {x: number, y: number, width: number, height: number}, t0: number, t1: number) => void }} TimelineStrip
+ */
 /** @typedef {Pick<import('./Connection.js').Connection, 'connect' | 'send' | 'connected'>} Link  what the studio needs of a connection */
 /** @typedef {import('./messages.js').Saved} Saved */
 /**
@@ -133,6 +139,8 @@ export class Studio {
     this.notices = [];
     /** Milliseconds the last frame's playback took (evaluate and write the values). */
     this.playMs = 0;
+    /** @type {TimelineStrip[]} strips the timeline draws above its lanes, in order */
+    this.strips = [];
     this.transport = new Transport(this);
     this.performer = new Performer(this);
     connection.connect((m) => this.receive(m), (open, code) => this.connectionChanged(open, code));
