@@ -141,6 +141,29 @@ def without_knots(track: ContinuousTrack, indices: Sequence[int]) -> ContinuousT
     return _curve(track, BSpline(knots, c, k))
 
 
+def with_key(track: DiscreteTrack, time: float, value: object) -> DiscreteTrack:
+    """``track`` with ``value`` keyed at ``time``: an event is added (several may share a
+    time); a bool or an enum value replaces the one keyed at that very time, if any.
+
+    >>> from sketchanim.anim.attributes import BOOL, EVENT
+    >>> on = with_key(with_key(DiscreteTrack("lamp.on", BOOL), 1.0, False), 1.0, True)
+    >>> on.times, on.values
+    ([1.0], [True])
+    >>> with_key(with_key(DiscreteTrack("box.cue", EVENT), 1.0, "hit"), 1.0, None).values
+    ['hit', None]
+    """
+    value = track.type.check(value, track.path)
+    time = float(time)
+    if not np.isfinite(time):
+        raise ArgumentError("time", f"{track.path}: a key's time must be finite, got {time!r}")
+    pairs = list(zip(track.times, track.values))
+    if track.type.name != "event":
+        pairs = [(t, v) for t, v in pairs if t != time]
+    i = sum(1 for t, _ in pairs if t <= time)
+    pairs.insert(i, (time, value))
+    return replace(track, times=[t for t, _ in pairs], values=[v for _, v in pairs])
+
+
 def shifted(track: Track, seconds: float) -> Track:
     """``track`` moved later by ``seconds`` (earlier if negative)."""
     return scaled(track, 1.0, 0.0, seconds)

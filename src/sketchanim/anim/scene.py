@@ -14,14 +14,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sketchanim.anim.attributes import BOOL, COLOR, FOV, INTENSITY, ORIENTATION, POSITION, SCALE, AttributeType
+from sketchanim.anim.attributes import BOOL, COLOR, EVENT, FOV, INTENSITY, ORIENTATION, POSITION, SCALE, AttributeType
 from sketchanim.errors import ArgumentError
 
-#: Standard attributes of each object kind.
+#: Standard attributes of each object kind; every kind has ``cue``, its events (what the
+#: animator marks on it while performing: a hit, a cut, a line of dialogue).
 KINDS: dict[str, dict[str, AttributeType]] = {
-    "object": {"position": POSITION, "orientation": ORIENTATION, "scale": SCALE, "visible": BOOL},
-    "light": {"position": POSITION, "orientation": ORIENTATION, "color": COLOR, "intensity": INTENSITY, "on": BOOL},
-    "camera": {"position": POSITION, "orientation": ORIENTATION, "fov": FOV},
+    "object": {"position": POSITION, "orientation": ORIENTATION, "scale": SCALE, "visible": BOOL, "cue": EVENT},
+    "light": {"position": POSITION, "orientation": ORIENTATION, "color": COLOR, "intensity": INTENSITY, "on": BOOL,
+              "cue": EVENT},
+    "camera": {"position": POSITION, "orientation": ORIENTATION, "fov": FOV, "cue": EVENT},
 }
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_\-]{0,63}")
@@ -53,7 +55,7 @@ class SceneObject:
 
     >>> lamp = SceneObject("lamp", "light")
     >>> sorted(lamp.attributes)
-    ['color', 'intensity', 'on', 'orientation', 'position']
+    ['color', 'cue', 'intensity', 'on', 'orientation', 'position']
     """
 
     name: str

@@ -9,13 +9,13 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 from sketchanim.anim.commands import AddObject, Change, Command, DuplicateObject, RemoveObject, RenameObject, SetValue
-from sketchanim.anim.edits import moved_key, moved_points, with_knots, without_knots
+from sketchanim.anim.edits import moved_key, moved_points, with_key, with_knots, without_knots
 from sketchanim.anim.history import History
 from sketchanim.anim.layers import recomposed
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.take_edits import edited_takes
-from sketchanim.anim.tracks import ContinuousTrack, Track
+from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Track
 from sketchanim.errors import ArgumentError
 from sketchanim.studio.defaults import new_object
 from sketchanim.studio.outbound import plain
@@ -135,6 +135,29 @@ class Editor:
         what = "key" if slope is None else "tangent" if value is None else "key and tangent"
         made = moved_key(self.curve(path), time, value, slope)
         self.run(Change(self.player, label or f"move {what} of {path} at {time:.3f} s", {path: made}))
+
+    def key(self, path: str, time: float, value: object) -> None:
+        """Key the discrete attribute ``path`` to ``value`` at ``time`` (an event: add one),
+        its track made if it has none, as one step (see :func:`~sketchanim.anim.edits.with_key`).
+        A bool or an enum keyed first after time 0 keeps what it was before: its value is
+        keyed at 0 too (a light switched off at 2 s is on until then).
+
+        >>> from sketchanim.studio.defaults import default_scene
+        >>> editor = Editor(default_scene(), [])
+        >>> editor.key("lamp.on", 1.5, False); editor.key("box.cue", 2.0, "hit")
+        >>> t = editor.player.tracks["lamp.on"]; (t.times, t.values), editor.history.labels[0]
+        (([0.0, 1.5], [True, False]), ['key lamp.on at 1.500 s', 'cue box.cue at 2.000 s'])
+        """
+        kind = self.scene.type(path)
+        if kind.continuous:
+            raise ArgumentError("path", f"{path}: a {kind.name} attribute is performed or its curve edited, not keyed")
+        track = self.player.tracks.get(path)
+        track = track if isinstance(track, DiscreteTrack) else DiscreteTrack(path, kind)
+        if kind.name != "event" and time > 0 and not any(t <= time for t in track.times):
+            track = with_key(track, 0.0, self.scene.get(path))
+        made = with_key(track, time, value)
+        what = "cue" if kind.name == "event" else "key"
+        self.run(Change(self.player, f"{what} {path} at {time:.3f} s", {path: made}))
 
     def edit_knots(self, path: str, insert: Sequence[float], remove: Sequence[int]) -> None:
         """Remove the interior knots ``remove`` (indices into the curve's knots), then

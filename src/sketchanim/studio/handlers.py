@@ -46,6 +46,7 @@ HANDLERS: dict[str, Handler] = {
     "curve.points": lambda s, m, client: s.move_points(m.edits, m.label),
     "curve.key": lambda s, m, client: s.move_key(m.path, m.time, m.value, m.slope, m.label),
     "curve.knots": lambda s, m, client: s.edit_knots(m.path, m.insert, m.remove),
+    "track.key": lambda s, m, client: s.key(m.path, m.time, m.value),
     "track.reduce": lambda s, m, client: s.reduce(m.paths, m.tol, m.preview),
     "track.samples": lambda s, m, client: s.kept_samples(m.path)(),
     "take.edit": lambda s, m, client: s.edit_take(m.path, m.take, m.op, m.name, m.to),
@@ -56,7 +57,7 @@ HANDLERS: dict[str, Handler] = {
 #: preview changes nothing and is not refused).
 EDITS = frozenset({"set", "preview", "object.add", "object.duplicate", "object.remove", "object.rename", "take.begin",
                    "take.samples", "take.end", "take.cancel", "undo", "redo", "tolerance.set", "curve.points",
-                   "curve.key", "curve.knots", "track.reduce", "take.edit", "settings"})
+                   "curve.key", "curve.knots", "track.key", "track.reduce", "take.edit", "settings"})
 
 
 def check_writable(session: Session, message: p.Message) -> None:

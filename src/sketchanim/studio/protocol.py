@@ -156,6 +156,18 @@ class CurveKnots(_Message):
     remove: Annotated[list[Annotated[int, Field(ge=0, le=10_000_000)]], Field(max_length=MAX_EDITS)] = []
 
 
+class TrackKey(_Message):
+    """Key the discrete attribute ``path`` (a bool, an enum, an event) to ``value`` at
+    transport time ``time`` (an event: a label or None), as one History step: what a page
+    sends when the animator toggles or picks a value while the transport plays, or marks
+    a cue."""
+
+    type: Literal["track.key"]
+    path: AttributePath
+    time: Number
+    value: StrictBool | Annotated[str, Field(max_length=64)] | None = None
+
+
 class TrackReduce(_Message):
     """Re-reduce the tracks ``paths`` from their raw takes within ``tol`` (the attribute's
     units: degrees for an orientation): with ``preview``, only answered (``reduced`` with
@@ -293,7 +305,7 @@ class Export(_Message):
 Message = Annotated[
     Ping | StateRequest | Set | Preview | ObjectAdd | ObjectDuplicate | ObjectRemove | ObjectRename | TakeBegin
     | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | Transport | Export | ToleranceSet | CurvePoints | CurveKey
-    | CurveKnots | TrackReduce | TrackSamples | TakeEdit | Settings,
+    | CurveKnots | TrackKey | TrackReduce | TrackSamples | TakeEdit | Settings,
     Field(discriminator="type"),
 ]
 _ADAPTER: TypeAdapter[Message] = TypeAdapter(Message)
@@ -625,7 +637,7 @@ ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece
 #: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
 MESSAGES: tuple[type[BaseModel], ...] = (
     Ping, StateRequest, Set, Preview, ObjectAdd, ObjectDuplicate, ObjectRemove, ObjectRename, TakeBegin, TakeSamples,
-    TakeEnd, TakeCancel, Undo, Redo, Transport, Export, ToleranceSet, CurvePoints, CurveKey, CurveKnots, TrackReduce,
+    TakeEnd, TakeCancel, Undo, Redo, Transport, Export, ToleranceSet, CurvePoints, CurveKey, CurveKnots, TrackKey, TrackReduce,
     TrackSamples, TakeEdit, Settings,
     State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice,
     Tolerances, TakeRunning, Saved, SettingsInfo, Reduced, Samples)

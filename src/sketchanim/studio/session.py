@@ -270,6 +270,11 @@ class Session:
         self.editor.edit_knots(path, insert, remove)
         return self._told()
 
+    def key(self, path: str, time: float, value: object) -> list[p.Out]:
+        """Key a discrete attribute at ``time`` (a toggle while playing, a cue), as one step."""
+        self.editor.key(path, time, value)
+        return self._told()
+
     def edit_take(self, path: str, take: int, op: str, name: str | None, to: int | None) -> list[p.Out]:
         """Change a take of a track and compose it again from its takes, as one step."""
         self._refuse_recorded([path])

@@ -8,6 +8,7 @@
  * through the studio's methods (and its parts').
  */
 import { evaluate, pack, stepValue, valueOf } from './evaluate.js';
+import { cuesOf, passed } from './events.js';
 import { Performer } from './Performer.js';
 import { Signals } from './signals.js';
 import { Transport } from './Transport.js';
@@ -107,8 +108,12 @@ export class Studio {
     /** @type {Map<string, Track>} */
     this.tracks = new Map();
     this.packed = pack([]);
-    /** @type {StepsTrack[]} */
+    /** @type {StepsTrack[]} the discrete tracks that hold values (bools, enums) */
     this.steps = [];
+    /** @type {import('./events.js').Cues} the event tracks' events, merged: they fire as playback passes them */
+    this.cues = cuesOf([]);
+    /** Transport seconds up to which events have fired (where the playhead was at the last frame, or was sought to). */
+    this.firedTo = 0;
     /** @type {[number, number]} */
     this.span = [0, 0];
     /** @type {Map<string, import('./resolution.js').ToleranceSetting>} the animator's take tolerances, by path (the project keeps them) */
@@ -386,7 +391,9 @@ export class Studio {
   repack() {
     const curves = [...this.tracks.values()].filter((t) => t.kind === 'curve');
     this.packed = pack(curves);
-    this.steps = [...this.tracks.values()].filter((t) => t.kind === 'steps');
+    const steps = /** @type {StepsTrack[]} */ ([...this.tracks.values()].filter((t) => t.kind === 'steps'));
+    this.steps = steps.filter((t) => this.types.get(t.path)?.name !== 'event');
+    this.cues = cuesOf(steps.filter((t) => this.types.get(t.path)?.name === 'event'));
     this.writeTracks(this.transport.time);
   }
 
@@ -435,6 +442,33 @@ export class Studio {
     }
     this.setLocal(path, value);
     this.send({ type: 'set', path, value, label, merge });
+  }
+
+  /**
+   * Key the discrete attribute `path` to `value` (an event: its label or null) at the transport's
+   * time at `stamp` (the input event's timeStamp), snapped to a frame when snap is on: one
+   * History entry. What toggling, picking a value or marking a cue does while the transport
+   * plays, or once the attribute has a track.
+   * @param {string} path
+   * @param {boolean | string | null} value
+   * @param {number} stamp performance.now() of the input event
+   */
+  key(path, value, stamp) {
+    if (this.readOnly) {
+      this.revert([path]);
+      return;
+    }
+    if (this.types.get(path)?.name !== 'event') this.setLocal(path, value);
+    this.send({ type: 'track.key', path, time: this.snapped(this.transport.timeAt(stamp)), value });
+  }
+
+  /**
+   * Mark a cue (an event) on the selected object at the transport's time at `stamp`.
+   * @param {number} stamp performance.now() of the key press
+   */
+  cue(stamp) {
+    if (this.selected) this.key(`${this.selected}.cue`, null, stamp);
+    else this.tell('warning', 'select an object to mark a cue on (M marks one at the playhead)', 'cue');
   }
 
   /**
@@ -671,14 +705,28 @@ export class Studio {
     const dt = this.performer.lap(now);
     const clock = this.transport.clock;
     const wasPlaying = clock.playing;
-    const { time, wrapped, stopped } = this.transport.tick(now);
+    const { time, wrapped, laps, stopped } = this.transport.tick(now);
     if (wrapped) this.performer.wrapped(now);                  // a pass of the loop ends here
     const started = performance.now();
     if (clock.playing || wrapped || stopped) this.writeTracks(time);
     this.playMs = performance.now() - started;
+    if ((wasPlaying || clock.playing) && this.cues.times.length) this.fire(this.firedTo, time, laps);
+    this.firedTo = time;
     this.performer.step(dt, now, time);
     if (wasPlaying !== clock.playing) this.transport.send();
     this.signals.emit('frame', now);
+  }
+
+  /**
+   * The events playback passed from `from` to `to` this frame fire (the `fired` signal).
+   * @param {number} from
+   * @param {number} to
+   * @param {number} laps how many times it went round the loop range on the way
+   */
+  fire(from, to, laps) {
+    const clock = this.transport.clock;
+    const fired = passed(this.cues, from, to, clock.speed, clock.loop, laps);
+    if (fired.length) this.signals.emit('fired', fired);
   }
 
   /** The page went to the background (no more frames): a take ends at its last sample. */

@@ -46,6 +46,7 @@ export class Transport {
     if (m.playing && this.studio.loaded) this.clock.play(now);
     else this.clock.pause(now);
     this.time = m.time;
+    this.studio.firedTo = m.time;
     this.countIn = m.count_in;
     this.captureSpeed = m.capture_speed;
     this.studio.performer.mode = m.mode;
@@ -107,6 +108,7 @@ export class Transport {
   seek(time) {
     this.clock.seek(time, performance.now());
     this.time = time;
+    this.studio.firedTo = time;                                   // no event fires on the way
     this.studio.writeTracks(time);
     this.send();
   }
@@ -123,6 +125,19 @@ export class Transport {
     const near = Math.round(at);
     const on = Math.abs(at - near) < 1e-6 ? near : null;           // on a frame, or between two
     this.seek(((on ?? (n > 0 ? Math.floor(at) : Math.ceil(at))) + n) / fps);
+  }
+
+  /**
+   * The transport's time at `stamp` (performance.now() of an input event: between two frames,
+   * so an event keyed while playing lands when it was pressed), inside the loop range when looping.
+   * @param {number} stamp
+   * @returns {number}
+   */
+  timeAt(stamp) {
+    const t = this.clock.raw(stamp);
+    const loop = this.clock.loop;
+    if (!this.clock.playing || !loop || !(loop[1] > loop[0])) return t;
+    return loop[0] + ((((t - loop[0]) % (loop[1] - loop[0])) + (loop[1] - loop[0])) % (loop[1] - loop[0]));
   }
 
   /** The frame the transport is on (the project's frame rate; frame 0 at time 0). */

@@ -33,16 +33,19 @@ export class Clock {
    * `end` is given and not looping, stops there (and at `start` playing backwards).
    * @param {number} now
    * @param {[number, number] | null} [bounds] where playback stops without a loop
-   * @returns {{time: number, wrapped: boolean, stopped: boolean}}
+   * @returns {{time: number, wrapped: boolean, laps: number, stopped: boolean}} `laps`: how many
+   *   times it went round the loop range since the last tick (more than one after a stall longer than the range)
    */
   tick(now, bounds = null) {
     let time = this.raw(now);
     let wrapped = false;
+    let laps = 0;
     let stopped = false;
     if (this.playing && this.loop && this.loop[1] > this.loop[0]) {
       const [a, b] = this.loop;
       if (time >= b || time < a) {
         wrapped = true;
+        laps = Math.abs(Math.floor((time - a) / (b - a)));
         time = a + ((((time - a) % (b - a)) + (b - a)) % (b - a));
         this.time0 = time;
         this.now0 = now;
@@ -55,7 +58,7 @@ export class Clock {
         stopped = true;
       }
     }
-    return { time, wrapped, stopped };
+    return { time, wrapped, laps, stopped };
   }
 
   /** @param {number} now */

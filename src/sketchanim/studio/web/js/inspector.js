@@ -115,6 +115,19 @@ export class Inspector {
   }
 
   /**
+   * A bool toggled or an enum value picked: while the transport plays, or once the attribute
+   * has a track, it is keyed at the transport's time of the input event (performed); else set.
+   * @param {string} path
+   * @param {boolean | string} value
+   * @param {number} stamp the input event's timeStamp
+   */
+  change(path, value, stamp) {
+    const s = this.studio;
+    if (s.transport.clock.playing || s.tracks.has(path)) s.key(path, value, stamp);
+    else s.set(path, value, `set ${path}`);
+  }
+
+  /**
    * @param {string} path
    * @param {string} attr
    * @param {import('./messages.js').AttrType} type
@@ -125,14 +138,14 @@ export class Inspector {
     const value = () => s.values.get(path);
     if (type.name === 'bool') {
       const box = /** @type {HTMLInputElement} */ (el('input', { type: 'checkbox', 'data-testid': `edit-${path}` }));
-      box.addEventListener('change', () => s.set(path, box.checked, `set ${path}`));
+      box.addEventListener('change', (e) => this.change(path, box.checked, e.timeStamp));
       this.refreshers.set(path, () => { box.checked = !!value(); });
       return box;
     }
     if (type.name === 'enum') {
       const select = /** @type {HTMLSelectElement} */ (el('select', { 'data-testid': `edit-${path}` }));
       for (const c of type.choices) select.append(el('option', { value: c }, c));
-      select.addEventListener('change', () => s.set(path, select.value, `set ${path}`));
+      select.addEventListener('change', (e) => this.change(path, select.value, e.timeStamp));
       this.refreshers.set(path, () => { if (document.activeElement !== select) select.value = value(); });
       return select;
     }

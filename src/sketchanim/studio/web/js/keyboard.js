@@ -20,7 +20,7 @@
  *   | 'onion-skin' | 'rename'} PanelCommand
  */
 /** @typedef {'undo' | 'redo' | 'record' | 'play' | 'stop' | 'loop' | 'camera' | 'deselect' | 'translate' | 'rotate' | 'scale'
- *   | 'previous-frame' | 'next-frame' | 'delete' | 'duplicate' | 'snap' | PanelCommand} KeyAction */
+ *   | 'previous-frame' | 'next-frame' | 'delete' | 'duplicate' | 'snap' | 'cue' | PanelCommand} KeyAction */
 /** @typedef {{key: string, ctrlKey: boolean, metaKey: boolean, shiftKey: boolean, altKey: boolean}} Keys */
 
 /**
@@ -39,6 +39,7 @@ export const SHORTCUTS = [
   { action: 'next-frame', keys: ['→'], does: 'one frame on' },
   { action: 'loop', keys: ['L'], does: 'loop range on / off (Shift-drag the timeline to set it)' },
   { action: 'snap', keys: ['Shift', 'S'], does: 'snap edits in time to frames on / off' },
+  { action: 'cue', keys: ['M'], does: 'mark a cue (an event) on the selected object at the transport time (while playing: as you press it)' },
   { action: 'translate', keys: ['W'], does: 'move gizmo' },
   { action: 'rotate', keys: ['E'], does: 'turn gizmo' },
   { action: 'scale', keys: ['S'], does: 'scale gizmo' },
@@ -75,7 +76,7 @@ export const GESTURES = [
 const PLAIN = { r: 'record', ' ': 'play', enter: 'stop', l: 'loop', c: 'camera', escape: 'deselect',
   w: 'translate', e: 'rotate', s: 'scale', arrowleft: 'previous-frame', arrowright: 'next-frame', delete: 'delete',
   backspace: 'delete', f2: 'rename', home: 'frame-all', f: 'frame-selection', i: 'insert-knot', n: 'normalise',
-  p: 'motion-paths', o: 'onion-skin', '?': 'help' };
+  p: 'motion-paths', o: 'onion-skin', m: 'cue', '?': 'help' };
 /** @type {Record<string, KeyAction>} the keys with Shift that do something else than without */
 const SHIFTED = { s: 'snap', d: 'duplicate' };
 
@@ -137,7 +138,7 @@ function panelActions(studio) {
  * What each action does in the studio.
  * @param {import('./Studio.js').Studio} studio
  * @param {Pick<import('./viewport.js').Viewport, 'setGizmo' | 'togglePreviewCamera'>} viewport
- * @returns {Record<KeyAction, () => void>}
+ * @returns {Record<KeyAction, (stamp: number) => void>} each called with the key press's timeStamp
  */
 export function studioActions(studio, viewport) {
   const t = studio.transport;
@@ -158,6 +159,7 @@ export function studioActions(studio, viewport) {
     delete: () => studio.deleteSelection(),
     duplicate: () => { if (studio.selected) studio.duplicateObject(studio.selected); },
     snap: () => studio.toggleSnap(),
+    cue: (stamp) => studio.cue(stamp),
     ...panelActions(studio),
   };
 }
@@ -167,7 +169,7 @@ export function studioActions(studio, viewport) {
  * a shortcut's key does only the shortcut (its default action prevented), whichever
  * control has focus, except while typing in a field.
  * @param {EventTarget} target
- * @param {Record<KeyAction, () => void>} actions
+ * @param {Record<KeyAction, (stamp: number) => void>} actions called with the key press's timeStamp
  */
 export function bindKeyboard(target, actions) {
   target.addEventListener('keydown', (event) => {
@@ -176,7 +178,7 @@ export function bindKeyboard(target, actions) {
     const action = actionOf(e);
     if (!action) return;
     e.preventDefault();
-    if (!e.repeat || action === 'undo' || action === 'redo') actions[action]();
+    if (!e.repeat || action === 'undo' || action === 'redo') actions[action](e.timeStamp);
   }, { capture: true });
   // Space activates a focused button or checkbox on its key up: that default goes too.
   target.addEventListener('keyup', (event) => {

@@ -5,6 +5,7 @@
  * performance.now(), playback of every track, the performer's samples — then drawing).
  */
 import { Connection } from './Connection.js';
+import { CueFlash } from './cueflash.js';
 import { CurveEditor } from './curveeditor.js';
 import { Header } from './header.js';
 import { Help } from './help.js';
@@ -29,6 +30,7 @@ new SaveStatus(studio, $('save-status'));
 const viewport = new Viewport(studio, $('viewport'));
 new Notices(studio, $('notices'));
 new LockBanner(studio, $('viewport'));
+const cueFlash = new CueFlash(studio, $('viewport'));
 new Outliner(studio, $('outliner'), viewport);
 new Inspector(studio, $('inspector'));
 new Layers(studio, $('inspector'));
@@ -80,4 +82,4 @@ window.addEventListener('blur', () => {
   if (studio.performer.grab && !viewport.drag && !viewport.pad) studio.performer.release();
 });
 
-Object.assign(window, { studio, viewport, curveEditor, studioStats: stats });
+Object.assign(window, { studio, viewport, curveEditor, cueFlash, studioStats: stats });

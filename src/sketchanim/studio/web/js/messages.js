@@ -103,6 +103,17 @@
  */
 
 /**
+ * Key the discrete attribute `path` to `value` at transport time `time` (an event: a label
+ * or null), one History step.
+ * @typedef {object} TrackKey
+ * @property {'track.key'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ * @property {number} time
+ * @property {boolean | string | null} [value]
+ */
+
+/**
  * Re-reduce tracks from their raw takes within `tol` (the attribute's units); `preview`:
  * only answered (`reduced` with the would-be curves), else one History step.
  * @typedef {object} TrackReduce
@@ -451,7 +462,7 @@
  * What the page sends.
  * @typedef {Ping | StateRequest | SetValue | PreviewValue | ObjectAdd | ObjectDuplicate | ObjectRemove | ObjectRename
  *   | TakeBegin | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | TransportState | Export | ToleranceSet
- *   | CurvePoints | CurveKey | CurveKnots | TrackReduce | TrackSamples | TakeEdit | SettingsChange} PageMessage
+ *   | CurvePoints | CurveKey | CurveKnots | TrackKey | TrackReduce | TrackSamples | TakeEdit | SettingsChange} PageMessage
  */
 
 /**

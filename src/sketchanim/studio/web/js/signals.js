@@ -42,6 +42,7 @@ export const SIGNALS = {
   reduced: /** @type {Signal<import('./messages.js').Reduced>} */ (signal('the server answered a track.reduce (a preview or the step done)')),
   samples: /** @type {Signal<import('./messages.js').Samples>} */ (signal('the server sent the samples a curve keeps')),
   command: /** @type {Signal<import('./keyboard.js').PanelCommand>} */ (signal("a shortcut for a panel's own action (the panel that owns it acts)")),
+  fired: /** @type {Signal<import('./events.js').Fired[]>} */ (signal('playback passed these events (in the order it passed them)')),
   frame: /** @type {Signal<number>} */ (signal('an animation frame was stepped, at this performance.now()')),
 };
 
