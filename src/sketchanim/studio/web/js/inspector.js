@@ -149,6 +149,15 @@ export class Inspector {
       this.refreshers.set(path, () => { if (document.activeElement !== select) select.value = value(); });
       return select;
     }
+    if (type.name === 'event') {
+      const hint = el('span', { class: 'hint', title: 'Cues fire as playback passes them; M marks one on the selected object at the transport time' });
+      this.refreshers.set(path, () => {
+        const n = /** @type {import('./evaluate.js').Steps | undefined} */ (s.tracks.get(path))?.times.length ?? 0;
+        hint.textContent = `${n ? `${n} cue${n === 1 ? '' : 's'} · ` : ''}M marks one`;
+      });
+      this.refreshers.get(path)?.();
+      return hint;
+    }
     if (!type.continuous) return el('span', { class: 'hint' }, type.name);
     if (type.name === 'color') return this.colour(path);
     if (type.dim === 1) return this.slider(path, type);
