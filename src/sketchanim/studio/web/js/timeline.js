@@ -1,12 +1,38 @@
 // @ts-check
 /**
- * The timeline: the time axis with the playhead, the loop range and the selected object's
- * tracks and takes as bars (one row per animated attribute; the one in the curve view
- * highlighted), the take being recorded and the count-in. Drag: scrub; shift-drag: set the
- * loop range.
+ * The timeline: a time ruler (scrub, Shift-drag: the loop range), the strips other panels
+ * put above the lanes (`studio.strips`: the sound's waveform), then a header row per
+ * animated object (click it to fold or unfold its lanes; the selected object's highlighted)
+ * and a lane per animated attribute: a curve's takes as blocks (name, span, mode; muted
+ * ones greyed) over its knots as ticks, a discrete track's values as steps (bool, enum)
+ * or diamonds (events). Drawn on one canvas, only when something changed or the playhead moved.
+ *
+ * Gestures (retimehandles.js holds their state): drag a take's block to move the take; drag
+ * its right edge to stretch it about its start (Ctrl: about the playhead); Alt-drag a lane
+ * to move its whole track (the selected lanes' if it is in the range); drag on a lane's empty
+ * time, or Shift-drag anywhere in the lanes, to select a range (across lanes too), then
+ * Delete deletes it, Ctrl+C / Ctrl+X copy / cut it (the selected lane's), Ctrl+V pastes at
+ * the playhead on the selected lane; the range's right edge stretches the selected tracks
+ * about its start. A drag previews in the page, sends one message on release (one undo
+ * step), snaps to frames when snap is on; Esc drops it. The wheel scrolls the lanes.
  */
 import { fitCanvas } from './canvas.js';
+import { beginDrag, dragTo, moved, released, selectedRange } from './retimehandles.js';
+import { HANDLE_PIXELS, changes, hitTake, layoutRows, rowAt } from './timelinelanes.js';
 import { tickStep, viewRange } from './timescale.js';
+
+/** @typedef {import('./retimehandles.js').TimeDrag} TimeDrag */
+/** @typedef {import('./timelinelanes.js').Row} Row */
+/** @typedef {import('./timelinelanes.js').LaneRow} LaneRow */
+/** @typedef {import('./messages.js').TrackPieceInfo} Clipboard */
+
+/** Width of the label column, in CSS pixels. */
+export const LABEL = 150;
+/** Height of the time ruler, in CSS pixels. */
+export const RULER = 20;
+
+const COLORS = { replace: '#3f6fb8', additive: '#3f9a6a', muted: '#4a4f59', knot: 'rgba(255,255,255,0.35)',
+  steps: '#c98f3a', event: '#e8b04b', selection: 'rgba(232, 176, 75, 0.18)', lane: '#1c1f25', laneAlt: '#1a1d22' };
 
 export class Timeline {
   /**
@@ -16,15 +42,36 @@ export class Timeline {
   constructor(studio, canvas) {
     this.studio = studio;
     this.canvas = canvas;
+    /** @type {Set<string>} the objects whose lanes are folded */
+    this.folded = new Set();
+    /** @type {string | null} the lane Ctrl+V pastes on and Ctrl+C copies from */
+    this.lane = null;
+    /** Pixels the lanes are scrolled down by. */
+    this.scroll = 0;
+    /** @type {TimeDrag | null} the drag in the lanes in progress */
+    this.drag = null;
+    /** @type {Clipboard | null} the last piece copied (the page keeps the clipboard) */
+    this.clipboard = null;
+    /** Milliseconds the last draw took. */
+    this.drawMs = 0;
+    /** How many times it drew. */
+    this.draws = 0;
+    /** @type {Row[]} */
+    this.rows = [];
+    this.dirty = true;
+    this.drawn = '';
+    for (const name of /** @type {const} */ (['state', 'tracks', 'selection', 'attribute', 'projectSettings', 'transport', 'record', 'timeRange'])) {
+      studio.signals.on(name, () => this.invalidate());
+    }
+    studio.signals.on('piece', (m) => { this.clipboard = m; });
+    studio.signals.on('command', (c) => this.command(c));
     studio.signals.on('frame', () => this.draw());
     this.bind();
   }
 
-  /** @param {number} x client x */
-  timeAt(x) {
-    const rect = this.canvas.getBoundingClientRect();
-    const [t0, t1] = this.range();
-    return t0 + ((x - rect.left) / rect.width) * (t1 - t0);
+  /** Draw again at the next frame (something the timeline shows changed). */
+  invalidate() {
+    this.dirty = true;
   }
 
   range() {
@@ -32,78 +79,479 @@ export class Timeline {
     return viewRange(s.span, s.transport.clock.loop, s.transport.time);
   }
 
+  /** The top of the lanes (below the ruler and the strips), in CSS pixels. */
+  lanesTop() {
+    return RULER + this.studio.strips.reduce((a, s) => a + s.height, 0);
+  }
+
+  /**
+   * The time at a client x.
+   * @param {number} x
+   */
+  timeAt(x) {
+    const rect = this.canvas.getBoundingClientRect();
+    const [t0, t1] = this.range();
+    return t0 + ((x - rect.left - LABEL) / Math.max(rect.width - LABEL, 1)) * (t1 - t0);
+  }
+
+  /** Seconds per pixel on the time axis. */
+  pixel() {
+    const [t0, t1] = this.range();
+    return (t1 - t0) / Math.max(this.canvas.clientWidth - LABEL, 1);
+  }
+
+  /**
+   * The row at a client y (null: above the lanes or below the last).
+   * @param {number} y
+   */
+  rowAtClient(y) {
+    const top = this.canvas.getBoundingClientRect().top + this.lanesTop();
+    return y < top ? null : rowAt(this.rows, y - top + this.scroll);
+  }
+
+  /** @returns {LaneRow[]} */
+  lanes() {
+    return /** @type {LaneRow[]} */ (this.rows.filter((r) => r.kind === 'lane'));
+  }
+
+  // -- gestures -------------------------------------------------------------------------
+
   bind() {
+    const c = this.canvas;
     const transport = this.studio.transport;
     /** @type {{loopFrom: number | null} | null} */
-    let drag = null;
-    this.canvas.addEventListener('pointerdown', (e) => {
-      this.canvas.setPointerCapture(e.pointerId);
+    let scrub = null;
+    c.addEventListener('pointerdown', (e) => {
+      c.setPointerCapture(e.pointerId);
+      const rect = c.getBoundingClientRect();
       const t = this.timeAt(e.clientX);
-      drag = { loopFrom: e.shiftKey ? t : null };
-      if (!e.shiftKey) transport.seek(t);
+      if (e.clientY - rect.top < this.lanesTop()) {
+        scrub = { loopFrom: e.shiftKey ? t : null };
+        if (!e.shiftKey) transport.seek(t);
+        return;
+      }
+      const row = this.rowAtClient(e.clientY);
+      if (!row) return;
+      this.studio.select(row.object);
+      if (row.kind === 'group') {
+        if (e.clientX - rect.left < LABEL) this.fold(row.object);
+        else transport.seek(t);
+        return;
+      }
+      this.lane = row.path;
+      this.studio.showAttribute(row.path.slice(row.object.length + 1));
+      this.invalidate();
+      if (e.clientX - rect.left >= LABEL) this.press(row, t, e);
     });
-    this.canvas.addEventListener('pointermove', (e) => {
-      if (!drag) return;
+    c.addEventListener('pointermove', (e) => {
       const t = this.timeAt(e.clientX);
-      if (drag.loopFrom === null) transport.seek(t);
-      else transport.setLoop([Math.min(drag.loopFrom, t), Math.max(drag.loopFrom, t)]);
+      if (scrub) {
+        if (scrub.loopFrom === null) transport.seek(t);
+        else transport.setLoop([Math.min(scrub.loopFrom, t), Math.max(scrub.loopFrom, t)]);
+      } else if (this.drag) {
+        this.move(t, e.clientY);
+      }
     });
-    const end = () => { drag = null; };
-    this.canvas.addEventListener('pointerup', end);
-    this.canvas.addEventListener('pointercancel', end);
+    const end = (/** @type {PointerEvent} */ e) => {
+      scrub = null;
+      if (this.drag) this.release(e.type === 'pointerup', this.timeAt(e.clientX));
+    };
+    c.addEventListener('pointerup', end);
+    c.addEventListener('pointercancel', end);
+    c.addEventListener('wheel', (e) => {
+      const rect = c.getBoundingClientRect();
+      if (e.clientY - rect.top < this.lanesTop()) return;
+      e.preventDefault();
+      this.scrollBy(e.deltaY);
+    }, { passive: false });
+    // Esc drops a drag (before the studio's keys: it would deselect too); with a range selected, drops the range
+    window.addEventListener('keydown', (e) => {
+      if (e.key !== 'Escape' || (!this.drag && !this.studio.timeRange)) return;
+      e.preventDefault();
+      e.stopImmediatePropagation();
+      if (this.drag) this.drag = null;
+      else this.studio.selectRange(null);
+      this.invalidate();
+    }, { capture: true });
+  }
+
+  /**
+   * A press at time `t` in the lane `row`: what it grabs.
+   * @param {LaneRow} row
+   * @param {number} t
+   * @param {PointerEvent} e
+   */
+  press(row, t, e) {
+    const { track, path } = row;
+    const s = this.studio;
+    const chosen = s.timeRange;
+    const inRange = chosen !== null && chosen.paths.includes(path);
+    const playhead = s.transport.time;
+    const aboutPlayhead = e.ctrlKey || e.metaKey;
+    if (inRange && chosen && Math.abs(t - chosen.t1) <= HANDLE_PIXELS * this.pixel() && !e.shiftKey) {
+      this.drag = beginDrag('range-scale', chosen.paths, -1, t, chosen.t0, chosen.t1, aboutPlayhead ? playhead : chosen.t0);
+      return;
+    }
+    const [start, end] = track.kind === 'curve' ? [track.start, track.end]
+      : [track.times[0] ?? 0, track.times[track.times.length - 1] ?? 0];
+    if (e.altKey) {
+      this.drag = beginDrag('track', inRange && chosen ? chosen.paths : [path], -1, t, start, end);
+      return;
+    }
+    const hit = e.shiftKey ? { what: 'lane', take: -1 } : hitTake(track, t, this.pixel());
+    if (hit.what !== 'lane' && track.kind === 'curve') {
+      const take = track.takes[hit.take];
+      const pivot = hit.what === 'scale' && aboutPlayhead ? playhead : take.start;
+      this.drag = beginDrag(hit.what === 'scale' ? 'scale' : 'take', [path], hit.take, t, take.start, take.end, pivot);
+      return;
+    }
+    const from = s.snapped(t);
+    this.drag = beginDrag('select', [path], -1, from, from, from);
+  }
+
+  /**
+   * The pointer at time `t`, client y `y`, during a drag.
+   * @param {number} t
+   * @param {number} y
+   */
+  move(t, y) {
+    const drag = this.drag;
+    if (!drag) return;
+    const s = this.studio;
+    this.drag = dragTo(drag, t, s.fps, s.snap);
+    if (drag.kind === 'select') {
+      const lanes = this.lanes();
+      const first = lanes.findIndex((r) => r.path === drag.paths[0]);
+      const row = this.rowAtClient(y);
+      const here = row && row.kind === 'lane' ? lanes.indexOf(row) : first;
+      const [a, b] = [Math.min(first, here), Math.max(first, here)];
+      this.drag = { ...this.drag, paths: [drag.paths[0], ...lanes.slice(a, b + 1).map((r) => r.path).filter((p) => p !== drag.paths[0])] };
+      const span = selectedRange(this.drag);
+      s.selectRange(span ? { paths: this.drag.paths, t0: span[0], t1: span[1] } : null);
+    }
+    this.invalidate();
+  }
+
+  /**
+   * The drag ends: released (`send`) at time `t`, or cancelled.
+   * @param {boolean} send
+   * @param {number} t
+   */
+  release(send, t) {
+    const drag = this.drag;
+    this.drag = null;
+    this.invalidate();
+    if (!drag || !send) return;
+    if (drag.kind === 'select') {
+      if (!selectedRange(drag)) {               // a click: the playhead goes there, the range goes
+        this.studio.selectRange(null);
+        this.studio.transport.seek(t);
+      }
+      return;
+    }
+    const message = released(drag);
+    if (message) this.studio.editInTime(message);
+  }
+
+  /** @param {string} object fold or unfold its lanes */
+  fold(object) {
+    if (this.folded.has(object)) this.folded.delete(object);
+    else this.folded.add(object);
+    this.invalidate();
+  }
+
+  /** @param {number} dy scroll the lanes by this many pixels */
+  scrollBy(dy) {
+    this.scroll = this.clamped(this.scroll + dy);
+    this.invalidate();
+  }
+
+  /**
+   * A scroll kept within the lanes (none when they all fit).
+   * @param {number} scroll
+   */
+  clamped(scroll) {
+    const last = this.rows[this.rows.length - 1];
+    const total = last ? last.y + last.height : 0;
+    return Math.min(Math.max(0, total - (this.canvas.clientHeight - this.lanesTop())), Math.max(0, scroll));
+  }
+
+  /**
+   * The shortcuts the timeline acts on (keyboard.js): delete, copy, cut the selected range; paste.
+   * @param {import('./keyboard.js').PanelCommand} command
+   */
+  command(command) {
+    const s = this.studio;
+    const chosen = s.timeRange;
+    const lane = chosen && this.lane && chosen.paths.includes(this.lane) ? this.lane : chosen?.paths[0] ?? null;
+    if (command === 'delete-range' && chosen) {
+      s.cutRange(chosen.paths, chosen.t0, chosen.t1);
+      s.selectRange(null);
+    } else if ((command === 'copy' || command === 'cut') && chosen && lane) {
+      s.copyRange(lane, chosen.t0, chosen.t1);
+      if (command === 'cut') {
+        s.cutRange([lane], chosen.t0, chosen.t1);
+        s.selectRange(null);
+      }
+    } else if (command === 'paste' && this.clipboard && this.lane) {
+      s.pasteRange(this.lane, s.snapped(s.transport.time), this.clipboard.piece, this.clipboard.length);
+    }
+  }
+
+  // -- drawing ------------------------------------------------------------------------------
+
+  /** What the picture depends on besides `dirty`: the playhead, the loop, the take in progress, the size. */
+  key() {
+    const s = this.studio;
+    const { clock, time, record } = s.transport;
+    const take = s.performer.grab?.take;
+    return `${time}|${clock.loop}|${record}|${s.transport.countingIn}|${take?.last ?? ''}|${this.canvas.clientWidth}x${this.canvas.clientHeight}|${s.strips.length}`;
   }
 
   draw() {
+    const key = this.key();
+    if (!this.dirty && key === this.drawn) return;
+    const began = performance.now();
+    this.dirty = false;
+    this.drawn = key;
+    this.paint();
+    this.draws += 1;
+    this.drawMs = performance.now() - began;
+  }
+
+  /** Paint the whole timeline. */
+  paint() {
     const s = this.studio;
     const { clock, time, record, punchFrom } = s.transport;
-    const counting = s.transport.countingIn;
-    const take = s.performer.grab?.take;
     const { g, w, h } = fitCanvas(this.canvas);
+    this.rows = layoutRows(s.objects, s.tracks, this.folded);
     g.fillStyle = '#17191e';
     g.fillRect(0, 0, w, h);
     const [t0, t1] = this.range();
-    const x = (/** @type {number} */ t) => ((t - t0) / (t1 - t0)) * w;
+    const width = Math.max(w - LABEL, 1);
+    const x = (/** @type {number} */ t) => LABEL + ((t - t0) / (t1 - t0)) * width;
+    g.font = '10px system-ui, sans-serif';
+    g.textBaseline = 'middle';
+    this.paintRuler(g, x, t0, t1, w);
+    let y = RULER;
+    for (const strip of s.strips) {
+      g.save();
+      g.beginPath();
+      g.rect(0, y, w, strip.height);
+      g.clip();
+      g.fillStyle = '#15171b';
+      g.fillRect(LABEL, y, width, strip.height);
+      strip.draw(g, { x: LABEL, y, width, height: strip.height }, t0, t1);
+      g.fillStyle = '#8b93a3';
+      g.fillText(strip.label, 8, y + strip.height / 2);
+      g.restore();
+      y += strip.height;
+    }
+    const top = y;
+    this.scroll = this.clamped(this.scroll);
+    g.save();
+    g.beginPath();
+    g.rect(0, top, w, h - top);
+    g.clip();
+    g.translate(0, top - this.scroll);
+    for (const row of this.rows) {
+      if (row.y + row.height < this.scroll || row.y > this.scroll + h - top) continue;
+      if (row.kind === 'group') this.paintGroup(g, row, w);
+      else this.paintLane(g, row, x, w);
+    }
+    this.paintRange(g, x);
+    g.restore();
     if (clock.loop) {
-      g.fillStyle = 'rgba(90, 150, 255, 0.18)';
+      g.fillStyle = 'rgba(90, 150, 255, 0.14)';
       g.fillRect(x(clock.loop[0]), 0, x(clock.loop[1]) - x(clock.loop[0]), h);
       g.fillStyle = '#5a96ff';
       g.fillRect(x(clock.loop[0]), 0, 2, h);
       g.fillRect(x(clock.loop[1]) - 2, 0, 2, h);
     }
-    const step = tickStep(w / (t1 - t0));
-    g.font = '10px system-ui, sans-serif';
+    const take = s.performer.grab?.take;
+    if (take && take.times.length) {
+      g.fillStyle = '#ff4d4d';
+      g.fillRect(x(take.times[0]), RULER - 5, Math.max(x(take.last) - x(take.times[0]), 2), 4);
+    }
+    if (s.transport.countingIn > 0) {
+      g.fillStyle = 'rgba(255, 77, 77, 0.25)';
+      g.fillRect(x(time), 0, x(punchFrom) - x(time), h);
+    }
+    g.fillStyle = '#2f343d';
+    g.fillRect(LABEL - 1, 0, 1, h);
+    g.fillStyle = record ? '#ff4d4d' : '#ffffff';
+    g.fillRect(Math.round(x(time)) - 1, 0, 2, h);
+  }
+
+  /**
+   * @param {CanvasRenderingContext2D} g
+   * @param {(t: number) => number} x
+   * @param {number} t0
+   * @param {number} t1
+   * @param {number} w
+   */
+  paintRuler(g, x, t0, t1, w) {
+    g.fillStyle = '#1f232a';
+    g.fillRect(0, 0, w, RULER);
+    const step = tickStep((w - LABEL) / (t1 - t0));
     g.fillStyle = '#8b93a3';
     g.strokeStyle = '#3a404c';
     g.beginPath();
     for (let t = Math.ceil(t0 / step) * step; t <= t1; t += step) {
       const xt = Math.round(x(t)) + 0.5;
-      g.moveTo(xt, 0);
-      g.lineTo(xt, 8);
-      g.fillText(`${+t.toFixed(3)}s`, xt + 3, 10);
+      g.moveTo(xt, RULER - 8);
+      g.lineTo(xt, RULER);
+      g.fillText(`${+t.toFixed(3)}s`, xt + 3, 7);
     }
     g.stroke();
-    // the selected object's takes, one row per animated attribute
-    const name = s.selected;
-    let row = 0;
-    for (const track of s.tracks.values()) {
-      if (!name || !track.path.startsWith(`${name}.`) || track.kind !== 'curve') continue;
-      const y = 15 + row * 7;
-      row += 1;
-      g.fillStyle = track.path === `${name}.${s.attribute}` ? '#e8b04b' : '#6b7385';
-      g.fillRect(x(track.start), y, Math.max(x(track.end) - x(track.start), 2), 4);
-      g.fillStyle = 'rgba(255,255,255,0.55)';
-      for (const part of track.takes) g.fillRect(x(part.start), y, 1, 4);
+    g.fillText(this.studio.snap ? `snap ${+this.studio.fps.toFixed(3)} fps` : 'snap off', 8, RULER / 2);
+  }
+
+  /**
+   * @param {CanvasRenderingContext2D} g
+   * @param {import('./timelinelanes.js').GroupRow} row
+   * @param {number} w
+   */
+  paintGroup(g, row, w) {
+    const selected = row.object === this.studio.selected;
+    g.fillStyle = selected ? '#3a3324' : '#23272f';
+    g.fillRect(0, row.y, w, row.height);
+    g.fillStyle = selected ? '#e8b04b' : '#d5dae3';
+    const mid = row.y + row.height / 2;
+    g.beginPath();
+    if (row.folded) {
+      g.moveTo(8, mid - 4); g.lineTo(13, mid); g.lineTo(8, mid + 4);
+    } else {
+      g.moveTo(6, mid - 3); g.lineTo(14, mid - 3); g.lineTo(10, mid + 3);
     }
-    if (take && take.times.length) {
-      g.fillStyle = '#ff4d4d';
-      const a = take.times[0];
-      g.fillRect(x(a), h - 6, Math.max(x(take.last) - x(a), 2), 4);
+    g.fill();
+    g.font = '600 11px system-ui, sans-serif';
+    g.fillText(row.object, 20, mid);
+    g.font = '10px system-ui, sans-serif';
+    g.fillStyle = '#8b93a3';
+    if (row.folded) g.fillText(`${row.count} lane${row.count === 1 ? '' : 's'}`, LABEL - 50, mid);
+  }
+
+  /**
+   * A lane: its label, its takes or steps, its knots; drawn moved as the drag previews.
+   * @param {CanvasRenderingContext2D} g
+   * @param {LaneRow} row
+   * @param {(t: number) => number} x
+   * @param {number} w
+   */
+  paintLane(g, row, x, w) {
+    const s = this.studio;
+    const { track, path, y, height } = row;
+    const drag = this.drag;
+    const whole = drag && drag.kind !== 'select' && (drag.kind === 'track' || drag.kind === 'range-scale') && drag.paths.includes(path);
+    const at = whole && drag ? (/** @type {number} */ t) => x(moved(drag, t)) : x;
+    const index = this.rows.indexOf(row);
+    g.fillStyle = path === this.lane ? '#262c37' : row.object === s.selected ? '#202329' : index % 2 ? COLORS.lane : COLORS.laneAlt;
+    g.fillRect(0, y, w, height);
+    g.fillStyle = path === this.lane ? '#ffffff' : '#b4bac6';
+    g.fillText(path.slice(row.object.length + 1), 22, y + height / 2);
+    const mid = y + height / 2;
+    if (track.kind === 'steps') {
+      this.paintSteps(g, track, at, y, height, w);
+      return;
     }
-    if (counting > 0) {
-      g.fillStyle = 'rgba(255, 77, 77, 0.25)';
-      g.fillRect(x(time), 0, x(punchFrom) - x(time), h);
+    g.fillStyle = '#3a404c';
+    g.fillRect(at(track.start), mid - 1, Math.max(at(track.end) - at(track.start), 1), 2);
+    track.takes.forEach((take, i) => {
+      const one = drag && (drag.kind === 'take' || drag.kind === 'scale') && drag.paths[0] === path && drag.take === i;
+      const [a, b] = one && drag ? [x(moved(drag, take.start)), x(moved(drag, take.end))] : [at(take.start), at(take.end)];
+      if (one) {                                  // where it was, faint, under where it goes
+        g.fillStyle = 'rgba(255,255,255,0.08)';
+        g.fillRect(at(take.start), y + 2, at(take.end) - at(take.start), height - 4);
+      }
+      g.globalAlpha = take.muted ? 0.45 : 0.9;
+      g.fillStyle = take.muted ? COLORS.muted : take.mode === 'additive' ? COLORS.additive : COLORS.replace;
+      g.fillRect(a, y + 2, Math.max(b - a, 2), height - 4);
+      g.globalAlpha = 1;
+      g.fillStyle = one ? '#ffffff' : 'rgba(255,255,255,0.6)';
+      g.fillRect(Math.max(b - 3, a), y + 2, 3, height - 4);           // the retime handle
+      if (b - a > 30) {
+        g.save();
+        g.beginPath();
+        g.rect(a, y, b - a - 4, height);
+        g.clip();
+        g.fillStyle = take.muted ? '#9aa0aa' : '#ffffff';
+        g.fillText(`${take.name || `take ${i + 1}`}${take.mode === 'additive' ? ' +' : ''}${take.muted ? ' (muted)' : ''}`, a + 4, mid);
+        g.restore();
+      }
+    });
+    g.fillStyle = COLORS.knot;
+    const k = track.order;
+    let last = NaN;
+    for (let i = k; i < track.knots.length - k; i += 1) {
+      const t = track.knots[i];
+      if (t === last) continue;
+      last = t;
+      g.fillRect(Math.round(at(t)), y + height - 4, 1, 3);
     }
-    g.fillStyle = record ? '#ff4d4d' : '#ffffff';
-    g.fillRect(Math.round(x(time)) - 1, 0, 2, h);
+  }
+
+  /**
+   * A discrete track: a bar where a bool is on, the value's text at each change of an enum,
+   * a diamond per event.
+   * @param {CanvasRenderingContext2D} g
+   * @param {import('./messages.js').StepsTrack} track
+   * @param {(t: number) => number} at
+   * @param {number} y
+   * @param {number} height
+   * @param {number} w
+   */
+  paintSteps(g, track, at, y, height, w) {
+    const type = this.studio.types.get(track.path);
+    const mid = y + height / 2;
+    if (type?.name === 'event') {
+      g.fillStyle = COLORS.event;
+      for (const t of track.times) {
+        const xt = at(t);
+        g.beginPath();
+        g.moveTo(xt, mid - 5); g.lineTo(xt + 4, mid); g.lineTo(xt, mid + 5); g.lineTo(xt - 4, mid);
+        g.fill();
+      }
+      return;
+    }
+    const steps = changes(track.times, track.values);
+    steps.forEach((step, i) => {
+      const a = at(step.t);
+      const b = i + 1 < steps.length ? at(steps[i + 1].t) : w;
+      if (type?.name === 'bool') {
+        if (step.value === true) {
+          g.fillStyle = COLORS.steps;
+          g.fillRect(a, y + 4, Math.max(b - a, 1), height - 8);
+        }
+      } else {
+        g.fillStyle = COLORS.steps;
+        g.fillRect(a, y + 2, 1, height - 4);
+        g.fillText(String(step.value), a + 3, mid);
+      }
+      g.fillStyle = '#ffffff';
+      g.fillRect(a, y + 2, 1, height - 4);
+    });
+  }
+
+  /**
+   * The selected range over its lanes, with its retime handle at its right edge.
+   * @param {CanvasRenderingContext2D} g
+   * @param {(t: number) => number} x
+   */
+  paintRange(g, x) {
+    const chosen = this.studio.timeRange;
+    if (!chosen) return;
+    const drag = this.drag;
+    const stretching = drag?.kind === 'range-scale' ? drag : null;
+    const a = x(stretching ? moved(stretching, chosen.t0) : chosen.t0);
+    const b = x(stretching ? moved(stretching, chosen.t1) : chosen.t1);
+    for (const row of this.lanes()) {
+      if (!chosen.paths.includes(row.path)) continue;
+      g.fillStyle = COLORS.selection;
+      g.fillRect(a, row.y, b - a, row.height);
+      g.fillStyle = '#e8b04b';
+      g.fillRect(a, row.y, 1, row.height);
+      g.fillRect(b - 2, row.y, 2, row.height);
+    }
   }
 }
