@@ -21,6 +21,7 @@ import { scaleFactor, snapDelta } from './timelinelanes.js';
  * @property {number} end
  * @property {number} pivot     the time a stretch keeps
  * @property {number} to        the time the pointer is at (snapped as the drag's result is)
+ * @property {number} by        a move's shift in seconds (whole frames when snapped)
  */
 
 /**
@@ -35,7 +36,7 @@ import { scaleFactor, snapDelta } from './timelinelanes.js';
  * @returns {TimeDrag}
  */
 export function beginDrag(kind, paths, take, from, start, end, pivot = start) {
-  return { kind, paths, take, from, start, end, pivot, to: from };
+  return { kind, paths, take, from, start, end, pivot, to: from, by: 0 };
 }
 
 /**
@@ -48,7 +49,10 @@ export function beginDrag(kind, paths, take, from, start, end, pivot = start) {
  * @returns {TimeDrag}
  */
 export function dragTo(drag, t, fps, snap) {
-  if (drag.kind === 'take' || drag.kind === 'track') return { ...drag, to: drag.from + snapDelta(t - drag.from, fps, snap) };
+  if (drag.kind === 'take' || drag.kind === 'track') {
+    const by = snapDelta(t - drag.from, fps, snap);
+    return { ...drag, to: drag.from + by, by };
+  }
   return { ...drag, to: snap ? Math.round(t * fps) / fps : t };
 }
 
@@ -58,10 +62,10 @@ export function dragTo(drag, t, fps, snap) {
  * @returns {{factor: number, pivot: number, shift: number}}
  *
  * @example
- * mapping(dragTo(beginDrag('take', ['box.position'], 0, 1, 1, 2), 1.5, 24, true));   // {factor: 1, pivot: 0, shift: 0.5}
+ * mapping(dragTo(beginDrag('take', ['box.position'], 0, 1, 1, 2), 1.53, 24, true));   // {factor: 1, pivot: 0, shift: 0.5416666666666666}: 13 frames
  */
 export function mapping(drag) {
-  if (drag.kind === 'take' || drag.kind === 'track') return { factor: 1, pivot: 0, shift: drag.to - drag.from };
+  if (drag.kind === 'take' || drag.kind === 'track') return { factor: 1, pivot: 0, shift: drag.by };
   if (drag.kind === 'select') return { factor: 1, pivot: 0, shift: 0 };
   return { factor: scaleFactor(drag.pivot, drag.end, drag.to) ?? 1, pivot: drag.pivot, shift: 0 };
 }

@@ -109,6 +109,22 @@ export class Timeline {
     return y < top ? null : rowAt(this.rows, y - top + this.scroll);
   }
 
+  /**
+   * The client point at time `t` in the middle of the row of `path` (a lane, or an object's
+   * header), or null if it is not shown (folded, scrolled out of sight).
+   * @param {string} path
+   * @param {number} t
+   * @returns {{x: number, y: number} | null}
+   */
+  where(path, t) {
+    const row = this.rows.find((r) => (r.kind === 'lane' ? r.path : r.object) === path);
+    const rect = this.canvas.getBoundingClientRect();
+    const y = rect.top + this.lanesTop() + (row ? row.y - this.scroll + row.height / 2 : 0);
+    if (!row || y < rect.top + this.lanesTop() || y > rect.bottom) return null;
+    const [t0, t1] = this.range();
+    return { x: rect.left + LABEL + ((t - t0) / (t1 - t0)) * (rect.width - LABEL), y };
+  }
+
   /** @returns {LaneRow[]} */
   lanes() {
     return /** @type {LaneRow[]} */ (this.rows.filter((r) => r.kind === 'lane'));
