@@ -42,6 +42,9 @@ export class Timeline {
   constructor(studio, canvas) {
     this.studio = studio;
     this.canvas = canvas;
+    // Rasterised on the CPU, as the curve editor's canvases: many small marks through a
+    // software GL flush for seconds (the first getContext's options stay the canvas's).
+    canvas.getContext('2d', { willReadFrequently: true });
     /** @type {Set<string>} the objects whose lanes are folded */
     this.folded = new Set();
     /** @type {string | null} the lane Ctrl+V pastes on and Ctrl+C copies from */
