@@ -17,7 +17,7 @@
  * step), snaps to frames when snap is on; Esc drops it. The wheel scrolls the lanes.
  */
 import { fitCanvas } from './canvas.js';
-import { beginDrag, dragTo, moved, released, selectedRange } from './retimehandles.js';
+import { beginDrag, dragTo, mapping, moved, released, selectedRange } from './retimehandles.js';
 import { HANDLE_PIXELS, changes, hitTake, layoutRows, rowAt } from './timelinelanes.js';
 import { tickStep, viewRange } from './timescale.js';
 
@@ -169,6 +169,8 @@ export class Timeline {
         else transport.setLoop([Math.min(scrub.loopFrom, t), Math.max(scrub.loopFrom, t)]);
       } else if (this.drag) {
         this.move(t, e.clientY);
+      } else {
+        c.style.cursor = this.cursorAt(e);
       }
     });
     const end = (/** @type {PointerEvent} */ e) => {
@@ -192,6 +194,25 @@ export class Timeline {
       else this.studio.selectRange(null);
       this.invalidate();
     }, { capture: true });
+  }
+
+  /**
+   * The pointer's shape over the timeline: a stretch by a handle, a grab over a take's block,
+   * a move with Alt, a pointer over the labels, the text cursor (scrub, select) elsewhere.
+   * @param {PointerEvent} e
+   */
+  cursorAt(e) {
+    const rect = this.canvas.getBoundingClientRect();
+    const row = e.clientY - rect.top < this.lanesTop() ? null : this.rowAtClient(e.clientY);
+    if (!row) return 'text';
+    if (e.clientX - rect.left < LABEL || row.kind === 'group') return 'pointer';
+    if (e.altKey) return 'move';
+    const t = this.timeAt(e.clientX);
+    const chosen = this.studio.timeRange;
+    if (chosen && chosen.paths.includes(row.path) && Math.abs(t - chosen.t1) <= HANDLE_PIXELS * this.pixel()) return 'ew-resize';
+    if (e.shiftKey) return 'text';
+    const hit = hitTake(row.track, t, this.pixel());
+    return hit.what === 'scale' ? 'ew-resize' : hit.what === 'take' ? 'grab' : 'text';
   }
 
   /**
@@ -380,6 +401,7 @@ export class Timeline {
     }
     this.paintRange(g, x);
     g.restore();
+    this.paintReadout(g, x, w);
     if (clock.loop) {
       g.fillStyle = 'rgba(90, 150, 255, 0.14)';
       g.fillRect(x(clock.loop[0]), 0, x(clock.loop[1]) - x(clock.loop[0]), h);
@@ -550,6 +572,30 @@ export class Timeline {
       g.fillStyle = '#ffffff';
       g.fillRect(a, y + 2, 1, height - 4);
     });
+  }
+
+  /**
+   * What the drag does, in the ruler by the pointer: the move in seconds and frames, or the stretch.
+   * @param {CanvasRenderingContext2D} g
+   * @param {(t: number) => number} x
+   * @param {number} w
+   */
+  paintReadout(g, x, w) {
+    const drag = this.drag;
+    if (!drag || drag.kind === 'select') return;
+    const { factor, shift } = mapping(drag);
+    const fps = this.studio.fps;
+    const text = drag.kind === 'take' || drag.kind === 'track'
+      ? `${shift >= 0 ? '+' : ''}${shift.toFixed(3)} s (${shift >= 0 ? '+' : ''}${+(shift * fps).toFixed(2)} f)`
+      : `×${factor.toFixed(3)} about ${drag.pivot.toFixed(3)} s`;
+    g.font = '600 11px system-ui, sans-serif';
+    const width = g.measureText(text).width + 10;
+    const left = Math.min(Math.max(LABEL, x(drag.to) + 6), w - width);
+    g.fillStyle = '#e8b04b';
+    g.fillRect(left, 2, width, RULER - 4);
+    g.fillStyle = '#15171b';
+    g.fillText(text, left + 5, RULER / 2);
+    g.font = '10px system-ui, sans-serif';
   }
 
   /**
