@@ -235,3 +235,23 @@ def test_a_group_folds_and_a_strip_draws_above_the_lanes(_page, timeline_studio)
     page.wait_for_function("() => timeline.rows.filter((r) => r.kind === 'lane').length === 3")
     assert page.evaluate("timeline.drawMs") < 50
     assert drew_something(page) > 5 and not page.errors
+
+
+def test_the_loop_range_selected_by_a_double_click_is_deleted_on_that_lane(_page, timeline_studio) -> None:  # noqa: ANN001
+    page = _open(_page, timeline_studio)
+    steps = _steps(page)
+    ruler = page.evaluate("timeline.canvas.getBoundingClientRect().top + 8")
+    a, b = _at(page, "ball.position", 1.0)["x"], _at(page, "ball.position", 2.0)["x"]
+    page.keyboard.down("Shift")
+    drag(page, {"x": a, "y": ruler}, [((b - a) / 2, 0), (b - a, 0)])     # Shift-drag on the ruler: the loop
+    page.keyboard.up("Shift")
+    loop = page.evaluate("studio.transport.clock.loop")
+    assert loop[0] == pytest.approx(1.0, abs=0.02) and loop[1] == pytest.approx(2.0, abs=0.02)
+    page.mouse.dblclick(**_at(page, "ball.position", 2.5))
+    assert page.evaluate("studio.timeRange") == {"paths": ["ball.position"], "t0": loop[0], "t1": loop[1]}
+    page.keyboard.press("Delete")
+    _wait_step(page, steps + 1)
+    sent = _sent(page, "track.cut")
+    assert (sent["paths"], sent["t0"], sent["t1"]) == (["ball.position"], loop[0], loop[1])
+    assert page.evaluate("studio.objects.some((o) => o.name === 'ball')")        # the range went, not the object
+    assert drew_something(page) > 5 and not page.errors

@@ -71,6 +71,7 @@ export const GESTURES = [
   { where: 'timeline', gesture: "drag a take's block / its right edge", does: 'move the take / stretch it about its start (Ctrl: about the playhead)' },
   { where: 'timeline', gesture: 'Alt-drag a lane', does: 'move its whole track (the selected lanes, if in the range)' },
   { where: 'timeline', gesture: 'drag on empty time / Shift-drag', does: "select a range (across lanes); its right edge stretches the tracks; Esc drops a drag" },
+  { where: 'timeline', gesture: 'double-click a lane', does: 'select the loop range there (no loop: the whole track)' },
   { where: 'curves', gesture: 'drag a point, a key or a handle', does: 'move it (one undo step on release; Esc cancels)' },
   { where: 'curves', gesture: 'drag on empty space / Shift-click', does: 'box-select / add to the selection' },
   { where: 'curves', gesture: 'double-click a curve', does: 'insert a knot there' },

@@ -12,7 +12,8 @@
  * to move its whole track (the selected lanes' if it is in the range); drag on a lane's empty
  * time, or Shift-drag anywhere in the lanes, to select a range (across lanes too), then
  * Delete deletes it, Ctrl+C / Ctrl+X copy / cut it (the selected lane's), Ctrl+V pastes at
- * the playhead on the selected lane; the range's right edge stretches the selected tracks
+ * the playhead on the selected lane (a double-click selects the loop range on a lane, else its
+ * whole track); the range's right edge stretches the selected tracks
  * about its start. A drag previews in the page, sends one message on release (one undo
  * step), snaps to frames when snap is on; Esc drops it. The wheel scrolls the lanes.
  */
@@ -179,6 +180,14 @@ export class Timeline {
     };
     c.addEventListener('pointerup', end);
     c.addEventListener('pointercancel', end);
+    c.addEventListener('dblclick', (e) => {        // a lane's range: the loop range, else its whole track
+      const row = this.rowAtClient(e.clientY);
+      if (!row || row.kind !== 'lane' || e.clientX - c.getBoundingClientRect().left < LABEL) return;
+      const loop = this.studio.transport.clock.loop;
+      const { track } = row;
+      const span = loop ?? (track.kind === 'curve' ? [track.start, track.end] : [track.times[0] ?? 0, track.times.at(-1) ?? 0]);
+      this.studio.selectRange(span[1] > span[0] ? { paths: [row.path], t0: span[0], t1: span[1] } : null);
+    });
     c.addEventListener('wheel', (e) => {
       const rect = c.getBoundingClientRect();
       if (e.clientY - rect.top < this.lanesTop()) return;
