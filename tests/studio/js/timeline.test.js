@@ -82,3 +82,30 @@ test('whole tracks move and stretch with track.retime; a range selection sends n
   assert.equal(released(select), null);
   assert.equal(selectedRange(beginDrag('select', ['a.x'], -1, 2, 2, 2)), null);
 });
+
+test("Delete with a range selected in the timeline deletes the range, not the selected object", async () => {
+  const { studio } = await import('./fake_studio.mjs');
+  const { s, c } = studio();
+  /** @type {string[]} */
+  const commands = [];
+  s.signals.on('command', (x) => commands.push(x));
+  s.select('box');
+  s.selectRange({ paths: ['box.position'], t0: 0.5, t1: 1 });
+  s.deleteSelection();
+  assert.deepEqual(commands, ['delete-range']);
+  assert.equal(c.of('object.remove').length, 0);
+  s.cutRange(['box.position'], 0.5, 1);
+  s.copyRange('box.position', 0.5, 1);
+  assert.deepEqual(c.of('track.cut'), [{ type: 'track.cut', paths: ['box.position'], t0: 0.5, t1: 1 }]);
+  assert.deepEqual(c.of('track.copy'), [{ type: 'track.copy', path: 'box.position', t0: 0.5, t1: 1 }]);
+  /** @type {any[]} */
+  const pieces = [];
+  s.signals.on('piece', (m) => pieces.push(m));
+  const piece = { type: /** @type {'track.piece'} */ ('track.piece'), path: 'box.on', length: 1,
+    piece: { path: 'box.on', kind: /** @type {'steps'} */ ('steps'), times: [0.5], values: [true] } };
+  c.receive(piece);
+  assert.deepEqual(pieces, [piece]);
+  s.selectRange(null);
+  s.deleteSelection();
+  assert.equal(c.of('object.remove').length, 1, 'no range: the selected object goes');
+});
