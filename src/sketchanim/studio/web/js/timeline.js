@@ -237,6 +237,11 @@ export class Timeline {
     const inRange = chosen !== null && chosen.paths.includes(path);
     const playhead = s.transport.time;
     const aboutPlayhead = e.ctrlKey || e.metaKey;
+    if (s.readOnly) {                             // nothing moves; a range can still be selected and copied
+      const from = s.snapped(t);
+      this.drag = beginDrag('select', [path], -1, from, from, from);
+      return;
+    }
     if (inRange && chosen && Math.abs(t - chosen.t1) <= HANDLE_PIXELS * this.pixel() && !e.shiftKey) {
       this.drag = beginDrag('range-scale', chosen.paths, -1, t, chosen.t0, chosen.t1, aboutPlayhead ? playhead : chosen.t0);
       return;
