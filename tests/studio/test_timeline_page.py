@@ -48,8 +48,10 @@ def timeline_studio(tmp_path: Path):  # noqa: ANN201
 
 
 def _open(_page, url: str):  # noqa: ANN001, ANN202
-    """A page with snap on (24 fps) and a log of what it sends."""
+    """A page with snap on (24 fps), its timeline 170 px tall, and a log of what it sends."""
     page = _page(url)
+    # the timeline grows with the window (60 px in this 600 px tall page): tall enough for every lane here
+    page.evaluate("timeline.canvas.style.height = '170px'")
     page.keyboard.press("Shift+S")
     assert page.evaluate("studio.snap") is True and page.evaluate("studio.fps") == 24
     page.evaluate("""() => { window.sent = []; const send = studio.send.bind(studio);
