@@ -1,7 +1,7 @@
 """The studio page in a browser (Debian's chromium, headless, WebGL through SwiftShader,
 driven by Playwright) against a real server.
 
-    .venv/bin/python benchmarks/bench_studio.py [--takes 20] [--objects 50] [--seconds 4] [--only page|curves]
+    .venv/bin/python benchmarks/bench_studio.py [--takes 20] [--objects 50] [--seconds 4] [--only page|curves|timeline]
 
 1. Capture: ``--takes`` drags of the box in record mode (0.4 to 1.2 s each): samples per
    second of each take against the page's frame rate (one sample per animation frame is
@@ -18,6 +18,12 @@ driven by Playwright) against a real server.
 4. Tolerance after the take: a 60 s take at 120 Hz, its tolerance changed in the editor:
    change to the new curve in the page (one History step), a slider preview's answer, and
    the page's frame interval and script meanwhile.
+
+5. Timeline (``--only timeline``, not in the default run): 50 lanes (25 objects, a position
+   and an orientation track each) and a 10 min strip of synthetic peaks (100 per second)
+   above them, the view spanning the 10 min: the timeline's draw, everything painted again
+   each frame, then the playhead alone moving (what playback draws), median and p99 ms
+   (target: a few ms).
 
 Software WebGL draws every pixel on the CPU, so the frame rate here is bounded by
 rasterisation on this machine, not by the page's script; the script times are what a
@@ -187,12 +193,67 @@ def retolerance(browser, url: str, repeats: int = 5) -> dict:  # noqa: ANN001
     return {"applied": np.array(applied), "preview": np.array(previews), "interval": np.array(interval), "script": np.array(script)}
 
 
+#: A strip of 10 minutes of synthetic peaks (100 a second): per pixel, the largest peak
+#: of the seconds under it, as a waveform is drawn.
+PEAKS_STRIP = """() => {
+  const rate = 100, peaks = new Float32Array(600 * rate);
+  for (let i = 0; i < peaks.length; i += 1) peaks[i] = Math.abs(Math.sin(i / 37) * Math.sin(i / 1111)) * (0.6 + 0.4 * Math.random());
+  studio.strips.push({ id: 'peaks', label: 'sound (10 min)', height: 28, draw: (g, a, t0, t1) => {
+    g.fillStyle = '#6fcf7f';
+    for (let px = 0; px < a.width; px += 1) {
+      const i0 = Math.max(0, Math.floor((t0 + (px / a.width) * (t1 - t0)) * rate));
+      const i1 = Math.min(peaks.length, Math.ceil((t0 + ((px + 1) / a.width) * (t1 - t0)) * rate));
+      let m = 0;
+      for (let i = i0; i < i1; i += 1) if (peaks[i] > m) m = peaks[i];
+      const h = m * a.height;
+      g.fillRect(a.x + px, a.y + (a.height - h) / 2, 1, h);
+    }
+  } });
+  studio.transport.setLoop([0, 600]);
+}"""
+
+
+def timeline_draw(browser, url: str, frames: int = 300) -> dict:  # noqa: ANN001
+    """The timeline painted again ``frames`` times over 50 lanes and a 10 min strip: ms per draw."""
+    page = open_page(browser, url, size=(1600, 900))
+    page.evaluate("document.querySelector('[data-testid=timeline]').style.height = '1200px'")      # every lane shown
+    page.evaluate(PEAKS_STRIP)
+    lanes = page.evaluate("timeline.invalidate(), timeline.draw(), timeline.rows.filter((r) => r.kind === 'lane').length")
+    page.wait_for_timeout(500)                    # the canvas resized and first painted before the frames timed
+    # each draw then flushed (one pixel read back): the canvas's rasterisation counted in, as a frame's end does
+    times = page.evaluate(f"""() => {{ const out = [], flushed = [], g = timeline.canvas.getContext('2d');
+        for (let i = 0; i < {frames}; i += 1) {{
+          const began = performance.now();
+          studio.transport.seek(i / 10); timeline.invalidate(); timeline.draw(); out.push(timeline.drawMs);
+          g.getImageData(0, 0, 1, 1); flushed.push(performance.now() - began); }}
+        const moving = [];                        // the playhead alone moving, nothing invalidated
+        for (let i = 0; i < {frames}; i += 1) {{
+          const began = performance.now();
+          studio.transport.seek(i / 10); timeline.draw(); g.getImageData(0, 0, 1, 1); moving.push(performance.now() - began); }}
+        return [out, flushed, moving]; }}""")
+    page.close()
+    return {"draw": np.array(times[0]), "flushed": np.array(times[1]), "moving": np.array(times[2]), "lanes": lanes}
+
+
+def timeline_table(console: Console, made: dict) -> None:
+    """The table of section 5."""
+    table = Table(title=f"Timeline: {made['lanes']} lanes and a 10 min strip of peaks, the view over 10 min")
+    for col in ("per frame", "frames", "median ms", "p99 ms", "target"):
+        table.add_column(col, justify="right" if col != "per frame" else "left")
+    for name, d, target in (("the timeline's draw (its script)", made["draw"], ""),
+                            ("  and its rasterisation (a pixel read back)", made["flushed"], "a few ms"),
+                            ("the playhead alone moving (what playback draws), rasterised", made["moving"], "a few ms")):
+        table.add_row(name, str(len(d)), f"{np.median(d):.2f}", f"{np.percentile(d, 99):.2f}", target)
+    console.print(table)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--takes", type=int, default=20)
     parser.add_argument("--objects", type=int, default=50)
     parser.add_argument("--seconds", type=float, default=4.0)
-    parser.add_argument("--only", choices=("page", "curves"), help="only sections 1-2 (page) or 3-4 (curves)")
+    parser.add_argument("--only", choices=("page", "curves", "timeline"),
+                        help="only sections 1-2 (page), 3-4 (curves) or 5 (timeline)")
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
@@ -200,6 +261,13 @@ def main() -> None:
     console = Console()
     with tempfile.TemporaryDirectory() as tmp, sync_playwright() as p:
         browser = launch(p)
+        if args.only == "timeline":
+            animated_project(Path(tmp) / "lanes.sketchanim", 25, rng)
+            with studio_server(Path(tmp) / "lanes.sketchanim") as url:
+                made = timeline_draw(browser, url)
+            browser.close()
+            timeline_table(console, made)
+            return
         if args.only != "curves":
             with studio_server(Path(tmp) / "capture.sketchanim") as url:
                 cap = capture(browser, url, args.takes, rng)

@@ -41,6 +41,10 @@ EDIT_MESSAGES = [
     {"type": "track.reduce", "paths": ["box.position"], "tol": 0.01},
     {"type": "take.edit", "path": "box.position", "take": 0, "op": "mute"},
     {"type": "settings", "fps": 30},
+    {"type": "track.retime", "paths": ["box.position"], "shift": 1},
+    {"type": "track.cut", "paths": ["box.position"], "t0": 0, "t1": 1},
+    {"type": "track.paste", "path": "box.position", "at": 0, "length": 1,
+     "piece": {"path": "box.visible", "kind": "steps", "times": [0.5], "values": [False]}},
 ]
 
 
@@ -58,7 +62,8 @@ def project(tmp_path):
 
 def test_every_edit_is_listed_and_what_remains_only_reads():
     assert {m["type"] for m in EDIT_MESSAGES} == EDITS
-    assert set(HANDLERS) - EDITS == {"ping", "state", "transport", "export", "track.samples"}
+    assert set(HANDLERS) - EDITS == {"ping", "state", "transport", "export", "track.samples",
+                                     "track.copy"}
 
 
 def test_a_read_only_session_plays_refuses_edits_and_exports(project):

@@ -9,9 +9,10 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 from sketchanim.anim.commands import AddObject, Change, Command, DuplicateObject, RemoveObject, RenameObject, SetValue
-from sketchanim.anim.edits import moved_key, moved_points, with_key, with_knots, without_knots
+from sketchanim.anim.edits import moved_key, moved_points, with_key, with_knots, without_knots, without_range
 from sketchanim.anim.history import History
 from sketchanim.anim.layers import recomposed
+from sketchanim.anim.retime import Piece, pasted, piece, retimed
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.take_edits import edited_takes
@@ -171,14 +172,44 @@ class Editor:
                                         f"remove {len(remove)}" if remove else "") if x)
         self.run(Change(self.player, f"{what} knot{'s' * (len(insert) + len(remove) != 1)} on {path}", {path: track}))
 
-    def edit_take(self, path: str, index: int, op: str, name: str | None, to: int | None, order: int) -> None:
+    def edit_take(self, path: str, index: int, op: str, name: str | None, to: int | None, order: int,
+                  by: float | None = None, factor: float | None = None, pivot: float | None = None) -> None:
         """Change a take of the curve of ``path`` (see :func:`~sketchanim.anim.take_edits.edited_takes`)
         and compose the curve again from its takes, as one step; deleting its last take
         removes the track."""
         track = self.curve(path)
-        takes = edited_takes(track.takes, index, op, name, to)
+        takes = edited_takes(track.takes, index, op, name, to, by, factor, pivot)
         made = (replace(track, takes=takes) if op == "rename" else recomposed(track, takes, order=order)) if takes else None
         self.run(Change(self.player, f"{op} take {index + 1} of {path}", {path: made}))
+
+    # -- the timeline: retiming, cutting, pasting --------------------------------------------
+
+    def track(self, path: str) -> Track:
+        """The track of ``path``; :class:`ArgumentError` if it has none."""
+        track = self.player.tracks.get(path)
+        if track is None:
+            raise ArgumentError("path", f"{path}: is not animated (no track)")
+        return track
+
+    def retime(self, paths: Sequence[str], factor: float, pivot: float, shift: float) -> None:
+        """Retime the tracks ``paths`` as a whole (:func:`~sketchanim.anim.retime.retimed`), as one step."""
+        made = {path: retimed(self.track(path), factor, pivot, shift) for path in dict.fromkeys(paths)}
+        what = f"move {shift:+.3f} s" if factor == 1 else f"scale x{factor:.3g} about {pivot:.3f} s"
+        self.run(Change(self.player, f"{what}: {', '.join(made)}", made))
+
+    def cut(self, paths: Sequence[str], t0: float, t1: float) -> None:
+        """Delete the motion of ``paths`` over ``(t0, t1)`` (:func:`~sketchanim.anim.edits.without_range`), as one step."""
+        made = {path: without_range(self.track(path), t0, t1) for path in dict.fromkeys(paths)}
+        self.run(Change(self.player, f"delete range {t0:.3f}-{t1:.3f} s: {', '.join(made)}", made))
+
+    def copy(self, path: str, t0: float, t1: float) -> Piece:
+        """The motion of ``path`` over ``(t0, t1)`` (:func:`~sketchanim.anim.retime.piece`); nothing changes."""
+        return piece(self.track(path), t0, t1)
+
+    def paste(self, path: str, clip: Piece, at: float, order: int) -> None:
+        """Put ``clip`` on the track of ``path`` at ``at`` (:func:`~sketchanim.anim.retime.pasted`), as one step."""
+        made = pasted(self.track(path), clip, at, order)
+        self.run(Change(self.player, f"paste {clip.length:.3f} s at {at:.3f} s: {path}", {path: made}))
 
     def remove_object(self, name: str) -> None:
         """Remove an object and its tracks."""

@@ -49,15 +49,20 @@ HANDLERS: dict[str, Handler] = {
     "track.key": lambda s, m, client: s.key(m.path, m.time, m.value),
     "track.reduce": lambda s, m, client: s.reduce(m.paths, m.tol, m.preview),
     "track.samples": lambda s, m, client: s.kept_samples(m.path)(),
-    "take.edit": lambda s, m, client: s.edit_take(m.path, m.take, m.op, m.name, m.to),
+    "take.edit": lambda s, m, client: s.edit_take(m.path, m.take, m.op, m.name, m.to, m.by, m.factor, m.pivot),
     "settings": lambda s, m, client: s.set_settings(m.fps),
+    "track.retime": lambda s, m, client: s.retime(m.paths, m.factor, m.pivot, m.shift),
+    "track.cut": lambda s, m, client: s.cut(m.paths, m.t0, m.t1),
+    "track.copy": lambda s, m, client: s.copy(m.path, m.t0, m.t1),
+    "track.paste": lambda s, m, client: s.paste(m.path, m.at, m.piece, m.length),
 }
 
 #: The messages that change the project (refused on a read-only one; a ``track.reduce``
 #: preview changes nothing and is not refused).
 EDITS = frozenset({"set", "preview", "object.add", "object.duplicate", "object.remove", "object.rename", "take.begin",
                    "take.samples", "take.end", "take.cancel", "undo", "redo", "tolerance.set", "curve.points",
-                   "curve.key", "curve.knots", "track.key", "track.reduce", "take.edit", "settings"})
+                   "curve.key", "curve.knots", "track.key", "track.reduce", "take.edit", "settings",
+                   "track.retime", "track.cut", "track.paste"})
 
 
 def check_writable(session: Session, message: p.Message) -> None:

@@ -190,8 +190,10 @@ class TrackSamples(_Message):
 
 #: What ``take.edit`` does to a take: rename it, mute or unmute it, solo it (mute every
 #: other), delete it, move it to another place in the track's order, or keep it as the
-#: pass of its loop recording (the other passes muted).
-TakeOp = Literal["rename", "mute", "unmute", "solo", "delete", "move", "keep"]
+#: pass of its loop recording (the other passes muted), shift it in time (``by`` seconds),
+#: or scale its times (by ``factor`` about ``pivot``, its start if None).
+TakeOp = Literal["rename", "mute", "unmute", "solo", "delete", "move", "keep", "shift", "scale"]
+Factor = Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)]
 
 
 class TakeEdit(_Message):
@@ -204,6 +206,9 @@ class TakeEdit(_Message):
     op: TakeOp
     name: Annotated[str, Field(max_length=64)] | None = None
     to: Annotated[int, Field(ge=0, le=100_000)] | None = None
+    by: Number | None = None
+    factor: Factor | None = None
+    pivot: Number | None = None
 
 
 #: Frame rates the page's menu offers (frames per second; a project may have any in (0, 1000]).
@@ -302,10 +307,58 @@ class Export(_Message):
     overwrite: bool = False
 
 
+# -- retiming and the clipboard (the timeline) ---------------------------------------------
+
+
+class TrackRetime(_Message):
+    """Retime the tracks ``paths`` as a whole: time ``t`` goes to
+    ``pivot + factor * (t - pivot) + shift`` (their curves and takes with it), one History step."""
+
+    type: Literal["track.retime"]
+    paths: Annotated[list[AttributePath], Field(min_length=1, max_length=MAX_PATHS)]
+    factor: Factor = 1.0
+    pivot: Number = 0.0
+    shift: Number = 0.0
+
+
+class TrackCut(_Message):
+    """Delete the motion of the tracks ``paths`` over ``(t0, t1)`` (a curve bridged
+    smoothly across, a discrete track's values there removed), one History step."""
+
+    type: Literal["track.cut"]
+    paths: Annotated[list[AttributePath], Field(min_length=1, max_length=MAX_PATHS)]
+    t0: Number
+    t1: Number
+
+
+class TrackCopy(_Message):
+    """Copy the motion of the track at ``path`` over ``(t0, t1)``: answered by
+    ``track.piece`` (the page keeps it as its clipboard; nothing changes)."""
+
+    type: Literal["track.copy"]
+    path: AttributePath
+    t0: Number
+    t1: Number
+
+
+class TrackPaste(_Message):
+    """Put a ``piece`` (as ``track.piece`` brought it) on the track at ``path`` from time
+    ``at``: a curve gets it as a replacing take, a discrete track its values (those in
+    ``(at, at + length)`` removed); the piece's attribute (its ``path``'s type) must be
+    the track's. One History step."""
+
+    type: Literal["track.paste"]
+    path: AttributePath
+    at: Number
+    piece: TrackInfo
+    length: Annotated[float, Field(ge=0, allow_inf_nan=False)]
+
+
 Message = Annotated[
     Ping | StateRequest | Set | Preview | ObjectAdd | ObjectDuplicate | ObjectRemove | ObjectRename | TakeBegin
     | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | Transport | Export | ToleranceSet | CurvePoints | CurveKey
-    | CurveKnots | TrackKey | TrackReduce | TrackSamples | TakeEdit | Settings,
+    | CurveKnots | TrackKey | TrackReduce | TrackSamples | TakeEdit | Settings | TrackRetime | TrackCut | TrackCopy
+    | TrackPaste,
     Field(discriminator="type"),
 ]
 _ADAPTER: TypeAdapter[Message] = TypeAdapter(Message)
@@ -621,6 +674,16 @@ class Exported(_Outbound):
     file: str
 
 
+class TrackPiece(_Outbound):
+    """A copied range of the track at ``path`` (``track.copy``): ``piece`` starts at 0
+    and is ``length`` seconds long; ``track.paste`` puts it back."""
+
+    type: Literal["track.piece"] = "track.piece"
+    path: str
+    piece: TrackInfo
+    length: float
+
+
 class Notice(_Outbound):
     """Something the animator should know (a reducer process died, the journal failed),
     shown on the page and kept in the server's log."""
@@ -633,14 +696,14 @@ class Notice(_Outbound):
 
 ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece | TakeEnded | Pong | Ack | Error
                  | Ready | Exported | Notice | Preview | Transport | Tolerances | TakeRunning | Saved | SettingsInfo
-                 | Reduced | Samples)
+                 | Reduced | Samples | TrackPiece)
 #: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
 MESSAGES: tuple[type[BaseModel], ...] = (
     Ping, StateRequest, Set, Preview, ObjectAdd, ObjectDuplicate, ObjectRemove, ObjectRename, TakeBegin, TakeSamples,
     TakeEnd, TakeCancel, Undo, Redo, Transport, Export, ToleranceSet, CurvePoints, CurveKey, CurveKnots, TrackKey, TrackReduce,
-    TrackSamples, TakeEdit, Settings,
+    TrackSamples, TakeEdit, Settings, TrackRetime, TrackCut, TrackCopy, TrackPaste,
     State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice,
-    Tolerances, TakeRunning, Saved, SettingsInfo, Reduced, Samples)
+    Tolerances, TakeRunning, Saved, SettingsInfo, Reduced, Samples, TrackPiece)
 
 
 #: Who gets a message: every page, every page but the sender's, or the sender's alone.

@@ -35,6 +35,7 @@ from sketchanim.project.recovery import forget_take, note_take, recovered_tracks
 from sketchanim.project.store import Project, export_text
 from sketchanim.studio import exports as exporting
 from sketchanim.studio import protocol as p
+from sketchanim.studio.clipboard import piece_from, piece_message
 from sketchanim.studio.defaults import default_scene
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import history_info, objects_info, track_info, tracks_info
@@ -275,10 +276,37 @@ class Session:
         self.editor.key(path, time, value)
         return self._told()
 
-    def edit_take(self, path: str, take: int, op: str, name: str | None, to: int | None) -> list[p.Out]:
-        """Change a take of a track and compose it again from its takes, as one step."""
+    def edit_take(self, path: str, take: int, op: str, name: str | None, to: int | None, by: float | None = None,
+                  factor: float | None = None, pivot: float | None = None) -> list[p.Out]:
+        """Change a take of a track (``shift`` it by ``by`` s, ``scale`` it by ``factor``
+        about ``pivot``, ...) and compose it again from its takes, as one step."""
         self._refuse_recorded([path])
-        self.editor.edit_take(path, take, op, name, to, ORDER)
+        self.editor.edit_take(path, take, op, name, to, ORDER, by, factor, pivot)
+        return self._told()
+
+    # -- the timeline: retiming and the clipboard -------------------------------------------
+
+    def retime(self, paths: list[str], factor: float, pivot: float, shift: float) -> list[p.Out]:
+        """Retime tracks as a whole (``t -> pivot + factor * (t - pivot) + shift``), as one step."""
+        self._refuse_recorded(paths)
+        self.editor.retime(paths, factor, pivot, shift)
+        return self._told()
+
+    def cut(self, paths: list[str], t0: float, t1: float) -> list[p.Out]:
+        """Delete the motion of tracks over ``(t0, t1)``, as one step ("delete range")."""
+        self._refuse_recorded(paths)
+        self.editor.cut(paths, t0, t1)
+        return self._told()
+
+    def copy(self, path: str, t0: float, t1: float) -> list[p.Out]:
+        """The motion of ``path`` over ``(t0, t1)`` for the page's clipboard (``track.piece``)."""
+        return [("self", p.wire(piece_message(path, self.editor.copy(path, t0, t1))))]
+
+    def paste(self, path: str, at: float, info: p.CurveInfo | p.StepsInfo, length: float) -> list[p.Out]:
+        """Put a piece the page copied on the track of ``path`` at ``at``, as one step;
+        the piece's attribute (its path's) must still exist and be of the track's type."""
+        self._refuse_recorded([path])
+        self.editor.paste(path, piece_from(info, length, self.scene.type(info.path)), at, ORDER)
         return self._told()
 
     def reduction(self, paths: list[str], tol: float) -> Callable[[], Reductions]:

@@ -69,3 +69,9 @@ test('typing: text and number fields, text areas and editable elements only', ()
   assert.equal(typing({ tagName: 'BUTTON' }), false);
   assert.equal(typing(null), false);
 });
+
+test('Ctrl or Cmd with C, X, V: copy, cut, paste (the timeline acts on them)', () => {
+  assert.deepEqual(['c', 'X', 'v'].map((k) => actionOf(press(k, { ctrlKey: true }))), ['copy', 'cut', 'paste']);
+  assert.equal(actionOf(press('v', { metaKey: true })), 'paste');
+  assert.equal(actionOf(press('c')), 'camera');
+});

@@ -28,6 +28,12 @@ import { Transport } from './Transport.js';
  * @typedef {{ id: string, label: string, height: number,
  *   draw: (ctx: CanvasRenderingContext2D, area: {x: number, y: number, width: number, height: number}, t0: number, t1: number) => void }} TimelineStrip
  */
+/**
+ * @typedef {object} TimeRange   The range selected in the timeline: times `t0` < `t1` over the lanes of `paths`.
+ * @property {string[]} paths
+ * @property {number} t0
+ * @property {number} t1
+ */
 /** @typedef {Pick<import('./Connection.js').Connection, 'connect' | 'send' | 'connected'>} Link  what the studio needs of a connection */
 /** @typedef {import('./messages.js').Saved} Saved */
 /**
@@ -146,6 +152,8 @@ export class Studio {
     this.playMs = 0;
     /** @type {TimelineStrip[]} strips the timeline draws above its lanes, in order */
     this.strips = [];
+    /** @type {TimeRange | null} the range selected in the timeline (Delete deletes it) */
+    this.timeRange = null;
     this.transport = new Transport(this);
     this.performer = new Performer(this);
     connection.connect((m) => this.receive(m), (open, code) => this.connectionChanged(open, code));
@@ -265,6 +273,7 @@ export class Studio {
       case 'settings': this.keepSettings(m); break;
       case 'reduced': this.signals.emit('reduced', m); break;
       case 'samples': this.signals.emit('samples', m); break;
+      case 'track.piece': this.signals.emit('piece', m); break;
       case 'take.started': case 'pong': case 'ack': case 'exported': break;    // nothing to show
       default: {
         /** @type {never} */
@@ -507,11 +516,12 @@ export class Studio {
   }
 
   /**
-   * Delete what is selected: the selected keys and points (their knots removed, by the curve
+   * Delete what is selected: the timeline's range (the timeline hears the `command` signal), the selected keys and points (their knots removed, by the curve
    * editor, which hears the `command` signal), else the selected object (undoable).
    */
   deleteSelection() {
-    if (this.points.length) this.signals.emit('command', 'delete-points');
+    if (this.timeRange) this.signals.emit('command', 'delete-range');
+    else if (this.points.length) this.signals.emit('command', 'delete-points');
     else if (this.selected) this.removeObject(this.selected);
   }
 
@@ -648,6 +658,53 @@ export class Studio {
 
   redo() {
     if (!this.performer.grab && !this.readOnly) this.send({ type: 'redo' });
+  }
+
+  // -- the timeline: retiming and the clipboard (each edit one History step) -------------
+
+  /** @param {TimeRange | null} range select a range in the timeline (null: none) */
+  selectRange(range) {
+    this.timeRange = range;
+    this.signals.emit('timeRange', range);
+  }
+
+  /**
+   * Send a drag's move or stretch in time (a take's `take.edit` shift / scale, tracks' `track.retime`).
+   * @param {PageMessage} message
+   */
+  editInTime(message) {
+    if (!this.readOnly) this.send(message);
+  }
+
+  /**
+   * Delete the motion of tracks over (t0, t1) (a curve bridged across).
+   * @param {string[]} paths
+   * @param {number} t0
+   * @param {number} t1
+   */
+  cutRange(paths, t0, t1) {
+    if (!this.readOnly) this.send({ type: 'track.cut', paths, t0, t1 });
+  }
+
+  /**
+   * Copy a track's motion over (t0, t1): the `piece` signal brings it back.
+   * @param {string} path
+   * @param {number} t0
+   * @param {number} t1
+   */
+  copyRange(path, t0, t1) {
+    this.send({ type: 'track.copy', path, t0, t1 });
+  }
+
+  /**
+   * Paste a copied piece on the track at `path` from time `at`.
+   * @param {string} path
+   * @param {number} at
+   * @param {Track} piece
+   * @param {number} length
+   */
+  pasteRange(path, at, piece, length) {
+    if (!this.readOnly) this.send({ type: 'track.paste', path, at, piece, length });
   }
 
   // -- takes ------------------------------------------------------------------------------

@@ -14,10 +14,11 @@
 /**
  * What a panel does on its own when its shortcut is pressed (the `command` signal carries it):
  * the curve editor frames all or the selection, inserts a knot at the playhead, normalises its
- * channels, removes the selected keys' knots; the help overlay shows or hides; the viewport
+ * channels, removes the selected keys' knots; the timeline deletes, copies, cuts its range
+ * and pastes; the help overlay shows or hides; the viewport
  * shows or hides motion paths and onion skin; the outliner renames the selected object.
  * @typedef {'frame-all' | 'frame-selection' | 'insert-knot' | 'normalise' | 'delete-points' | 'help' | 'motion-paths'
- *   | 'onion-skin' | 'rename'} PanelCommand
+ *   | 'onion-skin' | 'rename' | 'delete-range' | 'copy' | 'cut' | 'paste'} PanelCommand
  */
 /** @typedef {'undo' | 'redo' | 'record' | 'play' | 'stop' | 'loop' | 'camera' | 'deselect' | 'translate' | 'rotate' | 'scale'
  *   | 'previous-frame' | 'next-frame' | 'delete' | 'duplicate' | 'snap' | 'cue' | PanelCommand} KeyAction */
@@ -47,13 +48,16 @@ export const SHORTCUTS = [
   { action: 'motion-paths', keys: ['P'], does: 'motion paths on / off' },
   { action: 'onion-skin', keys: ['O'], does: 'onion skin (ghosts at nearby frames) on / off' },
   { action: 'deselect', keys: ['Esc'], does: 'select nothing' },
-  { action: 'delete', keys: ['Delete'], does: 'delete the selected keys (their knots), else the selected object' },
+  { action: 'delete', keys: ['Delete'], does: "delete the timeline's selected range, else the selected keys (their knots), else the selected object" },
   { action: 'duplicate', keys: ['Shift', 'D'], does: 'duplicate the selected object' },
   { action: 'rename', keys: ['F2'], does: 'rename the selected object' },
   { action: 'frame-all', keys: ['Home'], does: 'curve editor: frame all' },
   { action: 'frame-selection', keys: ['F'], does: 'curve editor: frame the selection' },
   { action: 'insert-knot', keys: ['I'], does: 'curve editor: insert a knot at the playhead' },
   { action: 'normalise', keys: ['N'], does: 'curve editor: normalise the channels on / off' },
+  { action: 'copy', keys: ['Ctrl', 'C'], does: "timeline: copy the selected range (the selected lane's)" },
+  { action: 'cut', keys: ['Ctrl', 'X'], does: 'timeline: cut the selected range' },
+  { action: 'paste', keys: ['Ctrl', 'V'], does: 'timeline: paste at the playhead on the selected lane' },
   { action: 'undo', keys: ['Ctrl', 'Z'], does: 'undo' },
   { action: 'redo', keys: ['Ctrl', 'Shift', 'Z'], does: 'redo (also Ctrl+Y)' },
   { action: 'help', keys: ['?'], does: 'this list of shortcuts' },
@@ -63,7 +67,12 @@ export const SHORTCUTS = [
 export const GESTURES = [
   { where: 'view', gesture: 'drag an object', does: 'move it (in record mode: perform a take)' },
   { where: 'view', gesture: 'drag a path handle', does: "move that control point of the object's path" },
-  { where: 'timeline', gesture: 'drag / Shift-drag', does: 'scrub / set the loop range' },
+  { where: 'timeline ruler', gesture: 'drag / Shift-drag', does: 'scrub / set the loop range' },
+  { where: 'timeline', gesture: 'click an object row', does: 'fold / unfold its lanes (wheel: scroll the lanes)' },
+  { where: 'timeline', gesture: "drag a take's block / its right edge", does: 'move the take / stretch it about its start (Ctrl: about the playhead)' },
+  { where: 'timeline', gesture: 'Alt-drag a lane', does: 'move its whole track (the selected lanes, if in the range)' },
+  { where: 'timeline', gesture: 'drag on empty time / Shift-drag', does: "select a range (across lanes); its right edge stretches the tracks; Esc drops a drag" },
+  { where: 'timeline', gesture: 'double-click a lane', does: 'select the loop range there (no loop: the whole track)' },
   { where: 'curves', gesture: 'drag a point, a key or a handle', does: 'move it (one undo step on release; Esc cancels)' },
   { where: 'curves', gesture: 'drag on empty space / Shift-click', does: 'box-select / add to the selection' },
   { where: 'curves', gesture: 'double-click a curve', does: 'insert a knot there' },
@@ -77,6 +86,8 @@ const PLAIN = { r: 'record', ' ': 'play', enter: 'stop', l: 'loop', c: 'camera',
   w: 'translate', e: 'rotate', s: 'scale', arrowleft: 'previous-frame', arrowright: 'next-frame', delete: 'delete',
   backspace: 'delete', f2: 'rename', home: 'frame-all', f: 'frame-selection', i: 'insert-knot', n: 'normalise',
   p: 'motion-paths', o: 'onion-skin', m: 'cue', '?': 'help' };
+/** @type {Record<string, KeyAction>} the keys with Ctrl (Cmd) that copy, cut and paste */
+const CLIPBOARD = { c: 'copy', x: 'cut', v: 'paste' };
 /** @type {Record<string, KeyAction>} the keys with Shift that do something else than without */
 const SHIFTED = { s: 'snap', d: 'duplicate' };
 
@@ -93,6 +104,7 @@ export function actionOf(e) {
   const key = e.key.toLowerCase();
   if (e.ctrlKey || e.metaKey) {
     if (key === 'z') return e.shiftKey ? 'redo' : 'undo';
+    if (CLIPBOARD[key]) return CLIPBOARD[key];
     return key === 'y' ? 'redo' : null;
   }
   if (e.altKey) return null;
@@ -131,7 +143,8 @@ function panelActions(studio) {
   const emit = (c) => () => studio.signals.emit('command', c);
   return { 'frame-all': emit('frame-all'), 'frame-selection': emit('frame-selection'), 'insert-knot': emit('insert-knot'),
     normalise: emit('normalise'), 'delete-points': emit('delete-points'), help: emit('help'),
-    'motion-paths': emit('motion-paths'), 'onion-skin': emit('onion-skin'), rename: emit('rename') };
+    'motion-paths': emit('motion-paths'), 'onion-skin': emit('onion-skin'), rename: emit('rename'),
+    'delete-range': emit('delete-range'), copy: emit('copy'), cut: emit('cut'), paste: emit('paste') };
 }
 
 /**

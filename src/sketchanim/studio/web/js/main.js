@@ -35,7 +35,7 @@ new Outliner(studio, $('outliner'), viewport);
 new Inspector(studio, $('inspector'));
 new Layers(studio, $('inspector'));
 new TransportBar(studio, $('transport'));
-new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
+const timeline = new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
 const curveEditor = new CurveEditor(studio, $('curves'));
 new Help(studio, /** @type {HTMLElement} */ (document.querySelector('header.top')), window);   // before the keys: its Escape goes first
 bindKeyboard(window, studioActions(studio, viewport));
@@ -82,4 +82,4 @@ window.addEventListener('blur', () => {
   if (studio.performer.grab && !viewport.drag && !viewport.pad) studio.performer.release();
 });
 
-Object.assign(window, { studio, viewport, curveEditor, cueFlash, studioStats: stats });
+Object.assign(window, { studio, viewport, curveEditor, cueFlash, timeline, studioStats: stats });

@@ -132,7 +132,7 @@
  * @property {string} path
  */
 
-/** @typedef {'rename' | 'mute' | 'unmute' | 'solo' | 'delete' | 'move' | 'keep'} TakeOp */
+/** @typedef {'rename' | 'mute' | 'unmute' | 'solo' | 'delete' | 'move' | 'keep' | 'shift' | 'scale'} TakeOp */
 
 /**
  * Change take `take` (its index in the track's takes) of the track at `path`: the track is
@@ -145,6 +145,53 @@
  * @property {TakeOp} op
  * @property {string | null} [name]   for `rename`
  * @property {number | null} [to]     for `move`: the take's new index
+ * @property {number | null} [by]     for `shift`: seconds later (earlier if negative)
+ * @property {number | null} [factor] for `scale`: the time scale (> 0)
+ * @property {number | null} [pivot]  for `scale`: the time that stays (null: the take's start)
+ */
+
+// -- the timeline: retiming and the clipboard -------------------------------------------------
+
+/**
+ * Retime tracks as a whole: time t goes to pivot + factor (t - pivot) + shift (one History step).
+ * @typedef {object} TrackRetime
+ * @property {'track.retime'} type
+ * @property {number | string | null} [id]
+ * @property {string[]} paths
+ * @property {number} [factor]
+ * @property {number} [pivot]
+ * @property {number} [shift]
+ */
+
+/**
+ * Delete the motion of tracks over (t0, t1): a curve bridged across (one History step).
+ * @typedef {object} TrackCut
+ * @property {'track.cut'} type
+ * @property {number | string | null} [id]
+ * @property {string[]} paths
+ * @property {number} t0
+ * @property {number} t1
+ */
+
+/**
+ * Copy a track's motion over (t0, t1) (answered by `track.piece`, the page's clipboard).
+ * @typedef {object} TrackCopy
+ * @property {'track.copy'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ * @property {number} t0
+ * @property {number} t1
+ */
+
+/**
+ * Put a copied piece on the track at `path` from time `at` (one History step).
+ * @typedef {object} TrackPaste
+ * @property {'track.paste'} type
+ * @property {number | string | null} [id]
+ * @property {string} path
+ * @property {number} at
+ * @property {Track} piece
+ * @property {number} length
  */
 
 /**
@@ -317,6 +364,15 @@
  */
 
 /**
+ * A copied range of the track at `path` (starting at 0, `length` seconds): the page's clipboard.
+ * @typedef {object} TrackPieceInfo
+ * @property {'track.piece'} type
+ * @property {string} path
+ * @property {Track} piece
+ * @property {number} length
+ */
+
+/**
  * Whether everything the pages were told is on disk: `ok`, else `error` says why the last
  * save failed and `since` when (epoch seconds) saves began to fail. The
  * server keeps what is not saved and saves it at the next chance.
@@ -462,14 +518,15 @@
  * What the page sends.
  * @typedef {Ping | StateRequest | SetValue | PreviewValue | ObjectAdd | ObjectDuplicate | ObjectRemove | ObjectRename
  *   | TakeBegin | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | TransportState | Export | ToleranceSet
- *   | CurvePoints | CurveKey | CurveKnots | TrackKey | TrackReduce | TrackSamples | TakeEdit | SettingsChange} PageMessage
+ *   | CurvePoints | CurveKey | CurveKnots | TrackKey | TrackReduce | TrackSamples | TakeEdit | SettingsChange
+ *   | TrackRetime | TrackCut | TrackCopy | TrackPaste} PageMessage
  */
 
 /**
  * What the server sends.
  * @typedef {StateSnapshot | Ready | Values | Tracks | History | PreviewValue | TransportState | TakeStarted
  *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice | Tolerances | TakeRunning
- *   | Saved | SettingsInfo | Reduced | Samples} ServerMessage
+ *   | Saved | SettingsInfo | Reduced | Samples | TrackPieceInfo} ServerMessage
  */
 
 /**

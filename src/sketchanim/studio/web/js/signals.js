@@ -41,6 +41,8 @@ export const SIGNALS = {
   projectSettings: /** @type {Signal<void>} */ (signal("the project's settings changed (studio.fps)")),
   reduced: /** @type {Signal<import('./messages.js').Reduced>} */ (signal('the server answered a track.reduce (a preview or the step done)')),
   samples: /** @type {Signal<import('./messages.js').Samples>} */ (signal('the server sent the samples a curve keeps')),
+  piece: /** @type {Signal<import('./messages.js').TrackPieceInfo>} */ (signal('a copied range came back (track.piece): the timeline keeps it as the clipboard')),
+  timeRange: /** @type {Signal<import('./Studio.js').TimeRange | null>} */ (signal('the range selected in the timeline changed (studio.timeRange)')),
   command: /** @type {Signal<import('./keyboard.js').PanelCommand>} */ (signal("a shortcut for a panel's own action (the panel that owns it acts)")),
   fired: /** @type {Signal<import('./events.js').Fired[]>} */ (signal('playback passed these events (in the order it passed them)')),
   frame: /** @type {Signal<number>} */ (signal('an animation frame was stepped, at this performance.now()')),
