@@ -14,14 +14,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sketchanim.anim.attributes import BOOL, COLOR, FOV, INTENSITY, ORIENTATION, POSITION, SCALE, AttributeType
+from sketchanim.anim.attributes import BOOL, COLOR, EVENT, FOV, INTENSITY, ORIENTATION, POSITION, SCALE, AttributeType
 from sketchanim.errors import ArgumentError
 
-#: Standard attributes of each object kind.
+#: Standard attributes of each object kind. A cue has no place in space: it holds an event
+#: track (the beats baked from a sound, cues to trigger).
 KINDS: dict[str, dict[str, AttributeType]] = {
     "object": {"position": POSITION, "orientation": ORIENTATION, "scale": SCALE, "visible": BOOL},
     "light": {"position": POSITION, "orientation": ORIENTATION, "color": COLOR, "intensity": INTENSITY, "on": BOOL},
     "camera": {"position": POSITION, "orientation": ORIENTATION, "fov": FOV},
+    "cue": {"event": EVENT},
 }
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_\-]{0,63}")

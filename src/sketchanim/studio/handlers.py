@@ -50,13 +50,18 @@ HANDLERS: dict[str, Handler] = {
     "track.samples": lambda s, m, client: s.kept_samples(m.path)(),
     "take.edit": lambda s, m, client: s.edit_take(m.path, m.take, m.op, m.name, m.to),
     "settings": lambda s, m, client: s.set_settings(m.fps),
+    # sounds (studio/sounds.py, studio/beats.py); the app finds beats beside the model's thread
+    "sound.set": lambda s, m, client: s.set_sound(m.name, m.offset),
+    "sound.remove": lambda s, m, client: s.remove_sound(m.name),
+    "sound.beats": lambda s, m, client: s.beats_found(s.beat_finding(m.name, m.path)()),
 }
 
 #: The messages that change the project (refused on a read-only one; a ``track.reduce``
 #: preview changes nothing and is not refused).
 EDITS = frozenset({"set", "preview", "object.add", "object.duplicate", "object.remove", "object.rename", "take.begin",
                    "take.samples", "take.end", "take.cancel", "undo", "redo", "tolerance.set", "curve.points",
-                   "curve.key", "curve.knots", "track.reduce", "take.edit", "settings"})
+                   "curve.key", "curve.knots", "track.reduce", "take.edit", "settings",
+                   "sound.set", "sound.remove", "sound.beats"})
 
 
 def check_writable(session: Session, message: p.Message) -> None:
