@@ -141,6 +141,8 @@ export class Studio {
     this.playMs = 0;
     /** @type {TimelineStrip[]} strips the timeline draws above its lanes, in order */
     this.strips = [];
+    /** @type {import('./messages.js').SoundInfo[]} the project's sounds (sound.js plays them) */
+    this.sounds = [];
     this.transport = new Transport(this);
     this.performer = new Performer(this);
     connection.connect((m) => this.receive(m), (open, code) => this.connectionChanged(open, code));
@@ -260,6 +262,8 @@ export class Studio {
       case 'settings': this.keepSettings(m); break;
       case 'reduced': this.signals.emit('reduced', m); break;
       case 'samples': this.signals.emit('samples', m); break;
+      case 'sounds': this.keepSounds(m.sounds); break;
+      case 'beats': this.signals.emit('beats', m); break;
       case 'take.started': case 'pong': case 'ack': case 'exported': break;    // nothing to show
       default: {
         /** @type {never} */
@@ -289,6 +293,7 @@ export class Studio {
     this.readOnly = !!m.read_only;
     if (m.saved) this.keepSaved(m.saved);
     if (m.settings) this.keepSettings(m.settings);
+    if (m.sounds) this.sounds = m.sounds;
     this.tracks = new Map(m.tracks.map((t) => [t.path, t]));
     this.span = m.span;
     this.tolerances = new Map(Object.entries(m.tolerances));
@@ -322,6 +327,15 @@ export class Studio {
   keepSettings(m) {
     this.fps = m.fps;
     this.signals.emit('projectSettings');
+  }
+
+  /**
+   * The project's sounds, as the server says (in `state` and `sounds`).
+   * @param {import('./messages.js').SoundInfo[]} sounds
+   */
+  keepSounds(sounds) {
+    this.sounds = sounds;
+    this.signals.emit('sounds');
   }
 
   /**

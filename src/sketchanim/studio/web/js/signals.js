@@ -42,6 +42,8 @@ export const SIGNALS = {
   reduced: /** @type {Signal<import('./messages.js').Reduced>} */ (signal('the server answered a track.reduce (a preview or the step done)')),
   samples: /** @type {Signal<import('./messages.js').Samples>} */ (signal('the server sent the samples a curve keeps')),
   command: /** @type {Signal<import('./keyboard.js').PanelCommand>} */ (signal("a shortcut for a panel's own action (the panel that owns it acts)")),
+  sounds: /** @type {Signal<void>} */ (signal("the project's sounds changed (studio.sounds)")),
+  beats: /** @type {Signal<import('./messages.js').BeatsBaked>} */ (signal("the server baked a sound's beats into an event track")),
   frame: /** @type {Signal<number>} */ (signal('an animation frame was stepped, at this performance.now()')),
 };
 

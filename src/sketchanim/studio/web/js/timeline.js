@@ -82,12 +82,20 @@ export class Timeline {
       g.fillText(`${+t.toFixed(3)}s`, xt + 3, 10);
     }
     g.stroke();
+    // the strips (a sound's waveform), under the ticks, above the lanes; the canvas grows to hold them
+    let top = 12;
+    for (const strip of s.strips) {
+      strip.draw(g, { x: 0, y: top, width: w, height: strip.height }, t0, t1);
+      top += strip.height;
+    }
+    const height = `${40 + top - 12}px`;
+    if (this.canvas.style.height !== height) this.canvas.style.height = height;
     // the selected object's takes, one row per animated attribute
     const name = s.selected;
     let row = 0;
     for (const track of s.tracks.values()) {
       if (!name || !track.path.startsWith(`${name}.`) || track.kind !== 'curve') continue;
-      const y = 15 + row * 7;
+      const y = top + 3 + row * 7;
       row += 1;
       g.fillStyle = track.path === `${name}.${s.attribute}` ? '#e8b04b' : '#6b7385';
       g.fillRect(x(track.start), y, Math.max(x(track.end) - x(track.start), 2), 4);
