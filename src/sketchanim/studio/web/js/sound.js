@@ -8,7 +8,9 @@
  * Playback: an `HTMLAudioElement` per sound (src = its URL), following the transport every
  * frame (`syncStep`, pure): at speed s > 0 `playbackRate = s` with `preservesPitch` (the pitch
  * is kept below and above 1x), re-seeked when it drifts more than one frame of the project's
- * frame rate from `transport.time - offset`; at a negative speed (playing backwards) and
+ * frame rate from `transport.time - offset`. A seek lands late by what the element takes to
+ * start (some 80 ms in Chromium): each seek's landing is measured and the next one aims that
+ * much ahead (`lead`, real seconds, times the speed); at a negative speed (playing backwards) and
  * outside the sound it is paused (silent); paused with the transport. Recording follows the
  * same clock, so the sound plays through the count-in and at the capture speed. Scrubbing
  * (the transport's time changing while paused) plays a grain of 60 ms at the new time through
@@ -28,6 +30,8 @@ export const GRAIN_GAP = 40;
 export const RATES = /** @type {const} */ ([0.0625, 16]);
 /** Least milliseconds between two re-seeks (a seek takes a while to land: measured again after). */
 export const SEEK_GAP = 250;
+/** Milliseconds after a seek before its landing is measured (the element's start-up). */
+export const SETTLE = 200;
 /** How many drift measurements a sound keeps (for the tests and the benchmark). */
 const KEEP = 20000;
 
@@ -97,6 +101,10 @@ class LoadedSound {
     this.audio.preload = 'auto';
     /** performance.now() of the last re-seek */
     this.seeked = -Infinity;
+    /** whether the last seek's landing is still to be measured */
+    this.landing = false;
+    /** real seconds a seek lands late (learnt from each landing; a seek aims this far ahead) */
+    this.lead = 0;
     /** @type {number[]} drift (s) measured at each frame it played */
     this.drifts = [];
     /** @type {number[]} transport time of each measurement */
@@ -284,6 +292,10 @@ export class SoundPanel {
     for (const s of this.loaded.values()) {
       const step = syncStep({ time: t.time, playing: t.clock.playing, speed: t.clock.speed, offset: s.info.offset,
         duration: s.buffer.duration, position: s.audio.currentTime, paused: s.audio.paused, frame });
+      if (step.drift !== null && !s.audio.seeking && s.landing && now - s.seeked >= SETTLE) {
+        s.lead = Math.min(0.5, Math.max(0, s.lead - step.drift / step.rate));     // land on time next time
+        s.landing = false;
+      }
       if (step.drift !== null && !s.audio.seeking) {
         s.drifts.push(step.drift);
         s.times.push(t.time);
@@ -292,17 +304,27 @@ export class SoundPanel {
       if (s.audio.playbackRate !== step.rate && step.rate >= RATES[0] && step.rate <= RATES[1]) s.audio.playbackRate = step.rate;
       if (step.action === 'pause') s.audio.pause();
       else if (step.action === 'play') {
-        s.audio.currentTime = step.at;
-        s.seeked = now;
+        this.seek(s, step, now);
         s.audio.play().catch((err) => this.show(`sound ${s.info.name}: the browser will not play it (${err.message})`, true));
       } else if (step.action === 'seek' && !s.audio.seeking && now - s.seeked > SEEK_GAP) {
-        s.audio.currentTime = step.at;
-        s.seeked = now;
+        this.seek(s, step, now);
         s.seeks += 1;
       }
     }
     if (!t.clock.playing && t.time !== this.lastTime) this.grain(now, t.time);
     this.lastTime = t.time;
+  }
+
+  /**
+   * Seek sound `s` to where the transport will be when the seek lands (`lead` ahead).
+   * @param {LoadedSound} s
+   * @param {SyncStep} step
+   * @param {number} now performance.now()
+   */
+  seek(s, step, now) {
+    s.audio.currentTime = Math.min(Math.max(0, step.at + s.lead * step.rate), s.buffer.duration);
+    s.seeked = now;
+    s.landing = true;
   }
 
   /**
@@ -327,7 +349,7 @@ export class SoundPanel {
 
   /** What the tests and the benchmark read: each sound's drift measurements and state. */
   report() {
-    return [...this.loaded.values()].map((s) => ({ name: s.info.name, drifts: s.drifts, times: s.times, seeks: s.seeks,
+    return [...this.loaded.values()].map((s) => ({ name: s.info.name, drifts: s.drifts, times: s.times, seeks: s.seeks, lead: s.lead,
       rate: s.audio.playbackRate, paused: s.audio.paused, muted: s.audio.muted, position: s.audio.currentTime,
       preservesPitch: s.audio.preservesPitch, peaks: s.pyramid.levels.length }));
   }
