@@ -99,3 +99,18 @@ def test_non_audio_bytes_are_refused_on_the_page_and_change_nothing(studio, _pag
     assert page.locator("[data-testid=notices]").text_content().count("song.wav") >= 1
     assert project(studio) == before
     assert page.evaluate("sounds.report().length") == 0
+
+
+def test_recording_plays_the_sound_through_the_count_in_and_at_the_capture_speed(studio, _page, tmp_path):
+    page = _page(studio)
+    _import(page, _wav(tmp_path / "beat.wav", 8.0))
+    page.evaluate("""() => { const t = studio.transport; t.seek(3); t.setCountIn(1); t.setCaptureSpeed(0.5);
+        sounds.report()[0].drifts.length = 0; sounds.report()[0].times.length = 0; t.setRecord(true); }""")
+    page.wait_for_timeout(3000)
+    report = page.evaluate("() => { const r = sounds.report()[0]; studio.transport.setRecord(false); return r; }")
+    times, drifts = np.array(report["times"]), np.array(report["drifts"])
+    assert report["rate"] == 0.5 and report["preservesPitch"]
+    assert times.min() < 3.0, "the sound did not play during the count-in (from 2.5 s)"
+    assert times.min() >= 2.5 - 1e-9 and times.max() > 3.0
+    settled = drifts[times >= 2.5 + 0.5]                       # after a second of real time
+    assert len(settled) > 5 and np.abs(settled).max() <= 1 / page.evaluate("studio.fps")
