@@ -319,7 +319,7 @@ def sound_drift(browser, url: str, folder: Path, minutes: float) -> dict:  # noq
                            "return {drifts: r.drifts, times: r.times, seeks: r.seeks, lead: r.lead}; }")
     fps = page.evaluate("studio.fps")
     page.close()
-    return {"drift": np.abs(np.array(report["drifts"])), "times": np.array(report["times"]), "seeks": report["seeks"],
+    return {"drift": np.abs(np.array(report["drifts"])), "signed": np.array(report["drifts"]), "times": np.array(report["times"]), "seeks": report["seeks"],
             "lead": report["lead"], "fps": fps, "whole": np.array(draw["whole"]), "zoomed": np.array(draw["zoomed"])}
 
 

@@ -330,6 +330,19 @@ export class Studio {
   }
 
   /**
+   * The span playback covers: the tracks' and the sounds' (each from its offset for its
+   * duration); the transport stops at its end, the timeline shows it.
+   * @returns {[number, number]}
+   */
+  get playSpan() {
+    const sounds = this.sounds.filter((s) => s.status !== 'missing');
+    if (!sounds.length) return this.span;
+    const empty = this.span[1] <= this.span[0];
+    return [Math.min(empty ? Infinity : this.span[0], ...sounds.map((s) => s.offset)),
+      Math.max(empty ? -Infinity : this.span[1], ...sounds.map((s) => s.offset + s.duration))];
+  }
+
+  /**
    * The project's sounds, as the server says (in `state` and `sounds`).
    * @param {import('./messages.js').SoundInfo[]} sounds
    */

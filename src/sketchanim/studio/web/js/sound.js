@@ -293,7 +293,10 @@ export class SoundPanel {
       const step = syncStep({ time: t.time, playing: t.clock.playing, speed: t.clock.speed, offset: s.info.offset,
         duration: s.buffer.duration, position: s.audio.currentTime, paused: s.audio.paused, frame });
       if (step.drift !== null && !s.audio.seeking && s.landing && now - s.seeked >= SETTLE) {
-        s.lead = Math.min(0.5, Math.max(0, s.lead - step.drift / step.rate));     // land on time next time
+        // land on time next time: the first landing sets the lead, later ones move it halfway (a stalled frame
+        // measures more than the element's start-up)
+        const lead = Math.min(0.5, Math.max(0, s.lead - step.drift / step.rate));
+        s.lead = s.seeks ? (s.lead + lead) / 2 : lead;
         s.landing = false;
       }
       if (step.drift !== null && !s.audio.seeking) {

@@ -29,7 +29,7 @@ export class Timeline {
 
   range() {
     const s = this.studio;
-    return viewRange(s.span, s.transport.clock.loop, s.transport.time);
+    return viewRange(s.playSpan, s.transport.clock.loop, s.transport.time);
   }
 
   bind() {
