@@ -114,3 +114,23 @@ def test_recording_plays_the_sound_through_the_count_in_and_at_the_capture_speed
     assert times.min() >= 2.5 - 1e-9 and times.max() > 3.0
     settled = drifts[times >= 2.5 + 0.5]                       # after a second of real time
     assert len(settled) > 5 and np.abs(settled).max() <= 1 / page.evaluate("studio.fps")
+
+
+def test_the_beats_button_bakes_the_onsets_into_an_event_track_one_undo_step(studio, _page, tmp_path):
+    import librosa
+
+    page = _page(studio)
+    clicks = np.array([0.4, 0.9, 1.3, 1.9, 2.2, 2.8])
+    path = tmp_path / "clicks.wav"
+    soundfile.write(path, librosa.clicks(times=clicks, sr=RATE, length=3 * RATE), RATE)
+    _import(page, path)
+    steps = page.evaluate("studio.history.undo.length")
+    page.click("[data-testid=sound-beats]")
+    page.wait_for_function("() => studio.tracks.has('beats.event')", timeout=120_000)
+    track = page.evaluate("studio.tracks.get('beats.event')")
+    assert np.abs(np.array(track["times"]) - clicks).max() <= 1 / page.evaluate("studio.fps")
+    assert page.evaluate("studio.history.undo.length") == steps + 1
+    assert page.locator("#outliner [data-object=beats]").count() == 1
+    page.evaluate("studio.undo()")
+    page.wait_for_function("() => !studio.tracks.has('beats.event') && !studio.objectOf('beats')")
+    assert page.errors == []

@@ -32,6 +32,8 @@ export const RATES = /** @type {const} */ ([0.0625, 16]);
 export const SEEK_GAP = 250;
 /** Milliseconds after a seek before its landing is measured (the element's start-up). */
 export const SETTLE = 200;
+/** Real seconds: a seek landing further off than this was a stalled page (not learnt from). */
+export const STALL = 0.3;
 /** How many drift measurements a sound keeps (for the tests and the benchmark). */
 const KEEP = 20000;
 
@@ -293,10 +295,8 @@ export class SoundPanel {
       const step = syncStep({ time: t.time, playing: t.clock.playing, speed: t.clock.speed, offset: s.info.offset,
         duration: s.buffer.duration, position: s.audio.currentTime, paused: s.audio.paused, frame });
       if (step.drift !== null && !s.audio.seeking && s.landing && now - s.seeked >= SETTLE) {
-        // land on time next time: the first landing sets the lead, later ones move it halfway (a stalled frame
-        // measures more than the element's start-up)
-        const lead = Math.min(0.5, Math.max(0, s.lead - step.drift / step.rate));
-        s.lead = s.seeks ? (s.lead + lead) / 2 : lead;
+        // land on time next time (a landing off by more than STALL is a stalled page, not the element: not learnt)
+        if (Math.abs(step.drift / step.rate) < STALL) s.lead = Math.min(STALL, Math.max(0, s.lead - step.drift / step.rate));
         s.landing = false;
       }
       if (step.drift !== null && !s.audio.seeking) {
