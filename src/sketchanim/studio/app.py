@@ -449,7 +449,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
         except InputError as err:
             raise HTTPException(http_status(err), str(err)) from None
         hub.send(await hub.call(session.add_sound, sound), None)
-        return next(s for s in (await hub.call(session.state))["sounds"] if s["name"] == name)
+        return await hub.call(session.sound_info, name)
 
     @app.get("/api/sounds/{name}", response_class=FileResponse)
     async def sound_file(name: str) -> FileResponse:

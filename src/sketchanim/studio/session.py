@@ -454,7 +454,11 @@ class Session:
     # -- sounds (studio/sounds.py: a project setting; studio/beats.py: a History step) ----------
 
     def _sound_info(self) -> list[p.SoundInfo]:
-        return [p.SoundInfo(**s.model_dump(), url=f"/api/sounds/{quote(s.name)}") for s in self.sounds.docs()]
+        return [self.sound_info(s.name) for s in self.sounds.docs()]
+
+    def sound_info(self, name: str) -> p.SoundInfo:
+        """The sound ``name`` as the pages see it (with the URL that serves it)."""
+        return p.SoundInfo(**self.sounds.get(name).model_dump(), url=f"/api/sounds/{quote(name)}")
 
     def _sounds_told(self) -> list[p.Out]:
         self.editor.dirty = True
