@@ -451,7 +451,19 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
         hub.send(await hub.call(session.add_sound, sound), None)
         return await hub.call(session.sound_info, name)
 
-    @app.get("/api/sounds/{name}", response_class=FileResponse)
+    @app.get("/api/sounds", response_model=list[protocol.SoundInfo])
+    async def sounds() -> list[protocol.SoundInfo]:
+        """The project's sounds (as ``state.sounds``)."""
+        return await hub.call(hub.session.sound_infos)
+
+    @app.api_route("/api/sounds", methods=["PUT", "PATCH", "DELETE", "OPTIONS"], include_in_schema=False)
+    async def sounds_other() -> Response:
+        """Not a method of ``/api/sounds`` (answered here, not by the page's static files)."""
+        return Response(status_code=405, headers={"Allow": "GET, HEAD, POST"})
+
+    @app.get("/api/sounds/{name}", response_class=FileResponse,
+             responses={200: {"content": {"audio/*": {}}, "description": "the sound's file"},
+                        404: {"description": "no such sound, or its file is missing"}})
     async def sound_file(name: str) -> FileResponse:
         """The file of the sound ``name`` (ranges served, for the page's audio element)."""
         try:

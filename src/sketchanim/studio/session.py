@@ -165,7 +165,7 @@ class Session:
                               take=None if take is None else take.info(self.editor),
                               tolerances=self._tolerance_info(), saved=self.saving.info(),
                               read_only=self.read_only, settings=p.SettingsInfo(fps=self.fps),
-                              sounds=self._sound_info()))
+                              sounds=self.sound_infos()))
 
     def _tolerance_info(self) -> dict[str, p.ToleranceInfo]:
         return {path: p.ToleranceInfo(amount=t.amount, unit=t.unit) for path, t in self.tolerances.items()}
@@ -453,7 +453,8 @@ class Session:
 
     # -- sounds (studio/sounds.py: a project setting; studio/beats.py: a History step) ----------
 
-    def _sound_info(self) -> list[p.SoundInfo]:
+    def sound_infos(self) -> list[p.SoundInfo]:
+        """The project's sounds as the pages see them."""
         return [self.sound_info(s.name) for s in self.sounds.docs()]
 
     def sound_info(self, name: str) -> p.SoundInfo:
@@ -462,7 +463,7 @@ class Session:
 
     def _sounds_told(self) -> list[p.Out]:
         self.editor.dirty = True
-        return [("all", p.wire(p.Sounds(sounds=self._sound_info())))]
+        return [("all", p.wire(p.Sounds(sounds=self.sound_infos())))]
 
     def add_sound(self, sound: SoundDoc) -> list[p.Out]:
         """List ``sound``, stored by :meth:`.sounds.SoundShelf.stored`, among the project's;
