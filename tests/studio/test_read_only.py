@@ -41,6 +41,9 @@ EDIT_MESSAGES = [
     {"type": "track.reduce", "paths": ["box.position"], "tol": 0.01},
     {"type": "take.edit", "path": "box.position", "take": 0, "op": "mute"},
     {"type": "settings", "fps": 30},
+    {"type": "sound.set", "name": "a.wav", "offset": 1},
+    {"type": "sound.remove", "name": "a.wav"},
+    {"type": "sound.beats", "name": "a.wav"},
 ]
 
 

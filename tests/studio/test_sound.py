@@ -187,3 +187,19 @@ def test_the_duration_is_the_frames_over_the_rate(frames, rate):
     buffer = io.BytesIO()
     soundfile.write(buffer, np.zeros(frames), rate, format="WAV")
     assert abs(decoded(buffer.getvalue(), "x.wav").duration - frames / rate) <= 1e-12
+
+
+def test_a_read_only_project_refuses_an_import_and_writes_nothing(tmp_path):
+    from fastapi.testclient import TestClient
+
+    from sketchanim.studio.app import create_app
+
+    path = tmp_path / "ro.sketchanim"
+    Session(path).close()
+    app = create_app(path, warm=False, read_only=True)
+    with TestClient(app) as client:
+        reply = upload(client, "a.wav", wav(0.2))
+        assert reply.status_code == 403 and "read-only" in reply.json()["detail"]
+        assert client.get("/api/sounds").json() == []
+    app.state.hub.session.close()
+    assert not (tmp_path / "ro.sounds").exists()
