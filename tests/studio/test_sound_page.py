@@ -134,3 +134,18 @@ def test_the_beats_button_bakes_the_onsets_into_an_event_track_one_undo_step(stu
     page.evaluate("studio.undo()")
     page.wait_for_function("() => !studio.tracks.has('beats.event') && !studio.objectOf('beats')")
     assert page.errors == []
+
+
+def test_a_file_over_200_mb_is_refused_on_the_page_and_changes_nothing(studio, _page, tmp_path):
+    page = _page(studio)
+    before = project(studio)
+    big = tmp_path / "huge.wav"
+    with big.open("wb") as out:                                  # a sparse file: 201 MiB of nothing
+        out.truncate(201 * 2**20)
+    page.set_input_files("[data-testid=import-audio]", str(big))
+    page.wait_for_function("() => document.querySelector('[data-testid=sound-status]').textContent.includes('not imported')",
+                           timeout=60_000)
+    text = page.locator("[data-testid=sound-status]").text_content()
+    assert "huge.wav" in text and "209715200 bytes" in text
+    assert project(studio) == before
+    assert not (tmp_path / "studio.sounds").exists()
