@@ -149,3 +149,27 @@ def test_a_file_over_200_mb_is_refused_on_the_page_and_changes_nothing(studio, _
     assert "huge.wav" in text and "209715200 bytes" in text
     assert project(studio) == before
     assert not (tmp_path / "studio.sounds").exists()
+
+
+def test_a_changed_or_missing_sound_is_a_notice_on_the_page(tmp_path, _page):
+    from sketchanim.project.store import Project
+    from sketchanim.studio.defaults import default_scene
+    from sketchanim.studio.sounds import SoundShelf
+    from studio_browser import studio_server
+
+    path = tmp_path / "show.sketchanim"                        # made without a Session: no reducer processes here
+    shelf = SoundShelf(path, [])
+    sounds = [shelf.stored(name, _wav(tmp_path / name, 1.0).read_bytes()) for name in ("gone.wav", "edited.wav")]
+    with Project(path) as made:
+        made.save(default_scene(), {}, sounds=sounds)
+    (tmp_path / "show.sounds" / "gone.wav").unlink()
+    _wav(tmp_path / "show.sounds" / "edited.wav", 1.5)
+    with studio_server(path) as url:
+        page = _page(url)
+        page.wait_for_function("() => sounds.report().length === 1")        # the changed one still plays
+        notices = page.locator("[data-testid=notices]").text_content()
+        assert "gone.wav" in notices and "missing" in notices
+        assert "edited.wav" in notices and "changed" in notices
+        rows = page.locator("[data-testid=sound-list]").text_content()
+        assert "missing" in rows and "changed" in rows
+        assert {s["name"]: s["status"] for s in project(url)["sounds"]} == {"gone.wav": "missing", "edited.wav": "changed"}
