@@ -580,7 +580,7 @@ class Session:
         self.flush()
         if self.editor.dirty:
             try:
-                where = rescue(self.path, self.scene, self.player.tracks, self.tolerances)
+                where = rescue(self.path, self.scene, self.player.tracks, self.tolerances, self.sounds.docs())
                 log.error("%s could not be saved; everything is in %s (open it with sketchanim studio)",
                           self.path, where)
             except OSError as err:
