@@ -1,7 +1,8 @@
 """The studio page in a browser (Debian's chromium, headless, WebGL through SwiftShader,
 driven by Playwright) against a real server.
 
-    .venv/bin/python benchmarks/bench_studio.py [--takes 20] [--objects 50] [--seconds 4] [--only page|curves|timeline]
+    .venv/bin/python benchmarks/bench_studio.py [--takes 20] [--objects 50] [--seconds 4] [--only page|curves|timeline|sound]
+                                                [--sound-minutes 5]
 
 1. Capture: ``--takes`` drags of the box in record mode (0.4 to 1.2 s each): samples per
    second of each take against the page's frame rate (one sample per animation frame is
@@ -24,6 +25,11 @@ driven by Playwright) against a real server.
    above them, the view spanning the 10 min: the timeline's draw, everything painted again
    each frame, then the playhead alone moving (what playback draws), median and p99 ms
    (target: a few ms).
+6. Sound (``--only sound``, not in the default run): a WAV of ``--sound-minutes`` imported, played through at 1x:
+   the audio element's drift against the transport at every frame (``audio.currentTime -
+   (transport.time - offset)``), p50 / p99 of its size in ms (target: within a frame, 41.7
+   ms at 24 fps), and the re-seeks it took; and the waveform strip's drawing of the whole
+   sound and of 2 s of it across 1,600 px (the peak pyramid's columns).
 
 Software WebGL draws every pixel on the CPU, so the frame rate here is bounded by
 rasterisation on this machine, not by the page's script; the script times are what a
@@ -252,9 +258,13 @@ def main() -> None:
     parser.add_argument("--takes", type=int, default=20)
     parser.add_argument("--objects", type=int, default=50)
     parser.add_argument("--seconds", type=float, default=4.0)
-    parser.add_argument("--only", choices=("page", "curves", "timeline"),
-                        help="only sections 1-2 (page), 3-4 (curves) or 5 (timeline)")
+    parser.add_argument("--only", choices=("page", "curves", "timeline", "sound"),
+                        help="only sections 1-2 (page), 3-4 (curves), 5 (timeline) or 6 (sound)")
+    parser.add_argument("--sound-minutes", type=float, default=5.0, help="the sound's length and its playback's")
     args = parser.parse_args()
+    if args.only == "sound":
+        sound_bench(Console(), args.sound_minutes)
+        return
     from playwright.sync_api import sync_playwright
 
     rng = np.random.default_rng(7)
@@ -341,6 +351,65 @@ def curve_tables(console: Console, editor: dict, tol: dict) -> None:
     table.add_row("slider move to its preview, ms", f"{np.median(tol['preview']):.1f}", f"{tol['preview'].max():.1f}")
     table.add_row("frame interval meanwhile, ms", f"{np.median(tol['interval']):.1f}", f"{tol['interval'].max():.1f}")
     table.add_row("page script per frame meanwhile, ms", f"{np.median(tol['script']):.2f}", f"{tol['script'].max():.2f}")
+    console.print(table)
+
+
+
+# -- 5. sound ---------------------------------------------------------------------------------
+
+
+def sound_drift(browser, url: str, folder: Path, minutes: float) -> dict:  # noqa: ANN001
+    """Import a WAV of ``minutes`` (22.05 kHz mono, a swelling tone), play it through at 1x;
+    each frame's drift (s), the re-seeks, and the waveform strip's drawing times (ms)."""
+    import soundfile
+    import urllib.request
+
+    rate = 22050
+    t = np.arange(int(minutes * 60 * rate)) / rate
+    path = folder / "long.wav"
+    soundfile.write(path, 0.8 * np.abs(np.sin(np.pi * t)) * np.sin(2 * np.pi * 220 * t), rate, subtype="PCM_16")
+    page = open_page(browser, url)
+    request = urllib.request.Request(url + "api/sounds?name=long.wav", data=path.read_bytes(), method="POST")
+    with urllib.request.urlopen(request, timeout=120) as reply:
+        assert reply.status == 200
+    page.wait_for_function("() => sounds.report().length === 1", timeout=300_000)
+    draw = page.evaluate("""() => { const strip = studio.strips.find((s) => s.id === 'sound:long.wav');
+        const canvas = new OffscreenCanvas(1600, 28); const g = canvas.getContext('2d');
+        const area = {x: 0, y: 0, width: 1600, height: 28}; const d = studio.sounds[0].duration;
+        const time = (t0, t1) => { const out = []; for (let i = 0; i < 50; i++) {
+            const a = performance.now(); strip.draw(g, area, t0, t1); out.push(performance.now() - a); } return out; };
+        return {whole: time(0, d), zoomed: time(d / 2, d / 2 + 2)}; }""")
+    page.evaluate("() => { const t = studio.transport; t.seek(0); t.setSpeed(1); t.play(); }")
+    page.wait_for_timeout(int(minutes * 60 * 1000))
+    report = page.evaluate("() => { studio.transport.pause(); const r = sounds.report()[0]; "
+                           "return {drifts: r.drifts, times: r.times, seeks: r.seeks, lead: r.lead}; }")
+    fps = page.evaluate("studio.fps")
+    page.close()
+    return {"drift": np.abs(np.array(report["drifts"])), "signed": np.array(report["drifts"]), "times": np.array(report["times"]), "seeks": report["seeks"],
+            "lead": report["lead"], "fps": fps, "whole": np.array(draw["whole"]), "zoomed": np.array(draw["zoomed"])}
+
+
+def sound_bench(console: Console, minutes: float) -> None:
+    """Section 5: a studio on a fresh project, a sound of ``minutes`` played through."""
+    from playwright.sync_api import sync_playwright
+
+    with tempfile.TemporaryDirectory() as tmp, sync_playwright() as p:
+        browser = launch(p)
+        with studio_server(Path(tmp) / "sound.sketchanim") as url:
+            m = sound_drift(browser, url, Path(tmp), minutes)
+        browser.close()
+    settled = m["drift"][m["times"] >= 1.0]          # after the first second: the element started, a seek learnt
+    frame = 1000 / m["fps"]
+    table = Table(title=f"Sound: {minutes:g} min played through at 1x ({len(m['drift'])} frames, {m['seeks']} re-seeks, "
+                        f"a seek aims {m['lead'] * 1000:.0f} ms ahead)")
+    for col in ("measure", "p50", "p99", "max", "target"):
+        table.add_column(col, justify="right" if col != "measure" else "left")
+    for label, values in (("drift, ms (all frames)", m["drift"] * 1000), ("drift, ms (after 1 s)", settled * 1000)):
+        table.add_row(label, f"{np.median(values):.1f}", f"{np.percentile(values, 99):.1f}", f"{values.max():.1f}",
+                      f"<= {frame:.1f}")
+    for label, values in (("waveform strip, whole sound, 1,600 px, ms", m["whole"]),
+                          ("waveform strip, 2 s of it, 1,600 px, ms", m["zoomed"])):
+        table.add_row(label, f"{np.median(values):.2f}", f"{np.percentile(values, 99):.2f}", f"{values.max():.2f}", "")
     console.print(table)
 
 

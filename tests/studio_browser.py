@@ -24,7 +24,8 @@ import numpy as np
 from scipy.interpolate import BSpline
 
 ROOT = Path(__file__).resolve().parents[1]
-CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                 "--autoplay-policy=no-user-gesture-required"]   # the sound plays without a click (tests)
 
 
 def chromium() -> str:

@@ -45,6 +45,9 @@ EDIT_MESSAGES = [
     {"type": "track.cut", "paths": ["box.position"], "t0": 0, "t1": 1},
     {"type": "track.paste", "path": "box.position", "at": 0, "length": 1,
      "piece": {"path": "box.visible", "kind": "steps", "times": [0.5], "values": [False]}},
+    {"type": "sound.set", "name": "a.wav", "offset": 1},
+    {"type": "sound.remove", "name": "a.wav"},
+    {"type": "sound.beats", "name": "a.wav"},
 ]
 
 

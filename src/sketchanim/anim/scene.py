@@ -18,12 +18,14 @@ from sketchanim.anim.attributes import BOOL, COLOR, EVENT, FOV, INTENSITY, ORIEN
 from sketchanim.errors import ArgumentError
 
 #: Standard attributes of each object kind; every kind has ``cue``, its events (what the
-#: animator marks on it while performing: a hit, a cut, a line of dialogue).
+#: animator marks on it while performing: a hit, a cut, a line of dialogue). A cue object has
+#: no place in space: it holds events alone (the beats baked from a sound, cues to trigger).
 KINDS: dict[str, dict[str, AttributeType]] = {
     "object": {"position": POSITION, "orientation": ORIENTATION, "scale": SCALE, "visible": BOOL, "cue": EVENT},
     "light": {"position": POSITION, "orientation": ORIENTATION, "color": COLOR, "intensity": INTENSITY, "on": BOOL,
               "cue": EVENT},
     "camera": {"position": POSITION, "orientation": ORIENTATION, "fov": FOV, "cue": EVENT},
+    "cue": {"cue": EVENT},
 }
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_\-]{0,63}")

@@ -80,6 +80,25 @@ class ToleranceDoc(_Doc):
     unit: Literal["px", "units"]
 
 
+#: What a sound's file was found to be when the project was loaded or the sound imported:
+#: as imported, gone from its place, or different (its checksum is not the one recorded).
+SoundStatus = Literal["ok", "missing", "changed"]
+
+
+class SoundDoc(_Doc):
+    """A sound the project refers to (stored by reference, with its checksum): its
+    ``name``, its file's ``path`` relative to the project's folder, the file's SHA-256,
+    its ``duration`` in seconds, the ``offset`` in seconds where it starts on the
+    timeline, and its ``status`` when last checked (:data:`SoundStatus`)."""
+
+    name: Annotated[str, Field(min_length=1, max_length=255)]
+    path: Annotated[str, Field(min_length=1, max_length=1024)]
+    sha256: Annotated[str, Field(pattern=r"^[0-9a-f]{64}$")]
+    duration: Annotated[float, Field(ge=0, allow_inf_nan=False)]
+    offset: _Number = 0.0
+    status: SoundStatus = "ok"
+
+
 class ProjectDoc(_Doc):
     """The scene and its tracks (a take's samples live in the ``takes`` table and are
     referenced by id), the take tolerances by attribute path (none in a document
@@ -103,6 +122,8 @@ class ProjectDoc(_Doc):
     loops: dict[int, tuple[Annotated[str, Field(max_length=128)], Annotated[int, Field(ge=0)]]] = Field(
         default_factory=dict, max_length=100_000)
     fps: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] = DEFAULT_FPS
+    #: the sounds, by reference (none in a document from before them)
+    sounds: list[SoundDoc] = Field(default_factory=list, max_length=10_000)
 
 
 def load_document(text: str, source: str) -> ProjectDoc:
@@ -116,9 +137,9 @@ def load_document(text: str, source: str) -> ProjectDoc:
 
 
 def to_document(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None,
-                fps: float = DEFAULT_FPS) -> tuple[ProjectDoc, list[Take]]:
+                fps: float = DEFAULT_FPS, sounds: list[SoundDoc] | None = None) -> tuple[ProjectDoc, list[Take]]:
     """The document of a scene, its tracks, take tolerances (those of attributes the
-    scene holds) and frame rate, and the takes it refers to by index.
+    scene holds), frame rate and sounds, and the takes it refers to by index.
 
     >>> scene = Scene(); _ = scene.add("box")
     >>> doc, _ = to_document(scene, {}, {"box.position": ToleranceDoc(amount=2, unit="px"),
@@ -152,7 +173,7 @@ def to_document(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, To
                       names={i: t.name for i, t in enumerate(takes) if t.name},
                       muted=[i for i, t in enumerate(takes) if t.muted],
                       loops={i: (t.loop, t.loop_pass) for i, t in enumerate(takes) if t.loop is not None},
-                      fps=fps), takes
+                      fps=fps, sounds=list(sounds or [])), takes
 
 
 def _holds(scene: Scene, path: str) -> bool:

@@ -29,8 +29,8 @@ from sketchanim.errors import FileFormatError, InputError, load_json
 from sketchanim.project.checksums import CHECKSUMS, document_digest, take_digest
 from sketchanim.project.database import (COLUMNS, CREATE_TABLES, FORMAT, FORMAT_VERSION, MAX_TAKE_SAMPLES, connect,
                                          floats, reading, use_wal, writable)
-from sketchanim.project.document import (DEFAULT_FPS, MAX_DOCUMENT_BYTES, ToleranceDoc, document_tolerances, from_document,
-                                         load_document, to_document)
+from sketchanim.project.document import (DEFAULT_FPS, MAX_DOCUMENT_BYTES, SoundDoc, ToleranceDoc, document_tolerances,
+                                         from_document, load_document, to_document)
 from sketchanim.project.journal import Journal, journaled_take
 
 
@@ -153,16 +153,17 @@ class Project:
     # -- documents --------------------------------------------------------------------------
 
     def save(self, scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None,
-             fps: float = DEFAULT_FPS) -> None:
+             fps: float = DEFAULT_FPS, sounds: list[SoundDoc] | None = None) -> None:
         """Store the scene, the tracks (with their takes), the take tolerances (those
-        of attributes the scene holds) and the frame rate in one transaction; the
+        of attributes the scene holds), the frame rate and the sounds (references to
+        their files) in one transaction; the
         journal of a take now stored is cleared with it; the checksums with them (an
         older project gets them here). A project opened read-only, or whose tables
         cannot be written, raises :class:`FileFormatError` and is left as it was."""
         source = str(self.path)
         if self.read_only:
             raise FileFormatError(source, "opened read-only: cannot save (export it, or save to a writable copy)")
-        doc, takes = to_document(scene, tracks, tolerances, fps)
+        doc, takes = to_document(scene, tracks, tolerances, fps, sounds)
         body = doc.model_dump_json()
         rows = [(i, t.mode, float(t.blend), t.values.shape[1], len(t.times), np.asarray(t.times, "<f8").tobytes(),
                  np.asarray(t.values, "<f8").tobytes()) for i, t in enumerate(takes)]
@@ -220,6 +221,15 @@ class Project:
         with reading(source, "unreadable"):
             row = self.db.execute("SELECT body FROM documents WHERE name = 'project'").fetchone()
         return DEFAULT_FPS if row is None else load_document(row[0], source).fps
+
+    def sounds(self) -> list[SoundDoc]:
+        """The sounds last saved, as the document recorded them (none in a new project
+        or one from before sounds; their files are checked by the studio,
+        :func:`sketchanim.studio.sounds.checked`)."""
+        source = str(self.path)
+        with reading(source, "unreadable"):
+            row = self.db.execute("SELECT body FROM documents WHERE name = 'project'").fetchone()
+        return [] if row is None else load_document(row[0], source).sounds
 
     def salvage(self) -> Salvaged:
         """Everything undamaged in the project: the scene and its tracks if the document
@@ -283,7 +293,7 @@ class Project:
         """Write the project as saved, takes included, as one JSON file (atomically;
         :func:`export_text`)."""
         scene, tracks = self.load()
-        return write_atomic(path, export_text(scene, tracks, self.tolerances(scene), self.fps()))
+        return write_atomic(path, export_text(scene, tracks, self.tolerances(scene), self.fps(), self.sounds()))
 
     def import_json(self, path: str | os.PathLike[str]) -> None:
         """Replace the project's contents by a JSON file written by :meth:`export_json`."""
@@ -303,7 +313,7 @@ class Project:
             raise FileFormatError(source, f"not a project export ({type(err).__name__}: {err})") from None
         doc = load_document(json.dumps(body), source)
         scene, tracks = from_document(doc, takes, source)
-        self.save(scene, tracks, document_tolerances(doc, scene, source), doc.fps)
+        self.save(scene, tracks, document_tolerances(doc, scene, source), doc.fps, doc.sounds)
 
     # -- the journal -------------------------------------------------------------------------
 
@@ -324,7 +334,7 @@ class Project:
 
 
 def export_text(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, ToleranceDoc] | None = None,
-                fps: float = DEFAULT_FPS) -> str:
+                fps: float = DEFAULT_FPS, sounds: list[SoundDoc] | None = None) -> str:
     """The project export's JSON (what :meth:`Project.export_json` writes and
     :meth:`Project.import_json` reads): the document, with every take's samples.
 
@@ -333,7 +343,7 @@ def export_text(scene: Scene, tracks: dict[str, Track], tolerances: dict[str, To
     >>> [o["name"] for o in body["objects"]], body["takes"]
     (['box'], [])
     """
-    doc, takes = to_document(scene, tracks, tolerances, fps)
+    doc, takes = to_document(scene, tracks, tolerances, fps, sounds)
     body = json.loads(doc.model_dump_json())
     body["takes"] = [{"mode": t.mode, "blend": t.blend, "times": t.times.tolist(), "values": t.values.tolist()}
                      for t in takes]

@@ -22,8 +22,8 @@ from pathlib import Path
 from urllib.parse import urlsplit
 
 import anyio
-from fastapi import FastAPI, WebSocket, WebSocketDisconnect
-from fastapi.responses import Response
+from fastapi import FastAPI, HTTPException, Request, WebSocket, WebSocketDisconnect
+from fastapi.responses import FileResponse, Response
 from fastapi.staticfiles import StaticFiles
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from pydantic import BaseModel
@@ -32,6 +32,7 @@ from sketchanim.errors import InputError
 from sketchanim.studio import protocol
 from sketchanim.studio.handlers import check_writable, error_code, handle
 from sketchanim.studio.session import Session
+from sketchanim.studio.sounds import SoundTooLarge, http_status, read_capped, sound_name, too_large
 
 WEB = Path(__file__).parent / "web"
 #: three.js, installed by ``npm ci`` (scripts/setup) into the repository's node_modules.
@@ -245,8 +246,8 @@ class Hub:
         except protocol.BadMessage as err:
             client.put(error(err.code, str(err), err.id, err.type))
             return
-        if message.type in ("track.reduce", "track.samples"):     # reduced in their own thread, the model's goes on
-            work = self.reduce if message.type == "track.reduce" else self.kept_samples
+        if message.type in ("track.reduce", "track.samples", "sound.beats"):  # in their own thread, the model's goes on
+            work = {"track.reduce": self.reduce, "track.samples": self.kept_samples, "sound.beats": self.beats}[message.type]
             task = asyncio.create_task(self.carry_out(client, message, lambda: work(message)))
             self._reducing.add(task)
             task.add_done_callback(self._reducing.discard)
@@ -267,6 +268,14 @@ class Hub:
         curve keeps found in the reductions' thread."""
         work = await self.call(self.session.kept_samples, message.path)
         return await asyncio.get_running_loop().run_in_executor(self.reductions, work)
+
+    async def beats(self, message: protocol.SoundBeats) -> list[protocol.Out]:
+        """A ``sound.beats``: checked in the model's thread, the sound's onsets found in the
+        reductions' thread (seconds of audio analysis), the event track put in the model's."""
+        check_writable(self.session, message)
+        work = await self.call(self.session.beat_finding, message.name, message.path)
+        found = await asyncio.get_running_loop().run_in_executor(self.reductions, work)
+        return await self.call(self.session.beats_found, found)
 
     async def carry_out(self, client: Client, message: protocol.Message,
                         run: Callable[[], Awaitable[list[protocol.Out]]]) -> None:
@@ -416,6 +425,52 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     async def state() -> dict:
         """What the websocket's ``state`` message holds: objects, tracks, history."""
         return await hub.call(hub.session.state)
+
+    @app.post("/api/sounds", response_model=protocol.SoundInfo,
+              responses={code: {"description": why} for code, why in (
+                  (400, "not a name a sound may have"), (403, "the project is open read-only"),
+                  (409, "the project has a sound of that name (import with overwrite)"),
+                  (413, "larger than the studio imports"), (415, "not audio the studio can decode"),
+                  (507, "the sounds folder cannot be written"))})
+    async def import_sound(request: Request, name: str, overwrite: bool = False) -> protocol.SoundInfo:
+        """Import the request's body (an audio file) as the sound ``name``: stored in the
+        project's sounds folder, listed by the project; refused with nothing changed."""
+        session = hub.session
+        try:
+            if session.read_only:
+                raise HTTPException(403, f"{session.path.name} is open read-only: sounds cannot be imported")
+            sound_name(name, session.path)
+            limit = session.sounds.limit
+            length = request.headers.get("content-length", "")
+            if length.isdigit() and int(length) > limit:
+                raise SoundTooLarge(too_large(name, limit))
+            data = await read_capped(request.stream(), name, limit)
+            sound = await asyncio.to_thread(session.sounds.stored, name, data, overwrite)
+        except InputError as err:
+            raise HTTPException(http_status(err), str(err)) from None
+        hub.send(await hub.call(session.add_sound, sound), None)
+        return await hub.call(session.sound_info, name)
+
+    @app.get("/api/sounds", response_model=list[protocol.SoundInfo])
+    async def sounds() -> list[protocol.SoundInfo]:
+        """The project's sounds (as ``state.sounds``)."""
+        return await hub.call(hub.session.sound_infos)
+
+    @app.api_route("/api/sounds", methods=["PUT", "PATCH", "DELETE", "OPTIONS"], include_in_schema=False)
+    async def sounds_other() -> Response:
+        """Not a method of ``/api/sounds`` (answered here, not by the page's static files)."""
+        return Response(status_code=405, headers={"Allow": "GET, HEAD, POST"})
+
+    @app.get("/api/sounds/{name}", response_class=FileResponse,
+             responses={200: {"content": {"audio/*": {}}, "description": "the sound's file"},
+                        404: {"description": "no such sound, or its file is missing"}})
+    async def sound_file(name: str) -> FileResponse:
+        """The file of the sound ``name`` (ranges served, for the page's audio element)."""
+        try:
+            path = await hub.call(hub.session.sounds.path, name)
+        except InputError as err:
+            raise HTTPException(http_status(err), str(err)) from None
+        return FileResponse(path)
 
     @app.websocket("/ws")
     async def stream(socket: WebSocket) -> None:

@@ -59,12 +59,44 @@ def _own(name: str, project: Path) -> bool:
     return key == own or any(key.startswith(own + end) for end in OWN_ENDINGS) or ".sketchanim." in key
 
 
+def checked_name(name: str, project: Path, suffixes: tuple[str, ...] = SUFFIXES, what: str = "exports") -> str:
+    """``name`` if it is a bare file name (no separator, no control character, not
+    hidden, at most :data:`MAX_NAME_BYTES` bytes) ending in one of ``suffixes``, and
+    none of the files of ``project``; :class:`~sketchanim.errors.ArgumentError` naming
+    it otherwise (``what``: what such files are, for the message). The rules of
+    :func:`target`; the studio's sounds (:mod:`.sounds`) are named by them too.
+
+    >>> checked_name("beat.wav", Path("show.sketchanim"), (".wav",), "sounds")
+    'beat.wav'
+    >>> checked_name("beat.txt", Path("show.sketchanim"), (".wav",), "sounds")
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: file: 'beat.txt': sounds are .wav
+    """
+    if not name:
+        raise _refuse(name, "an export needs a file name" if what == "exports" else "a file name is needed")
+    if any(unicodedata.category(c) in ("Cc", "Cs") for c in name):
+        raise _refuse(name, "a file name holds no control characters (NUL, newline...) or lone surrogates")
+    if any(sep and sep in name for sep in ("/", "\\", os.sep, os.altsep)):
+        raise _refuse(name, f"a file name in the {what} folder, not a path")
+    if name in (".", "..") or name.startswith("."):
+        raise _refuse(name, "a file name that is not hidden (it starts with '.')")
+    size = len(os.fsencode(name))
+    if size > MAX_NAME_BYTES:
+        raise _refuse(name[:40] + "...", f"{size} bytes long; a name has at most {MAX_NAME_BYTES}")
+    if Path(name).suffix.lower() not in suffixes:
+        raise _refuse(name, f"{what} are {' or '.join(suffixes)}")
+    if _own(name, project):
+        raise _refuse(name, "one of the project's own files")
+    return name
+
+
 def target(folder: Path, name: str, project: Path, overwrite: bool = False) -> Path:
     """Where the export ``name`` goes in ``folder`` (the exports folder of the studio of
     ``project``): ``folder / name``, if ``name`` is a bare file name (no separator, no
     control character, not hidden, at most :data:`MAX_NAME_BYTES` bytes) ending in
-    ``.glb`` or ``.json``, none of the project's own files, and not taken (a folder is
-    never replaced, a file only with ``overwrite``).
+    ``.glb`` or ``.json``, none of the project's own files (:func:`checked_name`), and
+    not taken (a folder is never replaced, a file only with ``overwrite``).
 
     >>> import tempfile
     >>> folder = Path(tempfile.mkdtemp())
@@ -79,21 +111,7 @@ def target(folder: Path, name: str, project: Path, overwrite: bool = False) -> P
     ...
     sketchanim.errors.ArgumentError: file: '../x.glb': a file name in the exports folder, not a path
     """
-    if not name:
-        raise _refuse(name, "an export needs a file name")
-    if any(unicodedata.category(c) in ("Cc", "Cs") for c in name):
-        raise _refuse(name, "a file name holds no control characters (NUL, newline...) or lone surrogates")
-    if any(sep and sep in name for sep in ("/", "\\", os.sep, os.altsep)):
-        raise _refuse(name, "a file name in the exports folder, not a path")
-    if name in (".", "..") or name.startswith("."):
-        raise _refuse(name, "a file name that is not hidden (it starts with '.')")
-    size = len(os.fsencode(name))
-    if size > MAX_NAME_BYTES:
-        raise _refuse(name[:40] + "...", f"{size} bytes long; a name has at most {MAX_NAME_BYTES}")
-    if Path(name).suffix.lower() not in SUFFIXES:
-        raise _refuse(name, "exports are .glb or .json")
-    if _own(name, project):
-        raise _refuse(name, "one of the project's own files")
+    checked_name(name, project)
     path = folder / name
     if path.is_dir():
         raise ExportExists("file", f"{name!r} is a folder in the exports folder; it is never replaced")

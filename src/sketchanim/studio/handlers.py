@@ -55,6 +55,10 @@ HANDLERS: dict[str, Handler] = {
     "track.cut": lambda s, m, client: s.cut(m.paths, m.t0, m.t1),
     "track.copy": lambda s, m, client: s.copy(m.path, m.t0, m.t1),
     "track.paste": lambda s, m, client: s.paste(m.path, m.at, m.piece, m.length),
+    # sounds (studio/sounds.py, studio/beats.py); the app finds beats beside the model's thread
+    "sound.set": lambda s, m, client: s.set_sound(m.name, m.offset),
+    "sound.remove": lambda s, m, client: s.remove_sound(m.name),
+    "sound.beats": lambda s, m, client: s.beats_found(s.beat_finding(m.name, m.path)()),
 }
 
 #: The messages that change the project (refused on a read-only one; a ``track.reduce``
@@ -62,7 +66,7 @@ HANDLERS: dict[str, Handler] = {
 EDITS = frozenset({"set", "preview", "object.add", "object.duplicate", "object.remove", "object.rename", "take.begin",
                    "take.samples", "take.end", "take.cancel", "undo", "redo", "tolerance.set", "curve.points",
                    "curve.key", "curve.knots", "track.key", "track.reduce", "take.edit", "settings",
-                   "track.retime", "track.cut", "track.paste"})
+                   "track.retime", "track.cut", "track.paste", "sound.set", "sound.remove", "sound.beats"})
 
 
 def check_writable(session: Session, message: p.Message) -> None:

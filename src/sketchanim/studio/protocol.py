@@ -354,11 +354,43 @@ class TrackPaste(_Message):
     length: Annotated[float, Field(ge=0, allow_inf_nan=False)]
 
 
+# -- sounds (studio/sounds.py, studio/beats.py) ---------------------------------------------
+
+#: A sound's name: its file's in the project's sounds folder.
+SoundName = Annotated[str, Field(min_length=1, max_length=255)]
+
+
+class SoundSet(_Message):
+    """Start the sound ``name`` at ``offset`` seconds on the timeline (a project setting,
+    not a History step)."""
+
+    type: Literal["sound.set"]
+    name: SoundName
+    offset: Number
+
+
+class SoundRemove(_Message):
+    """Drop the sound ``name`` from the project (its file stays in the sounds folder)."""
+
+    type: Literal["sound.remove"]
+    name: SoundName
+
+
+class SoundBeats(_Message):
+    """Bake the onsets of the sound ``name`` into an event track at ``path`` (an event
+    attribute, or ``<new object>.cue``: a cue object made for it; ``beats.cue`` if
+    None), at the sound's offset plus each onset: one History step."""
+
+    type: Literal["sound.beats"]
+    name: SoundName
+    path: AttributePath | None = None
+
+
 Message = Annotated[
     Ping | StateRequest | Set | Preview | ObjectAdd | ObjectDuplicate | ObjectRemove | ObjectRename | TakeBegin
     | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | Transport | Export | ToleranceSet | CurvePoints | CurveKey
     | CurveKnots | TrackKey | TrackReduce | TrackSamples | TakeEdit | Settings | TrackRetime | TrackCut | TrackCopy
-    | TrackPaste,
+    | TrackPaste | SoundSet | SoundRemove | SoundBeats,
     Field(discriminator="type"),
 ]
 _ADAPTER: TypeAdapter[Message] = TypeAdapter(Message)
@@ -547,6 +579,36 @@ class Samples(_Outbound):
     values: list[list[float]]
 
 
+class SoundInfo(_Outbound):
+    """A sound of the project: its name, its file's path relative to the project's folder,
+    its SHA-256, its duration (s), where it starts on the timeline (s), whether its file is
+    as imported (``ok``, ``missing``, ``changed``), and the URL that serves it."""
+
+    name: str
+    path: str
+    sha256: str
+    duration: float
+    offset: float
+    status: Literal["ok", "missing", "changed"]
+    url: str
+
+
+class Sounds(_Outbound):
+    """The project's sounds changed (one imported, moved, removed): all of them."""
+
+    type: Literal["sounds"] = "sounds"
+    sounds: list[SoundInfo]
+
+
+class BeatsBaked(_Outbound):
+    """The answer to ``sound.beats``: how many beats of sound ``name`` went on ``path``."""
+
+    type: Literal["beats"] = "beats"
+    name: str
+    path: str
+    count: int
+
+
 class State(_Outbound):
     """Everything a page needs to show the project: sent on connect, on ``state``, and
     when objects come or go."""
@@ -565,6 +627,7 @@ class State(_Outbound):
     #: the project cannot be written (read-only media or file): it plays and exports, edits are refused
     read_only: bool = False
     settings: SettingsInfo = SettingsInfo()
+    sounds: list[SoundInfo] = []
 
 
 class Values(_Outbound):
@@ -696,14 +759,14 @@ class Notice(_Outbound):
 
 ServerMessage = (State | Values | Tracks | HistoryInfo | TakeStarted | TakePiece | TakeEnded | Pong | Ack | Error
                  | Ready | Exported | Notice | Preview | Transport | Tolerances | TakeRunning | Saved | SettingsInfo
-                 | Reduced | Samples | TrackPiece)
+                 | Reduced | Samples | TrackPiece | Sounds | BeatsBaked)
 #: Every model of a message, both directions (``preview`` and ``transport`` go both ways).
 MESSAGES: tuple[type[BaseModel], ...] = (
     Ping, StateRequest, Set, Preview, ObjectAdd, ObjectDuplicate, ObjectRemove, ObjectRename, TakeBegin, TakeSamples,
     TakeEnd, TakeCancel, Undo, Redo, Transport, Export, ToleranceSet, CurvePoints, CurveKey, CurveKnots, TrackKey, TrackReduce,
-    TrackSamples, TakeEdit, Settings, TrackRetime, TrackCut, TrackCopy, TrackPaste,
+    TrackSamples, TakeEdit, Settings, TrackRetime, TrackCut, TrackCopy, TrackPaste, SoundSet, SoundRemove, SoundBeats,
     State, Values, Tracks, HistoryInfo, TakeStarted, TakePiece, TakeEnded, Pong, Ack, Error, Ready, Exported, Notice,
-    Tolerances, TakeRunning, Saved, SettingsInfo, Reduced, Samples, TrackPiece)
+    Tolerances, TakeRunning, Saved, SettingsInfo, Reduced, Samples, TrackPiece, Sounds, BeatsBaked)
 
 
 #: Who gets a message: every page, every page but the sender's, or the sender's alone.

@@ -23,7 +23,7 @@ from pathlib import Path
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import Track
 from sketchanim.errors import InputError
-from sketchanim.project.document import ToleranceDoc
+from sketchanim.project.document import SoundDoc, ToleranceDoc
 from sketchanim.project.store import Project
 from sketchanim.studio import protocol as p
 
@@ -113,10 +113,11 @@ class SaveStatus:
                 ("all", p.wire(p.Notice(level="info", source="disk", text=f"saved {self.project} again")))]
 
 
-def rescue(project: Path, scene: Scene, tracks: Mapping[str, Track], tolerances: dict[str, ToleranceDoc]) -> Path:
-    """Write the model as a new project named for ``project`` and the time, in the first
-    of its folder, the user's cache and the temporary folder that takes it; the path
-    written, or the ``OSError`` of the last place tried.
+def rescue(project: Path, scene: Scene, tracks: Mapping[str, Track], tolerances: dict[str, ToleranceDoc],
+           sounds: list[SoundDoc] | None = None) -> Path:
+    """Write the model (its sounds' references too) as a new project named for ``project``
+    and the time, in the first of its folder, the user's cache and the temporary folder
+    that takes it; the path written, or the ``OSError`` of the last place tried.
 
     >>> folder = Path(tempfile.mkdtemp())
     >>> scene = Scene(); _ = scene.add("box")
@@ -132,7 +133,7 @@ def rescue(project: Path, scene: Scene, tracks: Mapping[str, Track], tolerances:
         try:
             folder.mkdir(parents=True, exist_ok=True)
             with Project(target) as copy:
-                copy.save(scene, dict(tracks), tolerances)
+                copy.save(scene, dict(tracks), tolerances, sounds=sounds)
             return target
         except (OSError, InputError) as err:
             last = err

@@ -19,6 +19,7 @@ import os
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
+from urllib.parse import quote
 
 import numpy as np
 
@@ -29,13 +30,15 @@ from sketchanim.anim.player import Player
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.workers import shared_pool
 from sketchanim.errors import ArgumentError, FileFormatError, StorageError
-from sketchanim.project.document import ToleranceDoc
+from sketchanim.project.document import SoundDoc, ToleranceDoc
 from sketchanim.project.lock import ProjectLock
 from sketchanim.project.recovery import forget_take, note_take, recovered_tracks
 from sketchanim.project.store import Project, export_text
 from sketchanim.studio import exports as exporting
 from sketchanim.studio import protocol as p
+from sketchanim.studio.beats import DEFAULT_PATH, beat_change, onsets
 from sketchanim.studio.clipboard import piece_from, piece_message
+from sketchanim.studio.sounds import SoundShelf
 from sketchanim.studio.defaults import default_scene
 from sketchanim.studio.editor import Editor
 from sketchanim.studio.outbound import history_info, objects_info, track_info, tracks_info
@@ -101,6 +104,8 @@ class Session:
         self.tolerances: dict[str, ToleranceDoc] = self.project.tolerances(scene)
         #: The project's frame rate (a project setting, not History).
         self.fps = self.project.fps()
+        #: The project's sounds, their files checked now (a project setting, not History).
+        self.sounds = SoundShelf(self.path, self.project.sounds())
         fresh = not scene.objects
         self.editor = Editor(default_scene() if fresh else scene, tracks.values())
         self.takes = TakeRecorder(self.editor, lambda: self.project.journal())
@@ -160,7 +165,8 @@ class Session:
                               history=history_info(self.history), transport=self.transport,
                               take=None if take is None else take.info(self.editor),
                               tolerances=self._tolerance_info(), saved=self.saving.info(),
-                              read_only=self.read_only, settings=p.SettingsInfo(fps=self.fps)))
+                              read_only=self.read_only, settings=p.SettingsInfo(fps=self.fps),
+                              sounds=self.sound_infos()))
 
     def _tolerance_info(self) -> dict[str, p.ToleranceInfo]:
         return {path: p.ToleranceInfo(amount=t.amount, unit=t.unit) for path, t in self.tolerances.items()}
@@ -478,6 +484,62 @@ class Session:
             forget_take(self.path)
         return out + self.save()
 
+    # -- sounds (studio/sounds.py: a project setting; studio/beats.py: a History step) ----------
+
+    def sound_infos(self) -> list[p.SoundInfo]:
+        """The project's sounds as the pages see them."""
+        return [self.sound_info(s.name) for s in self.sounds.docs()]
+
+    def sound_info(self, name: str) -> p.SoundInfo:
+        """The sound ``name`` as the pages see it (with the URL that serves it)."""
+        return p.SoundInfo(**self.sounds.get(name).model_dump(), url=f"/api/sounds/{quote(name)}")
+
+    def _sounds_told(self) -> list[p.Out]:
+        self.editor.dirty = True
+        return [("all", p.wire(p.Sounds(sounds=self.sound_infos())))]
+
+    def add_sound(self, sound: SoundDoc) -> list[p.Out]:
+        """List ``sound``, stored by :meth:`.sounds.SoundShelf.stored`, among the project's;
+        every page gets the sounds."""
+        self.sounds.put(sound)
+        return self._sounds_told()
+
+    def set_sound(self, name: str, offset: float) -> list[p.Out]:
+        """Start sound ``name`` at ``offset`` seconds on the timeline."""
+        self.sounds.set_offset(name, offset)
+        return self._sounds_told()
+
+    def remove_sound(self, name: str) -> list[p.Out]:
+        """Drop sound ``name`` from the project (its file stays)."""
+        self.sounds.remove(name)
+        return self._sounds_told()
+
+    def beat_finding(self, name: str, path: str | None) -> Callable[[], tuple[str, str, np.ndarray]]:
+        """What baking the beats of sound ``name`` takes: checked now (the sound, its
+        file, the target attribute), in the model's thread; the work (the call returned:
+        the onsets, at the sound's offset) runs anywhere, and :meth:`beats_found` puts it.
+
+        >>> import tempfile
+        >>> session = Session(Path(tempfile.mkdtemp()) / "b.sketchanim")
+        >>> session.beat_finding("none.wav", None)
+        Traceback (most recent call last):
+        ...
+        sketchanim.studio.sounds.NoSuchSound: name: no sound 'none.wav' in the project
+        >>> session.close()
+        """
+        sound = self.sounds.get(name)
+        file = self.sounds.path(name)
+        target = path or DEFAULT_PATH
+        beat_change(self.player, target, np.zeros(0), name)       # refused now if the target cannot take beats
+        return lambda: (name, target, sound.offset + onsets(file))
+
+    def beats_found(self, found: tuple[str, str, np.ndarray]) -> list[p.Out]:
+        """Put the beats a :meth:`beat_finding` found as one History step."""
+        name, target, times = found
+        self.takes.refuse_while_recording("sound.beats")
+        self.editor.run(beat_change(self.player, target, times, name))
+        return [*self._told(), ("self", p.wire(p.BeatsBaked(name=name, path=target, count=len(times))))]
+
     # -- files -----------------------------------------------------------------------------
 
     def save(self) -> list[p.Out]:
@@ -495,7 +557,7 @@ class Session:
         try:
             self._reopen_if_gone()
             if self.editor.dirty:
-                self.project.save(self.scene, dict(self.player.tracks), self.tolerances, self.fps)
+                self.project.save(self.scene, dict(self.player.tracks), self.tolerances, self.fps, self.sounds.docs())
             else:
                 self.project.clear_journal()
             self.editor.dirty = self._journal_stale = False
@@ -523,7 +585,8 @@ class Session:
     def export_document(self) -> bytes:
         """The project as ``sketchanim export PROJECT -o X.json`` writes it: the model
         as the pages see it, saved or not."""
-        return export_text(self.scene, dict(self.player.tracks), self.tolerances, self.fps).encode("utf-8")
+        return export_text(self.scene, dict(self.player.tracks), self.tolerances, self.fps,
+                           self.sounds.docs()).encode("utf-8")
 
     def export(self, name: str, overwrite: bool = False) -> Path:
         """Write the scene (``.glb``) or the project (``.json``) to ``name`` in the
@@ -550,7 +613,7 @@ class Session:
         self.flush()
         if self.editor.dirty:
             try:
-                where = rescue(self.path, self.scene, self.player.tracks, self.tolerances)
+                where = rescue(self.path, self.scene, self.player.tracks, self.tolerances, self.sounds.docs())
                 log.error("%s could not be saved; everything is in %s (open it with sketchanim studio)",
                           self.path, where)
             except OSError as err:

@@ -154,6 +154,8 @@ export class Studio {
     this.strips = [];
     /** @type {TimeRange | null} the range selected in the timeline (Delete deletes it) */
     this.timeRange = null;
+    /** @type {import('./messages.js').SoundInfo[]} the project's sounds (sound.js plays them) */
+    this.sounds = [];
     this.transport = new Transport(this);
     this.performer = new Performer(this);
     connection.connect((m) => this.receive(m), (open, code) => this.connectionChanged(open, code));
@@ -274,6 +276,8 @@ export class Studio {
       case 'reduced': this.signals.emit('reduced', m); break;
       case 'samples': this.signals.emit('samples', m); break;
       case 'track.piece': this.signals.emit('piece', m); break;
+      case 'sounds': this.keepSounds(m.sounds); break;
+      case 'beats': this.signals.emit('beats', m); break;
       case 'take.started': case 'pong': case 'ack': case 'exported': break;    // nothing to show
       default: {
         /** @type {never} */
@@ -303,6 +307,7 @@ export class Studio {
     this.readOnly = !!m.read_only;
     if (m.saved) this.keepSaved(m.saved);
     if (m.settings) this.keepSettings(m.settings);
+    if (m.sounds) this.sounds = m.sounds;
     this.tracks = new Map(m.tracks.map((t) => [t.path, t]));
     this.span = m.span;
     this.tolerances = new Map(Object.entries(m.tolerances));
@@ -336,6 +341,28 @@ export class Studio {
   keepSettings(m) {
     this.fps = m.fps;
     this.signals.emit('projectSettings');
+  }
+
+  /**
+   * The span playback covers: the tracks' and the sounds' (each from its offset for its
+   * duration); the transport stops at its end, the timeline shows it.
+   * @returns {[number, number]}
+   */
+  get playSpan() {
+    const sounds = this.sounds.filter((s) => s.status !== 'missing');
+    if (!sounds.length) return this.span;
+    const empty = this.span[1] <= this.span[0];
+    return [Math.min(empty ? Infinity : this.span[0], ...sounds.map((s) => s.offset)),
+      Math.max(empty ? -Infinity : this.span[1], ...sounds.map((s) => s.offset + s.duration))];
+  }
+
+  /**
+   * The project's sounds, as the server says (in `state` and `sounds`).
+   * @param {import('./messages.js').SoundInfo[]} sounds
+   */
+  keepSounds(sounds) {
+    this.sounds = sounds;
+    this.signals.emit('sounds');
   }
 
   /**

@@ -71,14 +71,14 @@ export class Transport {
    * @param {number} now performance.now()
    */
   tick(now) {
-    const step = this.clock.tick(now, this.record ? null : this.studio.span);
+    const step = this.clock.tick(now, this.record ? null : this.studio.playSpan);
     this.time = step.time;
     return step;
   }
 
   play() {
     const now = performance.now();
-    const span = this.studio.span;
+    const span = this.studio.playSpan;
     if (!this.record && span[1] > span[0] && !this.clock.loop && this.playSpeed > 0 && this.time >= span[1]) {
       this.clock.seek(span[0], now);                          // play again from the start
     }

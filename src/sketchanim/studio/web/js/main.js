@@ -16,6 +16,7 @@ import { bindKeyboard, studioActions } from './keyboard.js';
 import { Notices } from './notices.js';
 import { Outliner } from './outliner.js';
 import { SaveStatus } from './savestatus.js';
+import { SoundPanel } from './sound.js';
 import { Studio } from './Studio.js';
 import { Timeline } from './timeline.js';
 import { TransportBar } from './transportbar.js';
@@ -36,6 +37,7 @@ new Inspector(studio, $('inspector'));
 new Layers(studio, $('inspector'));
 new TransportBar(studio, $('transport'));
 const timeline = new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
+const sounds = new SoundPanel(studio, $('sound'));
 const curveEditor = new CurveEditor(studio, $('curves'));
 new Help(studio, /** @type {HTMLElement} */ (document.querySelector('header.top')), window);   // before the keys: its Escape goes first
 bindKeyboard(window, studioActions(studio, viewport));
@@ -82,4 +84,4 @@ window.addEventListener('blur', () => {
   if (studio.performer.grab && !viewport.drag && !viewport.pad) studio.performer.release();
 });
 
-Object.assign(window, { studio, viewport, curveEditor, cueFlash, timeline, studioStats: stats });
+Object.assign(window, { studio, viewport, curveEditor, cueFlash, timeline, sounds, studioStats: stats });

@@ -334,6 +334,7 @@
  * @property {Saved} [saved]  whether everything is on disk
  * @property {boolean} [read_only]  the project cannot be written: it plays and exports, edits are refused
  * @property {SettingsInfo} [settings]  the project's settings (the frame rate)
+ * @property {SoundInfo[]} [sounds]  the project's sounds
  */
 
 /**
@@ -512,6 +513,58 @@
  * @property {string} source
  */
 
+// -- sounds (studio/sounds.py, studio/beats.py; the page's sound.js) -------------------------
+
+/**
+ * Start the sound `name` at `offset` seconds on the timeline (a project setting, not History).
+ * @typedef {object} SoundSet
+ * @property {'sound.set'} type
+ * @property {number | string | null} [id]
+ * @property {string} name
+ * @property {number} offset
+ */
+
+/**
+ * Drop the sound `name` from the project (its file stays in the sounds folder).
+ * @typedef {object} SoundRemove
+ * @property {'sound.remove'} type
+ * @property {number | string | null} [id]
+ * @property {string} name
+ */
+
+/**
+ * Bake the onsets of sound `name` into an event track at `path` (default `beats.cue`, a
+ * cue object made for it): one History step.
+ * @typedef {object} SoundBeats
+ * @property {'sound.beats'} type
+ * @property {number | string | null} [id]
+ * @property {string} name
+ * @property {string | null} [path]
+ */
+
+/**
+ * The project's sounds changed: all of them.
+ * @typedef {object} SoundsInfo
+ * @property {'sounds'} type
+ * @property {SoundInfo[]} sounds
+ */
+
+/**
+ * The answer to `sound.beats`: how many beats went on `path`.
+ * @typedef {object} BeatsBaked
+ * @property {'beats'} type
+ * @property {string} name
+ * @property {string} path
+ * @property {number} count
+ */
+
+/**
+ * A sound of the project: its file's path (relative to the project's folder), SHA-256, duration
+ * and start on the timeline (s), whether its file is as imported, and the URL serving it.
+ * @typedef {{name: string, path: string, sha256: string, duration: number, offset: number,
+ *   status: 'ok' | 'missing' | 'changed', url: string}} SoundInfo
+ */
+
 // -- the unions -----------------------------------------------------------------------------
 
 /**
@@ -519,14 +572,14 @@
  * @typedef {Ping | StateRequest | SetValue | PreviewValue | ObjectAdd | ObjectDuplicate | ObjectRemove | ObjectRename
  *   | TakeBegin | TakeSamples | TakeEnd | TakeCancel | Undo | Redo | TransportState | Export | ToleranceSet
  *   | CurvePoints | CurveKey | CurveKnots | TrackKey | TrackReduce | TrackSamples | TakeEdit | SettingsChange
- *   | TrackRetime | TrackCut | TrackCopy | TrackPaste} PageMessage
+ *   | TrackRetime | TrackCut | TrackCopy | TrackPaste | SoundSet | SoundRemove | SoundBeats} PageMessage
  */
 
 /**
  * What the server sends.
  * @typedef {StateSnapshot | Ready | Values | Tracks | History | PreviewValue | TransportState | TakeStarted
  *   | TakePiece | TakeEnded | Pong | Ack | ErrorReply | Exported | Notice | Tolerances | TakeRunning
- *   | Saved | SettingsInfo | Reduced | Samples | TrackPieceInfo} ServerMessage
+ *   | Saved | SettingsInfo | Reduced | Samples | TrackPieceInfo | SoundsInfo | BeatsBaked} ServerMessage
  */
 
 /**
@@ -555,7 +608,8 @@
 
 /**
  * A scene object and its attributes.
- * @typedef {{name: string, kind: ObjectKind, attributes: {name: string, value: any, type: AttrType}[]}} SceneObject
+ * A cue has no place in space: it holds an event track (a sound's beats).
+ * @typedef {{name: string, kind: ObjectKind | 'cue', attributes: {name: string, value: any, type: AttrType}[]}} SceneObject
  */
 
 /**

@@ -10,7 +10,7 @@ import * as THREE from 'three';
 import { el } from './dom.js';
 import { placeInFront } from './placement.js';
 
-const ICONS = { object: '◼', light: '☀', camera: '◉' };
+const ICONS = { object: '◼', light: '☀', camera: '◉', cue: '♪' };
 /** The room an object fills around its position, by kind (metres, at scale 1): a new object is placed clear of it. */
 const ROOM = { object: 0.75, light: 0.3, camera: 0.3 };
 /** What an object's name may be (as the server checks it). */

@@ -45,6 +45,8 @@ export const SIGNALS = {
   timeRange: /** @type {Signal<import('./Studio.js').TimeRange | null>} */ (signal('the range selected in the timeline changed (studio.timeRange)')),
   command: /** @type {Signal<import('./keyboard.js').PanelCommand>} */ (signal("a shortcut for a panel's own action (the panel that owns it acts)")),
   fired: /** @type {Signal<import('./events.js').Fired[]>} */ (signal('playback passed these events (in the order it passed them)')),
+  sounds: /** @type {Signal<void>} */ (signal("the project's sounds changed (studio.sounds)")),
+  beats: /** @type {Signal<import('./messages.js').BeatsBaked>} */ (signal("the server baked a sound's beats into an event track")),
   frame: /** @type {Signal<number>} */ (signal('an animation frame was stepped, at this performance.now()')),
 };
 

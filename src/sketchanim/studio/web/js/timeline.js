@@ -73,7 +73,7 @@ export class Timeline {
 
   range() {
     const s = this.studio;
-    return viewRange(s.span, s.transport.clock.loop, s.transport.time);
+    return viewRange(s.playSpan, s.transport.clock.loop, s.transport.time);
   }
 
   /** The top of the lanes (below the ruler and the strips), in CSS pixels. */

@@ -128,6 +128,7 @@ export class Viewport {
     }
     this.nodes.clear();
     this.studio.objects.forEach((obj, i) => {
+      if (obj.kind === 'cue') return;                     // a cue has no place in space (a sound's beats)
       const root = new THREE.Group();
       root.name = obj.name;
       /** @type {Node} */
