@@ -38,6 +38,7 @@ EDIT_MESSAGES = [
     {"type": "curve.points", "edits": [{"path": "box.position", "index": 0, "value": [0, 0, 0]}]},
     {"type": "curve.key", "path": "box.position", "time": 0.5, "value": [0, 0, 0]},
     {"type": "curve.knots", "path": "box.position", "insert": [0.5]},
+    {"type": "track.key", "path": "lamp.on", "time": 0.5, "value": False},
     {"type": "track.reduce", "paths": ["box.position"], "tol": 0.01},
     {"type": "take.edit", "path": "box.position", "take": 0, "op": "mute"},
     {"type": "settings", "fps": 30},
