@@ -35,9 +35,9 @@ const cueFlash = new CueFlash(studio, $('viewport'));
 new Outliner(studio, $('outliner'), viewport);
 new Inspector(studio, $('inspector'));
 new Layers(studio, $('inspector'));
-new TransportBar(studio, $('transport'));
+const transportBar = new TransportBar(studio, $('transport'));
 const timeline = new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
-const sounds = new SoundPanel(studio, $('sound'));
+const sounds = new SoundPanel(studio, transportBar.soundSlot);
 const curveEditor = new CurveEditor(studio, $('curves'));
 new Help(studio, /** @type {HTMLElement} */ (document.querySelector('header.top')), window);   // before the keys: its Escape goes first
 bindKeyboard(window, studioActions(studio, viewport));

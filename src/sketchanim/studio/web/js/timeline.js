@@ -19,7 +19,7 @@
  */
 import { fitCanvas } from './canvas.js';
 import { beginDrag, dragTo, released, selectedRange } from './retimehandles.js';
-import { HANDLE_PIXELS, hitTake, layoutRows, rowAt } from './timelinelanes.js';
+import { GROUP_HEIGHT, HANDLE_PIXELS, LANE_HEIGHT, hitTake, layoutRows, rowAt } from './timelinelanes.js';
 import { LABEL, RULER, paintGroup, paintLane, paintRange, paintReadout, paintRuler } from './timelinepaint.js';
 import { viewRange } from './timescale.js';
 
@@ -370,6 +370,8 @@ export class Timeline {
   paint() {
     const s = this.studio;
     const { clock, time, record, punchFrom } = s.transport;
+    const least = `${this.lanesTop() + GROUP_HEIGHT + LANE_HEIGHT}px`;      // the strips and a lane show in a small window
+    if (this.canvas.style.minHeight !== least) this.canvas.style.minHeight = least;
     const { g, w, h } = fitCanvas(this.canvas);
     this.rows = layoutRows(s.objects, s.tracks, this.folded);
     g.fillStyle = '#17191e';

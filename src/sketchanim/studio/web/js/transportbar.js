@@ -69,9 +69,11 @@ export class TransportBar {
     this.status = el('span', { class: 'take-status', 'data-testid': 'take-status' });
     const signals = studio.signals;
     const group = (/** @type {HTMLElement[]} */ ...items) => { const g = el('div', { class: 'group' }); g.append(...items); return g; };
+    /** Where the sounds' controls go (js/sound.js): after the playback group, in its row. */
+    this.soundSlot = el('div', { id: 'sound', class: 'sound', 'data-testid': 'sound' });
     bar.append(group(this.recordButton, mode.wrap, smooth.wrap, countIn.wrap, capture.wrap, loopRec), group(fps.wrap, this.snapButton),
       group(stopButton, back, this.playButton, on, this.clockText, this.frameText, speed.wrap, this.loopButton),
-      this.status, group(this.undoButton, this.redoButton));
+      this.soundSlot, this.status, group(this.undoButton, this.redoButton));
     signals.on('history', () => this.showHistory());
     signals.on('state', () => this.showHistory());
     signals.on('record', () => this.showTransport());
