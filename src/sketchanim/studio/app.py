@@ -22,14 +22,14 @@ from pathlib import Path
 from urllib.parse import urlsplit
 
 import anyio
-from fastapi import FastAPI, WebSocket, WebSocketDisconnect
+from fastapi import FastAPI, HTTPException, WebSocket, WebSocketDisconnect
 from fastapi.responses import Response
 from fastapi.staticfiles import StaticFiles
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from pydantic import BaseModel
 
 from sketchanim.errors import InputError
-from sketchanim.studio import protocol
+from sketchanim.studio import downloads, protocol
 from sketchanim.studio.handlers import check_writable, error_code, handle
 from sketchanim.studio.session import Session
 
@@ -416,6 +416,30 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     async def state() -> dict:
         """What the websocket's ``state`` message holds: objects, tracks, history."""
         return await hub.call(hub.session.state)
+
+    @app.get("/api/export/choices", response_model=downloads.ExportChoices)
+    async def export_choices() -> downloads.ExportChoices:
+        """What the export dialog offers: each format, its file, what each client plays from it."""
+        s = hub.session
+        return await hub.call(lambda: downloads.choices(s.path, s.scene, dict(s.player.tracks)))
+
+    @app.get("/api/export", response_class=Response,
+             responses={200: {"content": {"model/gltf-binary": {}, "application/octet-stream": {},
+                                          "application/json": {}},
+                              "description": "The export, as a download named after the project."},
+                        400: {"description": "Not an export format, or one this server cannot write."}})
+    async def export_download(format: str = "glb") -> Response:
+        """The scene (``glb``, ``glb-frames``, ``usd``) or the project (``json``) as a
+        download, made by the writers ``sketchanim export`` uses; nothing is written."""
+        s = hub.session
+        try:
+            fmt = downloads.check_format(format)
+            data = await hub.call(lambda: downloads.build(format, s.path, s.scene, dict(s.player.tracks), s.fps,
+                                                          s.export_document))
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        return Response(data, media_type=fmt.media_type,
+                        headers={"Content-Disposition": downloads.disposition(downloads.file_name(s.path, fmt))})
 
     @app.websocket("/ws")
     async def stream(socket: WebSocket) -> None:
