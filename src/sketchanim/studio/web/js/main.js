@@ -6,6 +6,7 @@
  */
 import { Connection } from './Connection.js';
 import { CurveEditor } from './curveeditor.js';
+import { ExportDialog } from './exportdialog.js';
 import { Header } from './header.js';
 import { Help } from './help.js';
 import { Inspector } from './inspector.js';
@@ -35,7 +36,9 @@ new Layers(studio, $('inspector'));
 new TransportBar(studio, $('transport'));
 new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
 const curveEditor = new CurveEditor(studio, $('curves'));
-new Help(studio, /** @type {HTMLElement} */ (document.querySelector('header.top')), window);   // before the keys: its Escape goes first
+const header = /** @type {HTMLElement} */ (document.querySelector('header.top'));
+new ExportDialog(header, window);                    // before the keys: its Escape goes first
+new Help(studio, header, window);   // before the keys: its Escape goes first
 bindKeyboard(window, studioActions(studio, viewport));
 
 /** Per-frame timings (ms) of the last frames, for benchmarks: playback (evaluate every track,
