@@ -103,15 +103,40 @@ def studio_command(
                                             "anyway).")] = False,
     exports: Annotated[Optional[Path], typer.Option("--exports", help="The folder the page's exports go to "
                                                     "(default: the project's).")] = None,
+    files: Annotated[Optional[Path], typer.Option("--files", help="The folder the page saves copies into and "
+                                                  "opens projects from (default: the project's).")] = None,
+    show_recent: Annotated[bool, typer.Option("--recent", help="List the projects opened lately, newest first, "
+                                              "and exit.")] = False,
 ) -> None:
     """Start the studio: perform, record, play back and layer animation in the browser.
 
-    Examples: sketchanim studio show.sketchanim; sketchanim studio show.sketchanim --read-only --exports out/"""
+    Examples: sketchanim studio show.sketchanim; sketchanim studio show.sketchanim --read-only --exports out/;
+    sketchanim studio --recent"""
     from sketchanim.studio.serve import serve
 
+    if show_recent:
+        print_recent()
+        return
     try:
-        serve(project, host, port, browser, console.print, read_only=read_only or None, exports=exports)
+        serve(project, host, port, browser, console.print, read_only=read_only or None, exports=exports, files=files)
     except InputError as err:
         fail(str(err))
     except OSError as err:
         fail(f"{err.filename or f'{host}:{port}'}: {err.strerror or err}")
+
+
+def print_recent() -> None:
+    """The recent projects' list, newest first: when each was opened, and its path
+    (marked when it is gone)."""
+    import time
+
+    from sketchanim.project.recent import recent, recent_file
+
+    projects = recent()
+    if not projects:
+        console.print(f"no recent projects ({recent_file()})")
+        return
+    for r in projects:
+        gone = "" if Path(r.path).is_file() else "  (gone)"
+        console.print(f"{time.strftime('%Y-%m-%d %H:%M', time.localtime(r.opened))}  {r.path}{gone}",
+                      soft_wrap=True, highlight=False)

@@ -28,8 +28,9 @@ from fastapi.staticfiles import StaticFiles
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from pydantic import BaseModel
 
-from sketchanim.errors import InputError
-from sketchanim.studio import downloads, protocol
+from sketchanim.errors import ArgumentError, InputError, StorageError
+from sketchanim.project.recent import recent, remember
+from sketchanim.studio import downloads, projectfiles, protocol
 from sketchanim.studio.handlers import check_writable, error_code, handle
 from sketchanim.studio.session import Session
 
@@ -335,6 +336,50 @@ class Hub:
             with anyio.CancelScope(shield=True):     # a take the page was recording is kept, even on a cancel
                 await self.leave(client)
 
+    # -- files: save as, open (projectfiles.py) ------------------------------------------------
+
+    #: The folder the page saves copies into and opens projects from (set by create_app).
+    files: Path
+    #: How the studio was started: ``read_only`` and ``exports`` for each project it opens.
+    opening: tuple[bool | None, str | os.PathLike[str] | None] = (None, None)
+
+    async def switch(self, path: Path) -> None:
+        """Go on with the project at ``path``: the open one saved and closed (its lock
+        let go), ``path`` opened (as the studio was started: read-only or not, its exports
+        folder) and remembered in the recent list, every page sent its ``state``. Refused
+        (an :class:`InputError`, nothing changed) while a take records or a reduction
+        runs, or when ``path`` does not open (it is locked, damaged...)."""
+        if self._reducing:
+            raise ArgumentError("project", "tracks are being reduced again; open the project once they are back")
+        old = self.session
+        if path.resolve() == old.path:
+            raise ArgumentError("project", f"{old.path.name} is the open project")
+
+        def reopen() -> Session:
+            if old.take is not None:
+                raise ArgumentError("project", "a take is recording; end it before another project opens")
+            try:
+                new = Session(path, *self.opening)  # fails before anything changed: the open project stays
+            except OSError as err:
+                raise StorageError(f"{path.name}: cannot be opened ({err.strerror or err})") from None
+            old.close()
+            self.session = new                  # in the model's thread: what comes after it runs on the new one
+            return new
+
+        new = await self.call(reopen)
+        remember_opened(new.path)
+        state = await self.call(new.state)
+        for client in list(self.clients.values()):
+            client.put(state)
+
+
+def remember_opened(path: Path) -> None:
+    """Put ``path`` first in the recent list; a list that cannot be written is logged."""
+    try:
+        remember(path)
+    except OSError as err:
+        log.warning("the recent projects' list cannot be written (%s): %s", err.filename, err.strerror or err)
+
 
 def same_origin(origin: str | None, host: str | None) -> bool:
     """Whether a websocket handshake's ``Origin`` is the server's own (no Origin: a
@@ -360,7 +405,8 @@ def same_origin(origin: str | None, host: str | None) -> bool:
 
 def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: list[str] | None = None,
                close: bool = False, read_only: bool | None = None,
-               exports: str | os.PathLike[str] | None = None) -> FastAPI:
+               exports: str | os.PathLike[str] | None = None,
+               files: str | os.PathLike[str] | None = None) -> FastAPI:
     """The studio app for the project file ``project`` (created if missing). With
     ``warm``, the compiled kernels are warmed at start and ``ready`` is said after;
     without, the app is ready at once. ``hosts``: the only ``Host`` headers answered
@@ -368,7 +414,10 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     rebinding); any if None. When the app stops, a take still running is
     kept and the project saved, and with ``close`` the file is closed (a server's app;
     otherwise ``app.state.hub.session.close()`` does it, and the app can start again).
-    ``read_only`` and ``exports``: as :class:`Session` takes them.
+    ``read_only`` and ``exports``: as :class:`Session` takes them. ``files``: the folder
+    the page saves copies into and opens projects from (the project's if None); a
+    project opened from the page is put first in the recent list
+    (:mod:`sketchanim.project.recent`; ``sketchanim studio`` puts its own there).
 
     >>> import tempfile
     >>> from fastapi.testclient import TestClient
@@ -380,6 +429,11 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     >>> app.state.hub.session.close()
     """
     hub = Hub(Session(project, read_only, exports))
+    hub.opening = (read_only, exports)
+    hub.files = hub.session.folder if files is None else Path(files).resolve()
+    if not hub.files.is_dir():
+        hub.session.close()
+        raise ArgumentError("files", f"{hub.files} is not a folder")
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -440,6 +494,38 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             raise HTTPException(400, str(err)) from None
         return Response(data, media_type=fmt.media_type,
                         headers={"Content-Disposition": downloads.disposition(downloads.file_name(s.path, fmt))})
+
+    @app.post("/api/project/save-as", response_model=projectfiles.ProjectFile,
+              responses={400: {"description": "Not a project name, taken, or not writable; nothing changed."}})
+    async def save_as(name: str) -> projectfiles.ProjectFile:
+        """Write the model, as the pages see it, as a new project ``name`` in the files
+        folder (atomically, never over a file), then go on with the copy: every page
+        gets its ``state``; the project it was is saved and closed as it is."""
+        try:
+            target = projectfiles.copy_target(hub.files, name)
+            s = hub.session
+            await hub.call(lambda: projectfiles.write_copy(target, s.scene, s.player.tracks, s.tolerances, s.fps))
+            await hub.switch(target)
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        return projectfiles.ProjectFile(path=str(target), name=target.name, exists=True)
+
+    @app.post("/api/project/open", response_model=projectfiles.ProjectFile,
+              responses={400: {"description": "Not a project the page may open, or it does not open; nothing changed."}})
+    async def open_project(path: str) -> projectfiles.ProjectFile:
+        """Go on with another project: a bare name in the files folder, or a path of
+        the recent list; the open one is saved and closed, every page gets its ``state``."""
+        try:
+            target = projectfiles.openable(path, hub.files, recent())
+            await hub.switch(target)
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        return projectfiles.ProjectFile(path=str(target), name=target.name, exists=True)
+
+    @app.get("/api/recent", response_model=projectfiles.ProjectFiles)
+    async def recent_projects() -> projectfiles.ProjectFiles:
+        """The open project, the files folder, and the projects opened lately (newest first)."""
+        return projectfiles.listing(hub.session.path, hub.files, recent())
 
     @app.websocket("/ws")
     async def stream(socket: WebSocket) -> None:
