@@ -1,18 +1,27 @@
 """Files from the page, in a real browser (Debian's chromium through Playwright) against a
-real server: the export dialog (a take made, exported as .glb and .usd as browser
+real server: the export dialog (a project's take exported as .glb and .usd as browser
 downloads: the Khronos validator finds no error, three.js and pxr play the take within
-its tolerance), closed by Escape with the focus back, a refusal shown in it. Every test
-checks the page drew something."""
+its tolerance), closed by Escape with the focus back, a refusal shown in it; the project
+dialog (a take made in the page, saved as a copy the studio goes on with, the first opened
+again). Every test checks the page drew something."""
 
 from __future__ import annotations
 
 import json
+import urllib.request
 from pathlib import Path
 
 import numpy as np
 
+import pytest
+
 from clips import validate
-from studio_browser import curve, drag, drew_something, last_take, project
+from sketchanim.anim.attributes import POSITION
+from sketchanim.anim.layers import reduce_samples
+from sketchanim.anim.tracks import ContinuousTrack, Take
+from sketchanim.project.store import Project
+from sketchanim.studio.defaults import default_scene
+from studio_browser import curve, drag, drew_something, last_take, project, studio_server
 from threejs_client import three_play
 
 PATH = "box.position"
@@ -31,12 +40,20 @@ def _make_take(page) -> None:  # noqa: ANN001
     page.click("[data-testid=record]")
 
 
-def _raw_take(url: str) -> tuple[np.ndarray, np.ndarray, float]:
-    """The box position's take as the project keeps it: times, values, the tolerance."""
-    doc = project(url)
-    _, entry = curve(doc, PATH)
-    (take,) = [doc["takes"][i] for i in entry["takes"]]
-    return np.array(take["times"]), np.array(take["values"]), entry["tol"]
+#: The take of the box's position the export tests' project holds.
+T = np.linspace(0, 2, 121)
+POS = np.c_[np.sin(2 * T), 0.5 + 0.2 * T, np.cos(3 * T)]
+TOL = 0.005
+
+
+@pytest.fixture
+def take_studio(tmp_path: Path):  # noqa: ANN201
+    """A studio on ``studio.sketchanim``: the default scene, the box's position recorded
+    in one take (as the recorder keeps it: its samples reduced within the tolerance)."""
+    track = ContinuousTrack(PATH, POSITION, reduce_samples(POSITION, T, POS, TOL, 4), TOL, (Take(T, POS),))
+    Project(tmp_path / "studio.sketchanim").save(default_scene(), {PATH: track})
+    with studio_server(tmp_path / "studio.sketchanim") as url:
+        yield url
 
 
 def _download(page, testid: str, folder: Path) -> Path:  # noqa: ANN001
@@ -52,15 +69,13 @@ def _download(page, testid: str, folder: Path) -> Path:  # noqa: ANN001
     return path
 
 
-def test_export_dialog_downloads_a_glb_three_js_plays_within_tolerance(_page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001
-    page = _page(studio)
-    _make_take(page)
+def test_export_dialog_downloads_a_glb_three_js_plays_within_tolerance(_page, take_studio: str, tmp_path: Path) -> None:  # noqa: ANN001
+    page = _page(take_studio)
     page.click("[data-testid=export]")
     dialog = page.locator("[data-testid=export-dialog]")
     dialog.locator("[data-testid=export-glb]").wait_for()
     text = dialog.inner_text()
-    times, values, tol = _raw_take(studio)
-    assert "three.js" in text and f"within {tol * 1000:.3g} mm" in text and "Blender's own glTF importer" in text
+    assert "three.js" in text and "within 5 mm" in text and "Blender's own glTF importer" in text
     SHOTS.mkdir(parents=True, exist_ok=True)
     dialog.screenshot(path=str(SHOTS / "export-dialog.png"))
     recording = "document.querySelector('[data-testid=record]').classList.contains('on')"
@@ -78,34 +93,68 @@ def test_export_dialog_downloads_a_glb_three_js_plays_within_tolerance(_page, st
     assert page.evaluate("document.activeElement.dataset.testid") == "export"
     (report,) = validate(glb)
     assert report["numErrors"] == 0, report["messages"][:3]
-    played = three_play(glb, times)["box"]["position"]
-    assert np.abs(played - values).max() <= tol, "three.js plays the take outside its tolerance"
+    played = three_play(glb, T)["box"]["position"]
+    assert np.abs(played - POS).max() <= TOL, "three.js plays the take outside its tolerance"
     assert drew_something(page) > 5 and not page.errors
 
 
-def test_export_dialog_downloads_usd_pxr_opens_and_shows_a_refusal(_page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001
+def test_export_dialog_downloads_usd_pxr_opens_and_shows_a_refusal(_page, take_studio: str, tmp_path: Path) -> None:  # noqa: ANN001
     from pxr import Usd
 
-    page = _page(studio)
-    _make_take(page)
+    page = _page(take_studio)
     usd = _download(page, "export-usd", tmp_path)
     assert usd.name == "studio.usd"
     stage = Usd.Stage.Open(str(usd))
     rate = stage.GetTimeCodesPerSecond()
     translate = stage.GetPrimAtPath("/box").GetAttribute("xformOp:translate")
-    times, values, tol = _raw_take(studio)
-    played = np.array([translate.Get(float(t * rate)) for t in times])
-    assert np.abs(played - values).max() <= tol
+    played = np.array([translate.Get(float(t * rate)) for t in T])
+    assert np.abs(played - POS).max() <= TOL
     # a refusal (as a server without usd-core answers) is shown in the dialog, which stays open
     detail = "USD export needs usd-core: pip install 'sketchanim[usd]'"
     page.route("**/api/export?format=usd", lambda route: route.fulfill(
         status=400, content_type="application/json", body=json.dumps({"detail": detail})))
     page.click("[data-testid=export]")
     page.click("[data-testid=export-usd]")
-    error = page.locator("[data-testid=export-error]")
+    error = page.locator("[data-testid=export-dialog-error]")
     error.wait_for()
     assert detail in error.inner_text() and "studio.usd" in error.inner_text()
     assert page.locator("[data-testid=export-dialog]").is_visible()
-    page.click("[data-testid=export-close]")
+    page.click("[data-testid=export-dialog-close]")
     page.wait_for_selector("[data-testid=export-dialog]", state="hidden")
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_save_as_goes_on_with_the_copy_and_open_goes_back(_page, studio: str, tmp_path: Path) -> None:  # noqa: ANN001
+    page = _page(studio)
+    _make_take(page)
+    page.click("[data-testid=files]")
+    field = page.locator("[data-testid=save-as-name]")
+    assert field.input_value() == "studio-copy.sketchanim"
+    # a bad name: refused, shown, the dialog stays open, nothing written
+    field.fill("")
+    page.keyboard.type("../up.sketchanim")              # typed: the keys reach the field, not the shortcuts
+    assert field.input_value() == "../up.sketchanim"
+    page.keyboard.press("Enter")
+    error = page.locator("[data-testid=files-dialog-error]")
+    error.wait_for()
+    assert "not a path" in error.inner_text() and not (tmp_path.parent / "up.sketchanim").exists()
+    field.fill("take2.sketchanim")
+    page.keyboard.press("Enter")
+    page.wait_for_selector("[data-testid=files-dialog]", state="hidden")
+    page.wait_for_function("document.getElementById('project').textContent === 'take2.sketchanim'")
+    assert (tmp_path / "take2.sketchanim").is_file()
+    doc = project(studio)
+    assert curve(doc, PATH) is not None, "the copy lost the take"
+    with urllib.request.urlopen(studio + "api/state") as r:
+        assert json.load(r)["project"] == "take2.sketchanim"
+    # open the first again, from the files folder's list
+    page.click("[data-testid=files]")
+    page.wait_for_selector("[data-testid=open-file]")
+    recent = page.locator("[data-testid=files-dialog]").inner_text()
+    assert "take2.sketchanim" in recent and "open now" in recent
+    page.click(f"[data-testid=open-file][data-path='{tmp_path / 'studio.sketchanim'}']")
+    page.wait_for_selector("[data-testid=files-dialog]", state="hidden")
+    page.wait_for_function("document.getElementById('project').textContent === 'studio.sketchanim'")
+    assert page.evaluate("document.activeElement.dataset.testid") == "files"
+    assert curve(project(studio), PATH) is not None
     assert drew_something(page) > 5 and not page.errors

@@ -29,6 +29,8 @@ from sketchanim.studio.exports import ExportExists, check_name, failed
 
 #: What a project file's name ends in.
 PROJECT_SUFFIX = ".sketchanim"
+#: Most projects of the files folder listed.
+MAX_LISTED = 500
 
 
 class ProjectFile(BaseModel):
@@ -42,12 +44,14 @@ class ProjectFile(BaseModel):
 
 
 class ProjectFiles(BaseModel):
-    """``GET /api/recent``'s answer: the open project, the files folder and the
-    projects opened lately, newest first."""
+    """``GET /api/recent``'s answer: the open project, the files folder, the projects
+    opened lately (newest first) and those in the files folder (by name, at most
+    :data:`MAX_LISTED`)."""
 
     current: str
     folder: str
     recent: list[ProjectFile]
+    files: list[ProjectFile]
 
 
 def copy_target(folder: Path, name: str) -> Path:
@@ -121,11 +125,18 @@ def openable(path: str, folder: Path, recent: list[Recent]) -> Path:
 
 
 def listing(current: Path, folder: Path, recent: list[Recent]) -> ProjectFiles:
-    """What ``GET /api/recent`` answers.
+    """What ``GET /api/recent`` answers (a files folder that cannot be read lists none).
 
-    >>> listing(Path("/a/show.sketchanim"), Path("/a"), [Recent("/a/show.sketchanim", 5.0)]).recent[0].name
-    'show.sketchanim'
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> _ = (folder / "show.sketchanim").write_bytes(b""); _ = (folder / "notes.txt").write_bytes(b"")
+    >>> answer = listing(folder / "show.sketchanim", folder, [Recent("/a/gone.sketchanim", 5.0)])
+    >>> [(f.name, f.exists) for f in answer.recent], [f.name for f in answer.files]
+    ([('gone.sketchanim', False)], ['show.sketchanim'])
     """
+    try:
+        found = sorted(f for f in folder.iterdir() if f.suffix.lower() == PROJECT_SUFFIX and f.is_file())
+    except OSError:
+        found = []
     return ProjectFiles(current=str(current), folder=str(folder), recent=[
         ProjectFile(path=r.path, name=Path(r.path).name, exists=Path(r.path).is_file(), opened=r.opened)
-        for r in recent])
+        for r in recent], files=[ProjectFile(path=str(f), name=f.name, exists=True) for f in found[:MAX_LISTED]])

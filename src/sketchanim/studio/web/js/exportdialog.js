@@ -1,16 +1,14 @@
 // @ts-check
 /**
  * The export dialog: the header's Export button (`data-testid="export"`) opens a modal
- * <dialog> listing what the server offers (`GET /api/export/choices`: each format, its file,
- * and what each client plays from it, within which tolerance); a choice's button fetches
- * `GET /api/export?format=...` and hands the file to the browser as a download (an
+ * dialog (modal.js) listing what the server offers (`GET /api/export/choices`: each format,
+ * its file, and what each client plays from it, within which tolerance); a choice's button
+ * fetches `GET /api/export?format=...` and hands the file to the browser as a download (an
  * <a download> to the fetched file), then the dialog closes. A refusal (the server's 4xx
- * JSON `detail`) is shown in the dialog, which stays open. Escape, the Close button or a
- * click outside the card closes it; the focus goes back to where it was. While it is open
- * no shortcut acts (its key listener, on the window in the capture phase, is added before
- * the keyboard's: main.js builds it first).
+ * JSON `detail`) is shown in the dialog, which stays open.
  */
 import { el } from './dom.js';
+import { Modal, fetchJson, reason, refusal } from './modal.js';
 
 /**
  * What one client plays from an export (downloads.py's ClientPlay).
@@ -29,82 +27,35 @@ import { el } from './dom.js';
  * @property {string[]} left_out
  */
 
-/**
- * The server's words for a refused request: its JSON `detail`, or the status.
- * @param {Response} response
- * @returns {Promise<string>}
- */
-export async function refusal(response) {
-  try {
-    const body = await response.json();
-    if (typeof body.detail === 'string') return body.detail;
-  } catch { /* not JSON: the status says it */ }
-  return `the server answered ${response.status} ${response.statusText}`;
-}
-
 export class ExportDialog {
   /**
    * @param {HTMLElement} header where the Export button goes (the page's header)
    * @param {Window} win whose keys the open dialog keeps from the shortcuts
    */
   constructor(header, win) {
-    this.button = el('button', { class: 'small export-button', 'data-testid': 'export', title: 'Export the scene or the project' }, 'Export…');
+    this.button = el('button', { class: 'small', 'data-testid': 'export', title: 'Export the scene or the project' }, 'Export…');
     this.button.addEventListener('click', () => this.show());
     header.append(this.button);
-    this.dialog = el('dialog', { class: 'export-dialog', 'data-testid': 'export-dialog', 'aria-label': 'Export' });
+    this.modal = new Modal(win, 'export-dialog', 'Export');
     this.list = el('div', { class: 'export-choices' });
-    this.message = el('p', { class: 'export-error', 'data-testid': 'export-error', role: 'alert', hidden: '' });
-    const close = el('button', { class: 'small', 'data-testid': 'export-close' }, 'Close');
-    close.addEventListener('click', () => this.close());
-    this.dialog.append(el('div', { class: 'panel-head' }, 'Export'), this.list, this.message,
-      el('p', { class: 'hint' }, 'Tolerances are the largest of the tracks each file animates (docs/clients.md). Esc closes this.'), close);
-    this.dialog.addEventListener('click', (e) => { if (e.target === this.dialog) this.close(); });   // the backdrop
-    this.dialog.addEventListener('close', () => this.returnFocus?.focus());
-    document.body.append(this.dialog);
-    /** @type {HTMLElement | null} where the focus was before the dialog opened */
-    this.returnFocus = null;
-    win.addEventListener('keydown', (event) => {
-      const e = /** @type {KeyboardEvent} */ (event);
-      if (!this.open || e.key === 'Tab') return;
-      e.stopImmediatePropagation();                 // no shortcut acts under the dialog
-      if (e.key !== 'Escape') return;
-      e.preventDefault();
-      this.close();
-    }, { capture: true });
-  }
-
-  get open() {
-    return this.dialog.open;
+    this.modal.body.append(this.list,
+      el('p', { class: 'hint' }, 'Tolerances are the largest of the tracks each file animates (docs/clients.md). Esc closes this.'));
   }
 
   /** Open the dialog and fill it with the server's choices. */
   async show() {
-    if (this.open) return;
-    this.returnFocus = /** @type {HTMLElement | null} */ (document.activeElement);
-    this.say('');
+    if (this.modal.open) return;
     this.list.replaceChildren(el('p', { class: 'hint' }, 'asking the server…'));
-    this.dialog.showModal();
+    this.modal.show();
     try {
-      const response = await fetch('/api/export/choices');
-      if (!response.ok) throw new Error(await refusal(response));
       /** @type {{choices: ExportChoice[]}} */
-      const body = await response.json();
+      const body = await fetchJson('/api/export/choices');
       this.list.replaceChildren(...body.choices.map((c) => this.choice(c)));
       /** @type {HTMLElement | null} */ (this.list.querySelector('button'))?.focus();
     } catch (err) {
       this.list.replaceChildren();
-      this.say(`no export choices: ${err instanceof Error ? err.message : err}`);
+      this.modal.say(`no export choices: ${reason(err)}`);
     }
-  }
-
-  close() {
-    if (this.open) this.dialog.close();
-  }
-
-  /** @param {string} text an error to show, or '' for none */
-  say(text) {
-    this.message.textContent = text;
-    this.message.hidden = !text;
   }
 
   /**
@@ -136,7 +87,7 @@ export class ExportDialog {
    */
   async download(c, button) {
     button.disabled = true;
-    this.say('');
+    this.modal.say('');
     try {
       const response = await fetch(`/api/export?format=${encodeURIComponent(c.format)}`);
       if (!response.ok) throw new Error(await refusal(response));
@@ -146,9 +97,9 @@ export class ExportDialog {
       link.click();
       link.remove();
       setTimeout(() => URL.revokeObjectURL(url), 60_000);
-      this.close();
+      this.modal.close();
     } catch (err) {
-      this.say(`${c.file} was not made: ${err instanceof Error ? err.message : err}`);
+      this.modal.say(`${c.file} was not made: ${reason(err)}`);
     } finally {
       button.disabled = false;
     }

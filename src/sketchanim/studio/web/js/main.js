@@ -7,6 +7,7 @@
 import { Connection } from './Connection.js';
 import { CurveEditor } from './curveeditor.js';
 import { ExportDialog } from './exportdialog.js';
+import { FilesDialog } from './filesdialog.js';
 import { Header } from './header.js';
 import { Help } from './help.js';
 import { Inspector } from './inspector.js';
@@ -37,7 +38,8 @@ new TransportBar(studio, $('transport'));
 new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
 const curveEditor = new CurveEditor(studio, $('curves'));
 const header = /** @type {HTMLElement} */ (document.querySelector('header.top'));
-new ExportDialog(header, window);                    // before the keys: its Escape goes first
+new FilesDialog(studio, header, window);            // the dialogs before the keys: their Escape goes first
+new ExportDialog(header, window);
 new Help(studio, header, window);   // before the keys: its Escape goes first
 bindKeyboard(window, studioActions(studio, viewport));
 
