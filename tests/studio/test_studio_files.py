@@ -123,3 +123,18 @@ def test_studio_recent_lists_the_projects_opened(studio) -> None:  # noqa: ANN00
     assert result.exit_code == 0 and str(folder / "b.sketchanim") in result.output
     (folder / "b.sketchanim").rename(folder / "moved.sketchanim")
     assert "(gone)" in CliRunner().invoke(cli, ["studio", "--recent"]).output
+
+
+def test_open_a_project_another_studio_has_open_is_refused(studio) -> None:  # noqa: ANN001
+    from sketchanim.project.lock import ProjectLock
+
+    folder, client, _ = studio
+    Project(folder / "busy.sketchanim").save(default_scene(), {})
+    lock = ProjectLock(folder / "busy.sketchanim")
+    try:
+        r = client.post("/api/project/open", params={"path": "busy.sketchanim"})
+        assert r.status_code == 400 and "open in another studio" in r.json()["detail"], r.text
+        assert client.get("/api/state").json()["project"] == "show.sketchanim"
+        assert client.get("/api/project").json()["curves"], "the open project lost its tracks"
+    finally:
+        lock.release()
