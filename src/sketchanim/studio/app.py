@@ -22,7 +22,7 @@ from pathlib import Path
 from urllib.parse import urlsplit
 
 import anyio
-from fastapi import FastAPI, HTTPException, WebSocket, WebSocketDisconnect
+from fastapi import FastAPI, HTTPException, Request, WebSocket, WebSocketDisconnect
 from fastapi.responses import Response
 from fastapi.staticfiles import StaticFiles
 from starlette.middleware.trustedhost import TrustedHostMiddleware
@@ -30,7 +30,7 @@ from pydantic import BaseModel
 
 from sketchanim.errors import ArgumentError, InputError, StorageError
 from sketchanim.project.recent import recent, remember
-from sketchanim.studio import downloads, projectfiles, protocol
+from sketchanim.studio import clips, downloads, projectfiles, protocol
 from sketchanim.studio.handlers import check_writable, error_code, handle
 from sketchanim.studio.session import Session
 
@@ -526,6 +526,34 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     async def recent_projects() -> projectfiles.ProjectFiles:
         """The open project, the files folder, and the projects opened lately (newest first)."""
         return projectfiles.listing(hub.session.path, hub.files, recent())
+
+    @app.post("/api/clips", response_model=clips.ClipImported,
+              responses={400: {"description": "Not a clip file, or malformed (the line and field named); nothing changed."},
+                         413: {"description": "Over the upload's size limit; nothing changed."}})
+    async def import_clip(request: Request, name: str) -> clips.ClipImported:
+        """A motion clip (the raw bytes of a .bvh) into the scene: each joint an object
+        with its world position and orientation tracks, one History step. Read and
+        reduced in the reductions' thread (the model serves the pages meanwhile)."""
+        from sketchanim.mocap.scene_clip import joint_tracks
+
+        loop = asyncio.get_running_loop()
+        try:
+            declared = request.headers.get("content-length")
+            clips.check_upload(name, int(declared) if declared and declared.isdigit() else None)
+            data = bytearray()
+            async for chunk in request.stream():
+                data += chunk
+                clips.check_upload(name, len(data))
+            clip = await loop.run_in_executor(hub.reductions, clips.read_upload, name, bytes(data))
+            joints = await loop.run_in_executor(hub.reductions, joint_tracks, clip)
+            made, out = await hub.call(hub.session.import_clip, Path(name).stem, joints, f"import {name}")
+        except clips.TooLarge as err:
+            raise HTTPException(413, str(err)) from None
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        hub.send(out, None)
+        return clips.ClipImported(objects=made, tracks=sum(len(t) for t in joints.values()),
+                                  frames=len(clip.times), seconds=float(clip.times[-1] - clip.times[0]))
 
     @app.websocket("/ws")
     async def stream(socket: WebSocket) -> None:

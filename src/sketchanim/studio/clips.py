@@ -1,0 +1,120 @@
+"""Motion clips into the scene from the page (``POST /api/clips?name=FILE.bvh``): the
+upload checked (its type by name, its size), read by the BVH reader (whose errors name the
+line and field, here under the uploaded file's name), its joints made objects with world
+position and orientation tracks (:mod:`sketchanim.mocap.scene_clip`), added as one History
+step.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from pydantic import BaseModel
+
+from sketchanim.anim.commands import Change
+from sketchanim.anim.player import Player
+from sketchanim.anim.scene import SceneObject
+from sketchanim.anim.tracks import ContinuousTrack, Track
+from sketchanim.errors import ArgumentError, InputError
+from sketchanim.formats.bvh import read_bvh
+from sketchanim.mocap.scene_clip import object_names, renamed
+from sketchanim.motion.skeleton import Clip
+from sketchanim.studio.defaults import new_object
+
+#: Largest upload taken, bytes (a 10 min, 120 Hz, 60-joint BVH is about 60 MB).
+MAX_CLIP_BYTES = 64 * 2**20
+#: What the page may upload as a clip.
+CLIP_UPLOADS = (".bvh",)
+#: Size of a joint's sphere (its scale), metres.
+JOINT_SCALE = 0.04
+
+
+class ClipImported(BaseModel):
+    """``POST /api/clips``'s answer: the objects made (one per joint), their tracks, and
+    the clip's frames and seconds."""
+
+    objects: list[str]
+    tracks: int
+    frames: int
+    seconds: float
+
+
+class TooLarge(ArgumentError):
+    """An upload over :data:`MAX_CLIP_BYTES`."""
+
+
+def check_upload(name: str, size: int | None) -> None:
+    """Refuse an upload by its name (a ``.bvh``) or its size (``size`` bytes, if known).
+
+    >>> check_upload("walk.bvh", 1000)
+    >>> check_upload("walk.mp3", 1000)
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: name: 'walk.mp3': a clip upload is a .bvh file
+    """
+    if Path(name).suffix.lower() not in CLIP_UPLOADS:
+        raise ArgumentError("name", f"{name!r}: a clip upload is {' or '.join('a ' + s for s in CLIP_UPLOADS)} file")
+    if size is not None and size > MAX_CLIP_BYTES:
+        raise TooLarge("name", f"{name!r}: {size / 2**20:.1f} MB; a clip upload is at most {MAX_CLIP_BYTES // 2**20} MB")
+
+
+def read_upload(name: str, data: bytes) -> Clip:
+    """The clip in an upload named ``name``; the reader's error (naming the line and
+    field) under that name, never the temporary file's.
+
+    >>> read_upload("x.bvh", b"HIERARCHY\\nROOT")
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.FileFormatError: x.bvh: no MOTION section
+    """
+    check_upload(name, len(data))
+    with tempfile.TemporaryDirectory() as tmp:
+        scratch = Path(tmp) / "upload.bvh"
+        scratch.write_bytes(data)
+        try:
+            return read_bvh(scratch)
+        except InputError as err:
+            err.args = tuple(str(a).replace(str(scratch), name) for a in err.args)
+            raise
+
+
+def joint_object(name: str, track: ContinuousTrack) -> SceneObject:
+    """A joint's object: a small sphere where its position track starts.
+
+    >>> from scipy.interpolate import BSpline
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 1, 0], [1.0, 1, 0]]), 1)
+    >>> joint_object("walk_hips", ContinuousTrack("hips.position", POSITION, s, 0.005)).attributes["shape"].value
+    'sphere'
+    """
+    obj = new_object(name, "object")
+    obj.attributes["shape"].value = "sphere"
+    obj.attributes["scale"].value = np.full(3, JOINT_SCALE)
+    obj.attributes["position"].value = np.asarray(track.evaluate([track.start])[0], dtype=float)
+    return obj
+
+
+def clip_change(player: Player, prefix: str, joints: dict[str, dict[str, ContinuousTrack]],
+                label: str) -> tuple[Change, list[str]]:
+    """One History step adding a clip's joints (:func:`~sketchanim.mocap.scene_clip.joint_tracks`)
+    as objects named ``<prefix>_<joint>`` (numbered where taken), with their tracks; and
+    the objects' names.
+
+    >>> from sketchanim.anim.scene import Scene
+    >>> from sketchanim.mocap.scene_clip import joint_tracks
+    >>> from sketchanim.motion.skeleton import Skeleton
+    >>> clip = Clip.still(Skeleton(("hips",), (-1,), np.zeros((1, 3))), np.arange(30) / 30)
+    >>> player = Player(Scene())
+    >>> change, names = clip_change(player, "walk", joint_tracks(clip), "import walk.bvh")
+    >>> change.do(); names, sorted(player.tracks)
+    (['walk_hips'], ['walk_hips.orientation', 'walk_hips.position'])
+    """
+    scene = player.scene
+    names = object_names(prefix, tuple(joints), set(scene.objects))
+    objects = [joint_object(n, joints[j]["position"]) for n, j in zip(names, joints)]
+    tracks: dict[str, Track | None] = {t.path: t for n, j in zip(names, joints)
+                                       for t in (renamed(track, n) for track in joints[j].values())}
+    changes = tuple((lambda o=o: scene.insert(o), lambda o=o: scene.remove(o.name)) for o in objects)
+    return Change(player, label, tracks, changes), names

@@ -1,0 +1,83 @@
+"""Clips into the scene (``POST /api/clips``): a real BVH's joints become objects whose world
+position and orientation tracks are in ``GET /api/project``, within their tolerances of the
+clip's frames (forward kinematics), added and undone as one step; a truncated or mistyped or
+too large upload refused with a message naming it, the project unchanged."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+from scipy.spatial.transform import Rotation
+
+from sketchanim.formats.bvh import read_bvh
+from sketchanim.motion.kinematics import world_pose
+from sketchanim.studio import clips
+from sketchanim.studio.app import create_app
+from studio_browser import curve, held
+
+CLIP = "bvh/bandai1_dash_normal_001.bvh"
+
+
+@pytest.fixture
+def client(tmp_path):  # noqa: ANN001, ANN201
+    app = create_app(tmp_path / "p.sketchanim", warm=False)
+    with TestClient(app) as c:
+        yield c, app.state.hub.session
+    app.state.hub.session.close()
+
+
+@pytest.mark.realdata
+def test_a_bvh_becomes_objects_whose_tracks_play_its_joints(client, data_dir) -> None:  # noqa: ANN001
+    c, session = client
+    source = data_dir / CLIP
+    r = c.post("/api/clips?name=dash.bvh", content=source.read_bytes())
+    assert r.status_code == 200, r.text
+    clip = read_bvh(source)
+    answer = r.json()
+    names = clip.skeleton.names
+    assert answer["objects"] == [f"dash_{n}" for n in names] and answer["frames"] == len(clip.times)
+    assert answer["tracks"] == 2 * len(names)
+    doc = c.get("/api/project").json()
+    turns, positions = world_pose(clip.skeleton, clip.rotations, clip.translations)
+    unit = clip.guess_unit_m()
+    for j, name in enumerate(names):
+        spline, entry = curve(doc, f"dash_{name}.position")
+        assert np.abs(held(spline, clip.times) - positions[:, j] * unit).max() <= entry["tol"] * (1 + 1e-9)
+        spline, entry = curve(doc, f"dash_{name}.orientation")
+        q = held(spline, clip.times)
+        played = Rotation.from_quat(q / np.linalg.norm(q, axis=1, keepdims=True))
+        assert np.degrees((played.inv() * turns[j]).magnitude()).max() <= entry["tol"] * (1 + 1e-9)
+    state = c.get("/api/state").json()
+    assert state["history"]["undo"][-1] == "import dash.bvh"
+    session.undo()
+    assert not [o for o in c.get("/api/state").json()["objects"] if o["name"].startswith("dash_")]
+    # again: the names are free again, and a second import beside the first is numbered
+    assert c.post("/api/clips?name=dash.bvh", content=source.read_bytes()).status_code == 200
+    again = c.post("/api/clips?name=dash.bvh", content=source.read_bytes()).json()
+    assert again["objects"][0] == f"dash_{names[0]}_2"
+
+
+@pytest.mark.realdata
+@pytest.mark.parametrize("cut", [0.5, 0.95])
+def test_a_truncated_bvh_is_refused_naming_it_and_changes_nothing(client, data_dir, cut: float) -> None:  # noqa: ANN001
+    c, _ = client
+    data = (data_dir / CLIP).read_bytes()
+    before = c.get("/api/project").content
+    r = c.post("/api/clips?name=dash.bvh", content=data[: int(len(data) * cut)])
+    assert r.status_code == 400 and r.json()["detail"].startswith("dash.bvh"), r.text
+    assert "upload.bvh" not in r.json()["detail"]
+    assert c.get("/api/project").content == before
+
+
+def test_not_a_bvh_or_too_large_is_refused(client, monkeypatch: pytest.MonkeyPatch) -> None:  # noqa: ANN001
+    c, _ = client
+    before = c.get("/api/project").content
+    r = c.post("/api/clips?name=song.mp3", content=b"ID3....")
+    assert r.status_code == 400 and "'song.mp3': a clip upload is a .bvh file" in r.json()["detail"]
+    r = c.post("/api/clips?name=noise.bvh", content=bytes(range(256)) * 4)
+    assert r.status_code == 400 and r.json()["detail"].startswith("noise.bvh")
+    monkeypatch.setattr(clips, "MAX_CLIP_BYTES", 1000)
+    r = c.post("/api/clips?name=big.bvh", content=b"HIERARCHY\n" * 500)
+    assert r.status_code == 413 and "at most" in r.json()["detail"]
+    assert c.get("/api/project").content == before
