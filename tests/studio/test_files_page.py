@@ -158,3 +158,37 @@ def test_save_as_goes_on_with_the_copy_and_open_goes_back(_page, studio: str, tm
     assert page.evaluate("document.activeElement.dataset.testid") == "files"
     assert curve(project(studio), PATH) is not None
     assert drew_something(page) > 5 and not page.errors
+
+
+def test_import_a_bvh_from_the_outliner_plays_and_a_truncated_one_is_refused(_page, studio: str, data_dir: Path,
+                                                                             tmp_path: Path) -> None:  # noqa: ANN001
+    page = _page(studio)
+    source = data_dir / "bvh" / "bandai1_walk_happy_001.bvh"
+    page.set_input_files("[data-testid=import-clip]", str(source))
+    status = page.locator("[data-testid=import-clip-status]")
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.includes('joints')",
+                           timeout=120_000)
+    assert "213 frames" in status.inner_text()
+    doc = project(studio)
+    assert curve(doc, "bandai1_walk_happy_001_Hips.position") is not None and curve(doc, "bandai1_walk_happy_001_Hips.orientation") is not None
+    names = page.evaluate("studio.objects.map((o) => o.name)")
+    assert "bandai1_walk_happy_001_Hips" in names and "bandai1_walk_happy_001_Head" in names
+    page.wait_for_selector("[data-testid=outliner] >> text=bandai1_walk_happy_001_Hips")
+    # it plays with the rest: the hips move as the transport runs
+    start = page.evaluate("Array.from(studio.values.get('bandai1_walk_happy_001_Hips.position'))")
+    page.click("[data-testid=play]")
+    page.wait_for_timeout(1500)
+    page.click("[data-testid=play]")
+    moved = page.evaluate("Array.from(studio.values.get('bandai1_walk_happy_001_Hips.position'))")
+    assert np.linalg.norm(np.subtract(moved, start)) > 0.05, (start, moved)
+    # a truncated file: refused on the page (status and notice), the project unchanged
+    before = project(studio)
+    cut = tmp_path / "cut.bvh"
+    data = source.read_bytes()
+    cut.write_bytes(data[: len(data) // 2])
+    page.set_input_files("[data-testid=import-clip]", str(cut))
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.includes('not imported')")
+    assert "cut.bvh" in status.inner_text() and "line" in status.inner_text()
+    assert "cut.bvh was not imported" in page.locator("[data-testid=notices]").inner_text()
+    assert project(studio) == before
+    assert drew_something(page) > 5 and not page.errors

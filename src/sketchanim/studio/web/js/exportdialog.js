@@ -8,7 +8,8 @@
  * JSON `detail`) is shown in the dialog, which stays open.
  */
 import { el } from './dom.js';
-import { Modal, fetchJson, reason, refusal } from './modal.js';
+import { fetchJson, reason, refusal } from './api.js';
+import { Modal } from './modal.js';
 
 /**
  * What one client plays from an export (downloads.py's ClientPlay).

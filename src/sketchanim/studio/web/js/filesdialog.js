@@ -8,7 +8,8 @@
  * server. A refusal (the server's 4xx JSON `detail`) is shown in the dialog, which stays open.
  */
 import { el } from './dom.js';
-import { Modal, fetchJson, reason } from './modal.js';
+import { fetchJson, reason } from './api.js';
+import { Modal } from './modal.js';
 
 /**
  * A project the page may open (projectfiles.py's ProjectFile).

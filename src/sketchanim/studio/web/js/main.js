@@ -5,6 +5,7 @@
  * performance.now(), playback of every track, the performer's samples — then drawing).
  */
 import { Connection } from './Connection.js';
+import { ClipImport } from './clipimport.js';
 import { CurveEditor } from './curveeditor.js';
 import { ExportDialog } from './exportdialog.js';
 import { FilesDialog } from './filesdialog.js';
@@ -32,6 +33,7 @@ const viewport = new Viewport(studio, $('viewport'));
 new Notices(studio, $('notices'));
 new LockBanner(studio, $('viewport'));
 new Outliner(studio, $('outliner'), viewport);
+new ClipImport(studio, $('outliner'));
 new Inspector(studio, $('inspector'));
 new Layers(studio, $('inspector'));
 new TransportBar(studio, $('transport'));
