@@ -81,3 +81,26 @@ def test_not_a_bvh_or_too_large_is_refused(client, monkeypatch: pytest.MonkeyPat
     r = c.post("/api/clips?name=big.bvh", content=b"HIERARCHY\n" * 500)
     assert r.status_code == 413 and "at most" in r.json()["detail"]
     assert c.get("/api/project").content == before
+
+
+@pytest.mark.realdata
+def test_a_take_over_a_joint_is_layered_over_its_clip_track(client, data_dir) -> None:  # noqa: ANN001
+    c, _ = client
+    source = data_dir / "bvh" / "bandai1_walk_happy_001.bvh"
+    assert c.post("/api/clips?name=walk.bvh", content=source.read_bytes()).status_code == 200
+    path = "walk_Hips.position"
+    spline, _ = curve(c.get("/api/project").json(), path)
+    t = np.linspace(2.0, 3.0, 61)                      # a punch-in over 2..3 s of the 7 s clip
+    lifted = held(spline, t) + [0.0, 0.3, 0.0]
+    with c.websocket_connect("/ws") as page:
+        page.send_json({"type": "take.begin", "id": 1, "take": "lift", "paths": [path], "time": 2.0})
+        page.send_json({"type": "take.samples", "take": "lift", "t": t.tolist(), "values": lifted.tolist()})
+        page.send_json({"type": "take.end", "id": 2, "take": "lift"})
+        while not (m := page.receive_json())["type"] == "ack" or m["id"] != 2:
+            assert m["type"] != "error", m
+    layered, entry = curve(c.get("/api/project").json(), path)
+    assert len(entry["takes"]) == 2
+    inside = (t > 2.2) & (t < 2.8)                     # clear of the blends at the seams
+    assert np.abs(held(layered, t[inside]) - lifted[inside]).max() <= entry["tol"] * (1 + 1e-6)
+    early = np.linspace(0.2, 1.5, 40)                  # before it: the clip as it was
+    assert np.abs(held(layered, early) - held(spline, early)).max() <= entry["tol"]
