@@ -191,4 +191,14 @@ def test_import_a_bvh_from_the_outliner_plays_and_a_truncated_one_is_refused(_pa
     assert "cut.bvh" in status.inner_text() and "line" in status.inner_text()
     assert "cut.bvh was not imported" in page.locator("[data-testid=notices]").inner_text()
     assert project(studio) == before
+    # a 200 MB file (sparse: no disk spent): refused on the page, the project unchanged
+    big = tmp_path / "big.bvh"
+    with big.open("wb") as f:
+        f.truncate(200 * 2**20)
+    page.set_input_files("[data-testid=import-clip]", str(big))
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.includes('big.bvh')",
+                           timeout=60_000)
+    page.wait_for_function("!document.querySelector('[data-testid=import-clip]').disabled", timeout=60_000)
+    assert "big.bvh was not imported" in status.inner_text() and "at most 64 MB" in status.inner_text()
+    assert project(studio) == before
     assert drew_something(page) > 5 and not page.errors
