@@ -69,18 +69,19 @@ def test_save_as_writes_the_copy_and_goes_on_with_it(studio) -> None:  # noqa: A
     assert listed["recent"][0]["name"] == "take2.sketchanim" and listed["recent"][0]["exists"]
 
 
-@pytest.mark.parametrize("name, words", [
-    ("show.sketchanim", ["'show.sketchanim' exists", "another name"]),
-    ("../up.sketchanim", ["'../up.sketchanim'", "not a path"]),
-    ("copy.glb", ["'copy.glb'", "ends in .sketchanim"]),
-    (".hidden.sketchanim", ["hidden"]),
-    ("", ["needs a file name"]),
+@pytest.mark.parametrize("name, status, words", [
+    ("show.sketchanim", 409, ["'show.sketchanim' exists", "another name"]),
+    ("../up.sketchanim", 400, ["'../up.sketchanim'", "not a path"]),
+    ("copy.glb", 400, ["'copy.glb'", "ends in .sketchanim"]),
+    (".hidden.sketchanim", 400, ["hidden"]),
+    ("", 400, ["needs a file name"]),
 ])
-def test_save_as_refuses_a_bad_name_and_changes_nothing(studio, name: str, words: list[str]) -> None:  # noqa: ANN001
+def test_save_as_refuses_a_bad_name_and_changes_nothing(studio, name: str, status: int,  # noqa: ANN001
+                                                        words: list[str]) -> None:
     folder, client, _ = studio
     listing = sorted(os.listdir(folder))
     r = client.post("/api/project/save-as", params={"name": name})
-    assert r.status_code == 400, r.text
+    assert r.status_code == status, r.text
     assert all(w in r.json()["detail"] for w in words), r.json()
     assert sorted(os.listdir(folder)) == listing
     assert client.get("/api/state").json()["project"] == "show.sketchanim"
@@ -102,14 +103,15 @@ def test_open_a_project_of_the_files_folder_or_the_recent_list(studio) -> None: 
     assert r.status_code == 200 and client.get("/api/state").json()["project"] == "other.sketchanim"
 
 
-@pytest.mark.parametrize("path, words", [("/etc/passwd", ["neither"]), ("gone.sketchanim", ["no such project file"]),
-                                         ("notes.txt", ["ends in .sketchanim"]),
-                                         ("show.sketchanim", ["is the open project"])])
-def test_open_refuses_and_changes_nothing(studio, path: str, words: list[str]) -> None:  # noqa: ANN001
+@pytest.mark.parametrize("path, status, words", [("/etc/passwd", 400, ["neither"]),
+                                                 ("gone.sketchanim", 404, ["no such project file"]),
+                                                 ("notes.txt", 400, ["ends in .sketchanim"]),
+                                                 ("show.sketchanim", 409, ["is the open project"])])
+def test_open_refuses_and_changes_nothing(studio, path: str, status: int, words: list[str]) -> None:  # noqa: ANN001
     folder, client, _ = studio
     (folder / "notes.txt").write_text("x")
     r = client.post("/api/project/open", params={"path": path})
-    assert r.status_code == 400 and all(w in r.json()["detail"] for w in words), r.json()
+    assert r.status_code == status and all(w in r.json()["detail"] for w in words), r.json()
     assert client.get("/api/state").json()["project"] == "show.sketchanim"
 
 

@@ -16,14 +16,16 @@ import os
 import time
 from collections import deque
 from collections.abc import AsyncIterator, Awaitable, Callable
+from typing import Annotated
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import asynccontextmanager
 from pathlib import Path
 from urllib.parse import urlsplit
 
 import anyio
-from fastapi import FastAPI, HTTPException, Request, WebSocket, WebSocketDisconnect
+from fastapi import FastAPI, HTTPException, Query, Request, WebSocket, WebSocketDisconnect
 from fastapi.responses import Response
+from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from pydantic import BaseModel
@@ -31,6 +33,7 @@ from pydantic import BaseModel
 from sketchanim.errors import ArgumentError, InputError, StorageError
 from sketchanim.project.recent import recent, remember
 from sketchanim.studio import clips, downloads, projectfiles, protocol
+from sketchanim.studio.exports import ExportExists
 from sketchanim.studio.handlers import check_writable, error_code, handle
 from sketchanim.studio.session import Session
 
@@ -353,7 +356,7 @@ class Hub:
             raise ArgumentError("project", "tracks are being reduced again; open the project once they are back")
         old = self.session
         if path.resolve() == old.path:
-            raise ArgumentError("project", f"{old.path.name} is the open project")
+            raise AlreadyOpen("project", f"{old.path.name} is the open project")
 
         def reopen() -> Session:
             if old.take is not None:
@@ -371,6 +374,22 @@ class Hub:
         state = await self.call(new.state)
         for client in list(self.clients.values()):
             client.put(state)
+
+
+class AlreadyOpen(ArgumentError):
+    """The project to open is the open one."""
+
+
+def refusal_status(err: InputError) -> int:
+    """The HTTP status of a refused save as or open: 409 for a name taken or the open
+    project, 404 for a project not there, else 400.
+
+    >>> refusal_status(AlreadyOpen("project", "a.sketchanim is the open project"))
+    409
+    """
+    if isinstance(err, (ExportExists, AlreadyOpen)):
+        return 409
+    return 404 if isinstance(err, projectfiles.ProjectMissing) else 400
 
 
 def remember_opened(path: Path) -> None:
@@ -482,7 +501,8 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
                                           "application/json": {}},
                               "description": "The export, as a download named after the project."},
                         400: {"description": "Not an export format, or one this server cannot write."}})
-    async def export_download(format: str = "glb") -> Response:
+    async def export_download(format: Annotated[str, Query(json_schema_extra={"enum": list(downloads.FORMATS)})]
+                              = "glb") -> Response:
         """The scene (``glb``, ``glb-frames``, ``usd``) or the project (``json``) as a
         download, made by the writers ``sketchanim export`` uses; nothing is written."""
         s = hub.session
@@ -496,8 +516,10 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
                         headers={"Content-Disposition": downloads.disposition(downloads.file_name(s.path, fmt))})
 
     @app.post("/api/project/save-as", response_model=projectfiles.ProjectFile,
-              responses={400: {"description": "Not a project name, taken, or not writable; nothing changed."}})
-    async def save_as(name: str) -> projectfiles.ProjectFile:
+              responses={400: {"description": "Not a project name, or not writable; nothing changed."},
+                         409: {"description": "The name is taken; nothing changed."}})
+    async def save_as(name: Annotated[str, Query(json_schema_extra={"pattern": projectfiles.NAME_PATTERN})]
+                      ) -> projectfiles.ProjectFile:
         """Write the model, as the pages see it, as a new project ``name`` in the files
         folder (atomically, never over a file), then go on with the copy: every page
         gets its ``state``; the project it was is saved and closed as it is."""
@@ -507,11 +529,13 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             await hub.call(lambda: projectfiles.write_copy(target, s.scene, s.player.tracks, s.tolerances, s.fps))
             await hub.switch(target)
         except InputError as err:
-            raise HTTPException(400, str(err)) from None
+            raise HTTPException(refusal_status(err), str(err)) from None
         return projectfiles.ProjectFile(path=str(target), name=target.name, exists=True)
 
     @app.post("/api/project/open", response_model=projectfiles.ProjectFile,
-              responses={400: {"description": "Not a project the page may open, or it does not open; nothing changed."}})
+              responses={400: {"description": "Not a project the page may open, or it does not open; nothing changed."},
+                         404: {"description": "No such project file."},
+                         409: {"description": "It is the open project; nothing changed."}})
     async def open_project(path: str) -> projectfiles.ProjectFile:
         """Go on with another project: a bare name in the files folder, or a path of
         the recent list; the open one is saved and closed, every page gets its ``state``."""
@@ -519,7 +543,7 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             target = projectfiles.openable(path, hub.files, recent())
             await hub.switch(target)
         except InputError as err:
-            raise HTTPException(400, str(err)) from None
+            raise HTTPException(refusal_status(err), str(err)) from None
         return projectfiles.ProjectFile(path=str(target), name=target.name, exists=True)
 
     @app.get("/api/recent", response_model=projectfiles.ProjectFiles)
@@ -528,9 +552,14 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
         return projectfiles.listing(hub.session.path, hub.files, recent())
 
     @app.post("/api/clips", response_model=clips.ClipImported,
+              openapi_extra={"requestBody": {"required": True, "description": "The file's bytes.",
+                                             "content": {"application/octet-stream": {
+                                                 "schema": {"type": "string", "format": "binary"}}}}},
               responses={400: {"description": "Not a clip file, or malformed (the line and field named); nothing changed."},
                          413: {"description": "Over the upload's size limit; nothing changed."}})
-    async def import_clip(request: Request, name: str) -> clips.ClipImported:
+    async def import_clip(request: Request,
+                          name: Annotated[str, Query(json_schema_extra={"pattern": clips.NAME_PATTERN})]
+                          ) -> clips.ClipImported:
         """A motion clip (the raw bytes of a .bvh) into the scene: each joint an object
         with its world position and orientation tracks, one History step. Read and
         reduced in the reductions' thread (the model serves the pages meanwhile)."""
@@ -562,6 +591,16 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             return
         await socket.accept()
         await hub.serve(socket)
+
+    # the last of the API's routes (any added after it would never be reached)
+    @app.api_route("/api/{rest:path}", methods=["GET", "HEAD", "POST", "PUT", "PATCH", "DELETE", "OPTIONS"],
+                   include_in_schema=False)
+    async def methods_allowed(rest: str) -> Response:
+        """A request on the API no route above takes: 405 with the methods its path takes
+        (else the page's static files would answer it), 404 for no such path."""
+        methods = sorted({m for r in app.routes if isinstance(r, APIRoute) and r.path == f"/api/{rest}"
+                          for m in r.methods})
+        return Response(status_code=405 if methods else 404, headers={"Allow": ", ".join(methods)})
 
     for url, folder, html in (("/vendor/three", THREE, False), ("/", WEB, True)):
         if folder.is_dir():                         # three.js comes with scripts/setup; the page with the package

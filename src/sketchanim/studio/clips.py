@@ -27,6 +27,9 @@ from sketchanim.studio.defaults import new_object
 MAX_CLIP_BYTES = 64 * 2**20
 #: What the page may upload as a clip.
 CLIP_UPLOADS = (".bvh",)
+#: The names a page may give an upload (as the OpenAPI spec says; anything else is
+#: checked and refused with its reason).
+NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.bvh$"
 #: Size of a joint's sphere (its scale), metres.
 JOINT_SCALE = 0.04
 

@@ -29,8 +29,15 @@ from sketchanim.studio.exports import ExportExists, check_name, failed
 
 #: What a project file's name ends in.
 PROJECT_SUFFIX = ".sketchanim"
+#: The names a page may give (as the OpenAPI spec says; anything else is checked and
+#: refused with its reason).
+NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.sketchanim$"
 #: Most projects of the files folder listed.
 MAX_LISTED = 500
+
+
+class ProjectMissing(ArgumentError):
+    """The project to open is not there (moved, deleted, never made)."""
 
 
 class ProjectFile(BaseModel):
@@ -120,7 +127,7 @@ def openable(path: str, folder: Path, recent: list[Recent]) -> Path:
     if target.suffix.lower() != PROJECT_SUFFIX:
         raise ArgumentError("path", f"{path!r}: a project's name ends in {PROJECT_SUFFIX}")
     if not target.is_file():
-        raise ArgumentError("path", f"{str(target)!r}: no such project file (moved or deleted?)")
+        raise ProjectMissing("path", f"{str(target)!r}: no such project file (moved or deleted?)")
     return target.resolve()
 
 
