@@ -30,8 +30,8 @@ CLIP_UPLOADS = (".bvh",)
 #: The names a page may give an upload (as the OpenAPI spec says; anything else is
 #: checked and refused with its reason).
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.bvh$"
-#: Size of a joint's sphere (its scale), metres.
-JOINT_SCALE = 0.04
+#: A joint sphere's scale (the page's sphere has a 0.45 m radius at scale 1: here 4.5 cm).
+JOINT_SCALE = 0.1
 
 
 class ClipImported(BaseModel):

@@ -13,7 +13,7 @@ import { fetchJson, reason } from './api.js';
 export class ClipImport {
   /**
    * @param {import('./Studio.js').Studio} studio where refusals are told
-   * @param {HTMLElement} root the outliner's panel
+   * @param {HTMLElement} root the outliner's panel (its list built: main.js builds the Outliner first)
    */
   constructor(studio, root) {
     this.studio = studio;
@@ -21,7 +21,8 @@ export class ClipImport {
     const label = el('label', { class: 'clip-import', title: 'Add a motion clip: each joint an object with its tracks (undoable)' }, 'import clip (.bvh) ');
     label.append(this.input);
     this.status = el('div', { class: 'hint clip-status', 'data-testid': 'import-clip-status', role: 'status' });
-    root.append(label, this.status);
+    const list = root.querySelector('[data-testid=outliner]');     // above the objects' list, which may be long
+    for (const part of [label, this.status]) root.insertBefore(part, list);
     this.input.addEventListener('change', () => {
       const file = this.input.files?.[0];
       if (file) this.send(file).finally(() => { this.input.value = ''; });
