@@ -104,3 +104,15 @@ def test_a_take_over_a_joint_is_layered_over_its_clip_track(client, data_dir) ->
     assert np.abs(held(layered, t[inside]) - lifted[inside]).max() <= entry["tol"] * (1 + 1e-6)
     early = np.linspace(0.2, 1.5, 40)                  # before it: the clip as it was
     assert np.abs(held(layered, early) - held(spline, early)).max() <= entry["tol"]
+
+
+@pytest.mark.realdata
+def test_a_read_only_project_takes_no_clip(tmp_path, data_dir) -> None:  # noqa: ANN001
+    create_app(tmp_path / "ro.sketchanim", warm=False).state.hub.session.close()     # the project, made
+    app = create_app(tmp_path / "ro.sketchanim", warm=False, read_only=True)
+    with TestClient(app) as c:
+        before = c.get("/api/project").content
+        r = c.post("/api/clips?name=dash.bvh", content=(data_dir / CLIP).read_bytes())
+        assert r.status_code == 400 and "read-only" in r.json()["detail"]
+        assert c.get("/api/project").content == before
+    app.state.hub.session.close()
