@@ -140,3 +140,11 @@ def test_open_a_project_another_studio_has_open_is_refused(studio) -> None:  # n
         assert client.get("/api/project").json()["curves"], "the open project lost its tracks"
     finally:
         lock.release()
+
+
+def test_a_files_folder_that_is_not_one_is_refused_and_the_project_let_go(tmp_path: Path) -> None:
+    from sketchanim.errors import ArgumentError
+
+    with pytest.raises(ArgumentError, match="missing is not a folder"):
+        create_app(tmp_path / "p.sketchanim", warm=False, files=tmp_path / "missing")
+    create_app(tmp_path / "p.sketchanim", warm=False).state.hub.session.close()     # its lock was let go
