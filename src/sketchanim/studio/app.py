@@ -199,7 +199,7 @@ class Hub:
 
     def client(self, socket: WebSocket) -> Client:
         """A new page on ``socket``, among the connected (its first ``state`` is the caller's to queue)."""
-        client = Client(next(self._numbers), socket, lambda: self.call(self.session.state))
+        client = Client(next(self._numbers), socket, lambda: self.call(lambda: self.session.state()))
         self.clients[client.number] = client
         return client
 
@@ -228,19 +228,21 @@ class Hub:
         failed save is tried again) in the model thread, its messages sent."""
         while True:
             try:
-                self.send(await self.call(self.session.tick, time.monotonic()), None)
+                now = time.monotonic()
+                self.send(await self.call(lambda: self.session.tick(now)), None)
             except Exception:                       # a bug: logged, and time goes on
                 log.exception("the studio's timer failed")
             await asyncio.sleep(TICK)
 
     async def save(self) -> None:
         """Save now (in the model thread) and send what the save says."""
-        self.send(await self.call(self.session.save), None)
+        self.send(await self.call(lambda: self.session.save()), None)
 
     async def handle(self, client: Client, frame: str | bytes) -> None:
         """One frame from ``client``: parsed, run, answered (an error reply for anything
         refused; the socket stays open)."""
-        self.thread.submit(self.session.heard, client.number, time.monotonic())    # in order with the model's calls
+        now = time.monotonic()
+        self.thread.submit(lambda: self.session.heard(client.number, now))    # in order with the model's calls
         if not client.allowed():
             client.put(error("rate", f"more than {RATE:.0f} messages a second; this one was dropped"))
             return
@@ -255,21 +257,29 @@ class Hub:
             self._reducing.add(task)
             task.add_done_callback(self._reducing.discard)
             return
-        await self.carry_out(client, message, lambda: self.call(handle, self.session, message, client.number))
+        await self.carry_out(client, message, lambda: self.call(lambda: handle(self.session, message, client.number)))
 
     async def reduce(self, message: protocol.TrackReduce) -> list[protocol.Out]:
         """A ``track.reduce``: checked and put in the model's thread, the tracks reduced
         again from their takes in the reductions' thread (the model's serves the other
-        messages meanwhile; a track changed meanwhile is refused when put)."""
-        check_writable(self.session, message)
-        work = await self.call(self.session.reduction, message.paths, message.tol)
+        messages meanwhile; a track changed meanwhile is refused when put, and all of it
+        when another project was opened meanwhile)."""
+        session = self.session
+        check_writable(session, message)
+        work = await self.call(session.reduction, message.paths, message.tol)
         made = await asyncio.get_running_loop().run_in_executor(self.reductions, work)
-        return await self.call(self.session.reduced, made, message.preview)
+
+        def put() -> list[protocol.Out]:
+            if self.session is not session:
+                raise ArgumentError("track.reduce", "another project was opened meanwhile; nothing was changed")
+            return session.reduced(made, message.preview)
+
+        return await self.call(put)
 
     async def kept_samples(self, message: protocol.TrackSamples) -> list[protocol.Out]:
         """A ``track.samples``: the track taken in the model's thread, the samples its
         curve keeps found in the reductions' thread."""
-        work = await self.call(self.session.kept_samples, message.path)
+        work = await self.call(lambda: self.session.kept_samples(message.path))
         return await asyncio.get_running_loop().run_in_executor(self.reductions, work)
 
     async def carry_out(self, client: Client, message: protocol.Message,
@@ -306,7 +316,7 @@ class Hub:
         saved at once), what it previewed without a set goes back
         (:meth:`Session.leave`)."""
         self.clients.pop(client.number, None)
-        self.send(await self.call(self.session.leave, client.number), None)
+        self.send(await self.call(lambda: self.session.leave(client.number)), None)
         await self.save()
 
     async def serve(self, socket: WebSocket) -> None:
@@ -316,7 +326,7 @@ class Hub:
         client = self.client(socket)
         reader = pump = None
         try:
-            client.put(await self.call(self.session.state))
+            client.put(await self.call(lambda: self.session.state()))
             reader = asyncio.ensure_future(self.read(client))
             pump = asyncio.ensure_future(client.pump())
             await asyncio.wait((reader, pump), return_when=asyncio.FIRST_COMPLETED)
