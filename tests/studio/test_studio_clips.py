@@ -12,6 +12,7 @@ from scipy.spatial.transform import Rotation
 
 from sketchanim.formats.bvh import read_bvh
 from sketchanim.motion.kinematics import world_pose
+from sketchanim.project.store import Project
 from sketchanim.studio import clips
 from sketchanim.studio.app import create_app
 from studio_browser import curve, held
@@ -116,3 +117,24 @@ def test_a_read_only_project_takes_no_clip(tmp_path, data_dir) -> None:  # noqa:
         assert r.status_code == 400 and "read-only" in r.json()["detail"]
         assert c.get("/api/project").content == before
     app.state.hub.session.close()
+
+
+@pytest.mark.realdata
+def test_each_joint_names_its_parent_joint_in_the_project(client, data_dir) -> None:  # noqa: ANN001
+    c, session = client
+    clip = read_bvh(data_dir / CLIP)
+    assert c.post("/api/clips?name=dash.bvh", content=(data_dir / CLIP).read_bytes()).status_code == 200
+    doc = c.get("/api/project").json()
+    objects = {o["name"]: {a["name"]: a for a in o["attributes"]} for o in doc["objects"]}
+    skeleton = clip.skeleton
+    for name, up in zip(skeleton.names, skeleton.parents):
+        attrs = objects[f"dash_{name}"]
+        if up < 0:
+            assert clips.BONE_PARENT not in attrs
+        else:
+            assert attrs[clips.BONE_PARENT]["type"]["choices"] == [f"dash_{skeleton.names[up]}"]
+            assert attrs[clips.BONE_PARENT]["value"] == f"dash_{skeleton.names[up]}"
+    session.save()                                      # kept in the file: the project read again has them
+    scene, _ = Project(session.path).load()
+    hips = skeleton.names[skeleton.parents[1]]
+    assert scene.get(f"dash_{skeleton.names[1]}.{clips.BONE_PARENT}") == f"dash_{hips}"

@@ -585,7 +585,8 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
                 clips.check_upload(name, len(data))
             clip = await loop.run_in_executor(hub.reductions, clips.read_upload, name, bytes(data))
             joints = await loop.run_in_executor(hub.reductions, joint_tracks, clip)
-            made, out = await hub.call(hub.session.import_clip, Path(name).stem, joints, f"import {name}")
+            made, out = await hub.call(hub.session.import_clip, Path(name).stem, joints,
+                                       clip.skeleton.parents, f"import {name}")
         except clips.TooLarge as err:
             raise HTTPException(413, str(err)) from None
         except InputError as err:

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import BaseModel
 
+from sketchanim.anim.attributes import AttributeType
 from sketchanim.anim.commands import Change
 from sketchanim.anim.player import Player
 from sketchanim.anim.scene import SceneObject
@@ -32,6 +33,8 @@ CLIP_UPLOADS = (".bvh",)
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.bvh$"
 #: A joint sphere's scale (the page's sphere has a 0.45 m radius at scale 1: here 4.5 cm).
 JOINT_SCALE = 0.1
+#: The attribute naming a joint object's parent joint object (the page draws their bone).
+BONE_PARENT = "parent"
 
 
 class ClipImported(BaseModel):
@@ -83,40 +86,49 @@ def read_upload(name: str, data: bytes) -> Clip:
             raise
 
 
-def joint_object(name: str, track: ContinuousTrack) -> SceneObject:
-    """A joint's object: a small sphere where its position track starts.
+def joint_object(name: str, track: ContinuousTrack, parent: str | None = None) -> SceneObject:
+    """A joint's object: a small sphere where its position track starts; a joint with a
+    parent joint carries it as its ``parent`` attribute (an enum of that one object's
+    name: the page draws a bone between the two; it persists and undoes with the object).
 
     >>> from scipy.interpolate import BSpline
     >>> from sketchanim.anim.attributes import POSITION
     >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 1, 0], [1.0, 1, 0]]), 1)
-    >>> joint_object("walk_hips", ContinuousTrack("hips.position", POSITION, s, 0.005)).attributes["shape"].value
-    'sphere'
+    >>> obj = joint_object("walk_knee", ContinuousTrack("knee.position", POSITION, s, 0.005), "walk_hips")
+    >>> obj.attributes["shape"].value, obj.attributes["parent"].value
+    ('sphere', 'walk_hips')
     """
     obj = new_object(name, "object")
     obj.attributes["shape"].value = "sphere"
+    if parent is not None:
+        obj.add(BONE_PARENT, AttributeType.enum([parent]), parent)
     obj.attributes["scale"].value = np.full(3, JOINT_SCALE)
     obj.attributes["position"].value = np.asarray(track.evaluate([track.start])[0], dtype=float)
     return obj
 
 
 def clip_change(player: Player, prefix: str, joints: dict[str, dict[str, ContinuousTrack]],
-                label: str) -> tuple[Change, list[str]]:
+                parents: tuple[int, ...], label: str) -> tuple[Change, list[str]]:
     """One History step adding a clip's joints (:func:`~sketchanim.mocap.scene_clip.joint_tracks`)
-    as objects named ``<prefix>_<joint>`` (numbered where taken), with their tracks; and
-    the objects' names.
+    as objects named ``<prefix>_<joint>`` (numbered where taken), with their tracks, each
+    joint's parent (``parents``: the index of each joint's, -1 for none) named by its
+    ``parent`` attribute; and the objects' names.
 
     >>> from sketchanim.anim.scene import Scene
     >>> from sketchanim.mocap.scene_clip import joint_tracks
     >>> from sketchanim.motion.skeleton import Skeleton
     >>> clip = Clip.still(Skeleton(("hips",), (-1,), np.zeros((1, 3))), np.arange(30) / 30)
     >>> player = Player(Scene())
-    >>> change, names = clip_change(player, "walk", joint_tracks(clip), "import walk.bvh")
+    >>> change, names = clip_change(player, "walk", joint_tracks(clip), (-1,), "import walk.bvh")
     >>> change.do(); names, sorted(player.tracks)
     (['walk_hips'], ['walk_hips.orientation', 'walk_hips.position'])
     """
     scene = player.scene
     names = object_names(prefix, tuple(joints), set(scene.objects))
-    objects = [joint_object(n, joints[j]["position"]) for n, j in zip(names, joints)]
+    if len(parents) != len(names):
+        raise ArgumentError("parents", f"{len(parents)} parents for {len(names)} joints")
+    objects = [joint_object(n, joints[j]["position"], names[up] if up >= 0 else None)
+               for n, j, up in zip(names, joints, parents)]
     tracks: dict[str, Track | None] = {t.path: t for n, j in zip(names, joints)
                                        for t in (renamed(track, n) for track in joints[j].values())}
     changes = tuple((lambda o=o: scene.insert(o), lambda o=o: scene.remove(o.name)) for o in objects)

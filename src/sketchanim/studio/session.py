@@ -507,9 +507,10 @@ class Session:
 
     # -- clips (clips.py) ---------------------------------------------------------------------
 
-    def import_clip(self, prefix: str, joints: dict, label: str) -> tuple[list[str], list[p.Out]]:
+    def import_clip(self, prefix: str, joints: dict, parents: tuple[int, ...], label: str
+                    ) -> tuple[list[str], list[p.Out]]:
         """Add a clip's joints (:func:`~sketchanim.mocap.scene_clip.joint_tracks`) as
-        objects ``<prefix>_<joint>`` with their tracks, as one step; refused in a
+        objects ``<prefix>_<joint>`` with their tracks and parents (index, -1: none), as one step; refused in a
         read-only project or while a take is recorded. The objects' names, and the
         messages."""
         from sketchanim.studio.clips import clip_change
@@ -517,7 +518,7 @@ class Session:
         if self.read_only:
             raise ArgumentError("clip", f"{self.path.name} is open read-only: a clip cannot be added")
         self.takes.refuse_while_recording("clip import")
-        change, names = clip_change(self.player, prefix, joints, label)
+        change, names = clip_change(self.player, prefix, joints, parents, label)
         self.editor.run(change)
         return names, self._told()
 
