@@ -202,3 +202,51 @@ def test_import_a_bvh_from_the_outliner_plays_and_a_truncated_one_is_refused(_pa
     assert "big.bvh was not imported" in status.inner_text() and "at most 64 MB" in status.inner_text()
     assert project(studio) == before
     assert drew_something(page) > 5 and not page.errors
+
+
+def test_an_imported_skeleton_is_drawn_as_bones_that_follow_playback_and_a_grab(_page, studio: str,
+                                                                               data_dir: Path) -> None:  # noqa: ANN001
+    from sketchanim.formats.bvh import read_bvh
+
+    page = _page(studio)
+    source = data_dir / "bvh" / "bandai1_walk_happy_001.bvh"
+    page.set_input_files("[data-testid=import-clip]", str(source))
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.includes('joints')",
+                           timeout=120_000)
+    page.wait_for_function("viewport.bones.pairs.length > 0")
+    skeleton = read_bvh(source).skeleton
+    prefix = "bandai1_walk_happy_001_"
+    expected = {(prefix + n, prefix + skeleton.names[up]) for n, up in zip(skeleton.names, skeleton.parents) if up >= 0}
+
+    def ends_at_joints() -> list[dict]:
+        bones = page.evaluate("viewport.bones.report()")
+        values = page.evaluate("Object.fromEntries([...studio.values].filter(([k]) => k.endsWith('.position'))"
+                               ".map(([k, v]) => [k, Array.from(v)]))")
+        for b in bones:
+            assert np.allclose(b["from"], values[f"{b['child']}.position"], atol=1e-5), b
+            assert np.allclose(b["to"], values[f"{b['parent']}.position"], atol=1e-5), b
+        return bones
+
+    page.wait_for_timeout(200)
+    bones = ends_at_joints()
+    assert {(b["child"], b["parent"]) for b in bones} == expected and len(bones) == len(expected)
+    # they follow playback
+    page.click("[data-testid=play]")
+    page.wait_for_timeout(1200)
+    page.click("[data-testid=play]")
+    page.wait_for_timeout(200)
+    moved = ends_at_joints()
+    assert max(np.linalg.norm(np.subtract(a["from"], b["from"])) for a, b in zip(bones, moved)) > 0.05
+    # a look: the camera at the hips (for the screenshot, kept in SHOTS)
+    page.evaluate(f"""(() => {{ const p = viewport.nodes.get('{prefix}Hips').root.position;
+        viewport.orbit.target.copy(p); viewport.camera.position.set(p.x + 2.2, p.y + 0.6, p.z + 2.2);
+        viewport.camera.lookAt(p); viewport.orbit.update(); }})()""")
+    page.wait_for_timeout(300)
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.locator("[data-testid=viewport]").screenshot(path=str(SHOTS / "bones.png"))
+    # and a joint moved by hand (as a grab moves it: the local value, drawn before the server hears)
+    head = prefix + "Head"
+    page.evaluate(f"studio.setLocal('{head}.position', [0.5, 2.5, 0.5])")
+    page.wait_for_timeout(200)
+    assert [b["from"] for b in ends_at_joints() if b["child"] == head] == [[0.5, 2.5, 0.5]]
+    assert drew_something(page) > 5 and not page.errors
