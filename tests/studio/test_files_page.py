@@ -250,3 +250,38 @@ def test_an_imported_skeleton_is_drawn_as_bones_that_follow_playback_and_a_grab(
     page.wait_for_timeout(200)
     assert [b["from"] for b in ends_at_joints() if b["child"] == head] == [[0.5, 2.5, 0.5]]
     assert drew_something(page) > 5 and not page.errors
+
+
+def test_import_c3d_markers_from_the_outliner_and_a_truncated_one_is_refused(_page, studio: str, data_dir: Path,
+                                                                            tmp_path: Path) -> None:  # noqa: ANN001
+    page = _page(studio)
+    source = data_dir / "c3d" / "pyomeca_markers_analogs.c3d"
+    status = page.locator("[data-testid=import-clip-status]")
+    # a truncated file first: refused on the page (status and notice), the project unchanged
+    before = project(studio)
+    cut = tmp_path / "cut.c3d"
+    data = source.read_bytes()
+    cut.write_bytes(data[: len(data) // 2])
+    page.set_input_files("[data-testid=import-clip]", str(cut))
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.includes('not imported')",
+                           timeout=60_000)
+    assert "cut.c3d" in status.inner_text() and "truncated" in status.inner_text()
+    assert "cut.c3d was not imported" in page.locator("[data-testid=notices]").inner_text()
+    assert project(studio) == before
+    # the whole file: one object per marker, shown where it was seen
+    page.set_input_files("[data-testid=import-clip]", str(source))
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.includes(' markers, ')",
+                           timeout=120_000)
+    assert "51 markers, 580 frames" in status.inner_text()
+    names = page.evaluate("studio.objects.map((o) => o.name)")
+    markers = [n for n in names if n.startswith("pyomeca_markers_analogs_")]
+    assert len(markers) == 51
+    assert curve(project(studio), markers[0] + ".position") is not None
+    page.wait_for_selector(f"[data-testid=outliner] >> text={markers[0]}")
+    page.evaluate(f"""(() => {{ const p = viewport.nodes.get('{markers[0]}').root.position;
+        viewport.orbit.target.copy(p); viewport.camera.position.set(p.x + 2.5, p.y + 1.0, p.z + 2.5);
+        viewport.camera.lookAt(p); viewport.orbit.update(); }})()""")
+    page.wait_for_timeout(300)
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.locator("[data-testid=viewport]").screenshot(path=str(SHOTS / "c3d-markers.png"))
+    assert drew_something(page) > 5 and not page.errors

@@ -11,6 +11,8 @@ from fastapi.testclient import TestClient
 from scipy.spatial.transform import Rotation
 
 from sketchanim.formats.bvh import read_bvh
+from sketchanim.formats.c3d import read_c3d
+from sketchanim.mocap.scene_clip import object_names
 from sketchanim.motion.kinematics import world_pose
 from sketchanim.project.store import Project
 from sketchanim.studio import clips
@@ -75,7 +77,7 @@ def test_not_a_bvh_or_too_large_is_refused(client, monkeypatch: pytest.MonkeyPat
     c, _ = client
     before = c.get("/api/project").content
     r = c.post("/api/clips?name=song.mp3", content=b"ID3....")
-    assert r.status_code == 400 and "'song.mp3': a clip upload is a .bvh file" in r.json()["detail"]
+    assert r.status_code == 400 and "'song.mp3': a clip upload is a .bvh or a .c3d file" in r.json()["detail"]
     r = c.post("/api/clips?name=noise.bvh", content=bytes(range(256)) * 4)
     assert r.status_code == 400 and r.json()["detail"].startswith("noise.bvh")
     monkeypatch.setattr(clips, "MAX_CLIP_BYTES", 1000)
@@ -138,3 +140,48 @@ def test_each_joint_names_its_parent_joint_in_the_project(client, data_dir) -> N
     scene, _ = Project(session.path).load()
     hips = skeleton.names[skeleton.parents[1]]
     assert scene.get(f"dash_{skeleton.names[1]}.{clips.BONE_PARENT}") == f"dash_{hips}"
+
+
+C3D = "c3d/pyomeca_markers_analogs.c3d"
+
+
+@pytest.mark.realdata
+def test_a_c3d_becomes_one_object_per_marker_hidden_in_its_gaps(client, data_dir) -> None:  # noqa: ANN001
+    c, session = client
+    markers = read_c3d(data_dir / C3D)
+    r = c.post("/api/clips?name=lab.c3d", content=(data_dir / C3D).read_bytes())
+    assert r.status_code == 200, r.text
+    answer = r.json()
+    names = object_names("lab", markers.names, set())
+    assert answer["objects"] == names and answer["frames"] == len(markers.times)
+    doc = c.get("/api/project").json()
+    visible = {s["path"]: s for s in doc["steps"]}
+    gapped = 0
+    for m, name in enumerate(names):
+        spline, entry = curve(doc, f"{name}.position")
+        seen = np.all(np.isfinite(markers.positions[:, m]), axis=1)
+        values = held(spline, markers.times[seen])
+        assert np.abs(values - markers.positions[seen, m] * markers.unit_m).max() <= entry["tol"] * (1 + 1e-9)
+        steps = visible.get(f"{name}.visible")
+        if seen.all():
+            assert steps is None
+            continue
+        gapped += 1                                    # hidden exactly on the frames it was not seen
+        shown = [value for _, value in sorted(zip(steps["times"], steps["values"]))]
+        at = np.searchsorted(steps["times"], markers.times, side="right") - 1
+        assert [bool(shown[i]) for i in at] == seen.tolist()
+    assert gapped >= 10
+    assert c.get("/api/state").json()["history"]["undo"][-1] == "import lab.c3d"
+    session.undo()
+    assert not [o for o in c.get("/api/state").json()["objects"] if o["name"].startswith("lab_")]
+
+
+@pytest.mark.realdata
+def test_a_truncated_c3d_is_refused_naming_it_and_changes_nothing(client, data_dir) -> None:  # noqa: ANN001
+    c, _ = client
+    data = (data_dir / C3D).read_bytes()
+    before = c.get("/api/project").content
+    r = c.post("/api/clips?name=lab.c3d", content=data[: len(data) // 2])
+    assert r.status_code == 400 and r.json()["detail"].startswith("lab.c3d"), r.text
+    assert "truncated" in r.json()["detail"] and "upload.c3d" not in r.json()["detail"]
+    assert c.get("/api/project").content == before

@@ -7,6 +7,11 @@ The scene has no hierarchy, so joints are not parented: each carries its own wor
 motion, found by forward kinematics (:func:`~sketchanim.motion.kinematics.world_pose`).
 The clip's unit is its own (``Clip.unit_m``) or the one its rest figure's height
 suggests (:meth:`~sketchanim.motion.skeleton.Clip.guess_unit_m`), else centimetres.
+
+Markers (C3D's points, :class:`~sketchanim.mocap.markers.Markers`) become a world position
+track each, reduced from the frames the marker was seen in (its gap-free runs,
+:meth:`~sketchanim.mocap.markers.Markers.runs`); where it was not seen, its ``visible``
+track is false (the curve passes the gap, but nothing is drawn or read there as seen).
 """
 
 from __future__ import annotations
@@ -15,14 +20,19 @@ import re
 
 import numpy as np
 
-from sketchanim.anim.attributes import ORIENTATION, POSITION, AttributeType
+import dataclasses
+
+from sketchanim.anim.attributes import BOOL, ORIENTATION, POSITION, AttributeType
 from sketchanim.anim.layers import reduce_samples
-from sketchanim.anim.tracks import ContinuousTrack, Take
+from sketchanim.anim.tracks import ContinuousTrack, DiscreteTrack, Take, Track
+from sketchanim.mocap.markers import Markers
 from sketchanim.motion.kinematics import world_pose
 from sketchanim.motion.skeleton import Clip
 
 #: Metres per clip unit when neither the file nor the figure says (BVH's usual centimetres).
 DEFAULT_UNIT_M = 0.01
+#: Metres per marker unit when the file does not say (C3D's usual millimetres).
+DEFAULT_MARKER_UNIT_M = 0.001
 #: The B-spline order of a joint's tracks (cubic, as takes are recorded).
 ORDER = 4
 #: Longest object name the scene takes.
@@ -56,6 +66,42 @@ def joint_tracks(clip: Clip, tol: float = POSITION.tol, rot_tol_deg: float = ORI
             spline = reduce_samples(kind, clip.times, values, limit, ORDER)
             out[name][attribute] = ContinuousTrack(f"{name}.{attribute}", kind, spline, limit,
                                                    (Take(clip.times, values),))
+    return out
+
+
+def marker_tracks(markers: Markers, tol: float = POSITION.tol) -> dict[str, dict[str, Track]]:
+    """Each seen marker's tracks by marker name: ``position`` (world, metres, within ``tol``
+    of every frame it was seen in, those frames its take; one frame: held a frame on) and, for a marker with gaps,
+    ``visible`` (false from each gap's first frame, true from each run's). A marker never
+    seen has none.
+
+    >>> p = np.zeros((6, 2, 3)); p[:, :, 1] = 1000.0; p[2:4, 1] = np.nan; p[:, 0] = np.nan
+    >>> tracks = marker_tracks(Markers(("lost", "toe"), np.arange(6) / 100, p, 0.001))
+    >>> list(tracks), tracks["toe"]["position"].evaluate([0.05]).round(3).tolist()
+    (['toe'], [[0.0, 1.0, 0.0]])
+    >>> tracks["toe"]["visible"].times, tracks["toe"]["visible"].values
+    ([0.0, 0.02, 0.04], [True, False, True])
+    """
+    unit = markers.unit_m or DEFAULT_MARKER_UNIT_M
+    out: dict[str, dict[str, Track]] = {}
+    for m, name in enumerate(markers.names):
+        runs = markers.runs(m)
+        if not runs:
+            continue
+        seen = np.concatenate([np.arange(a, b) for a, b in runs])
+        t, x = markers.times[seen], markers.positions[seen, m] * unit
+        if len(t) == 1:                                 # seen once: held a frame on, a constant
+            t, x = np.r_[t, t[0] + (markers.frame_time or 1.0)], np.r_[x, x]
+        spline = reduce_samples(POSITION, t, x, tol, ORDER)
+        out[name] = {"position": ContinuousTrack(f"{name}.position", POSITION, spline, tol, (Take(t, x),))}
+        if len(seen) < len(markers.times):
+            steps = [(markers.times[0], False)] if runs[0][0] > 0 else []
+            for a, b in runs:
+                steps.append((markers.times[a], True))
+                if b < len(markers.times):
+                    steps.append((markers.times[b], False))
+            out[name]["visible"] = DiscreteTrack(f"{name}.visible", BOOL, [float(s[0]) for s in steps],
+                                                 [s[1] for s in steps])
     return out
 
 
@@ -94,7 +140,7 @@ def object_names(prefix: str, joints: tuple[str, ...], taken: set[str]) -> list[
     return names
 
 
-def renamed(track: ContinuousTrack, name: str) -> ContinuousTrack:
+def renamed(track: Track, name: str) -> Track:
     """``track`` as the track of the object ``name`` (the same attribute).
 
     >>> from scipy.interpolate import BSpline
@@ -102,5 +148,4 @@ def renamed(track: ContinuousTrack, name: str) -> ContinuousTrack:
     >>> renamed(ContinuousTrack("hips.position", POSITION, s, 0.005), "walk_hips").path
     'walk_hips.position'
     """
-    return ContinuousTrack(f"{name}.{track.path.split('.')[1]}", track.type, track.spline, track.tol, track.takes,
-                           track.edited)
+    return dataclasses.replace(track, path=f"{name}.{track.path.split('.')[1]}")

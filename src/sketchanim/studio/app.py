@@ -571,10 +571,9 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
                           name: Annotated[str, Query(json_schema_extra={"pattern": clips.NAME_PATTERN})]
                           ) -> clips.ClipImported:
         """A motion clip (the raw bytes of a .bvh) into the scene: each joint an object
-        with its world position and orientation tracks, one History step. Read and
-        reduced in the reductions' thread (the model serves the pages meanwhile)."""
-        from sketchanim.mocap.scene_clip import joint_tracks
-
+        with its world position and orientation tracks; or a .c3d's markers, each an
+        object with its world position track; one History step. Read and reduced in the
+        reductions' thread (the model serves the pages meanwhile)."""
         loop = asyncio.get_running_loop()
         try:
             declared = request.headers.get("content-length")
@@ -583,17 +582,17 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             async for chunk in request.stream():
                 data += chunk
                 clips.check_upload(name, len(data))
-            clip = await loop.run_in_executor(hub.reductions, clips.read_upload, name, bytes(data))
-            joints = await loop.run_in_executor(hub.reductions, joint_tracks, clip)
-            made, out = await hub.call(hub.session.import_clip, Path(name).stem, joints,
-                                       clip.skeleton.parents, f"import {name}")
+            upload = await loop.run_in_executor(hub.reductions, clips.read_upload, name, bytes(data))
+            made = await loop.run_in_executor(hub.reductions, clips.scene_clip, upload)
+            names, out = await hub.call(hub.session.import_clip, Path(name).stem, made.tracks,
+                                        made.parents, f"import {name}")
         except clips.TooLarge as err:
             raise HTTPException(413, str(err)) from None
         except InputError as err:
             raise HTTPException(400, str(err)) from None
         hub.send(out, None)
-        return clips.ClipImported(objects=made, tracks=sum(len(t) for t in joints.values()),
-                                  frames=len(clip.times), seconds=float(clip.times[-1] - clip.times[0]))
+        return clips.ClipImported(objects=names, tracks=sum(len(t) for t in made.tracks.values()),
+                                  frames=len(made.times), seconds=float(made.times[-1] - made.times[0]))
 
     @app.websocket("/ws")
     async def stream(socket: WebSocket) -> None:

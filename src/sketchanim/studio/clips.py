@@ -1,13 +1,14 @@
-"""Motion clips into the scene from the page (``POST /api/clips?name=FILE.bvh``): the
-upload checked (its type by name, its size), read by the BVH reader (whose errors name the
-line and field, here under the uploaded file's name), its joints made objects with world
-position and orientation tracks (:mod:`sketchanim.mocap.scene_clip`), added as one History
-step.
+"""Motion clips into the scene from the page (``POST /api/clips?name=FILE.bvh`` or
+``FILE.c3d``): the upload checked (its type by name, its size), read by the format's reader
+(whose errors name the line and field, here under the uploaded file's name), its joints
+made objects with world position and orientation tracks, or its markers objects with world
+position tracks (:mod:`sketchanim.mocap.scene_clip`), added as one History step.
 """
 
 from __future__ import annotations
 
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -19,18 +20,19 @@ from sketchanim.anim.player import Player
 from sketchanim.anim.scene import SceneObject
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError, InputError
-from sketchanim.formats.bvh import read_bvh
-from sketchanim.mocap.scene_clip import object_names, renamed
+from sketchanim.formats.clip_files import read_clip
+from sketchanim.mocap.markers import Markers
+from sketchanim.mocap.scene_clip import joint_tracks, marker_tracks, object_names, renamed
 from sketchanim.motion.skeleton import Clip
 from sketchanim.studio.defaults import new_object
 
 #: Largest upload taken, bytes (a 10 min, 120 Hz, 60-joint BVH is about 60 MB).
 MAX_CLIP_BYTES = 64 * 2**20
 #: What the page may upload as a clip.
-CLIP_UPLOADS = (".bvh",)
+CLIP_UPLOADS = (".bvh", ".c3d")
 #: The names a page may give an upload (as the OpenAPI spec says; anything else is
 #: checked and refused with its reason).
-NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.bvh$"
+NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.(bvh|c3d)$"
 #: A joint sphere's scale (the page's sphere has a 0.45 m radius at scale 1: here 4.5 cm).
 JOINT_SCALE = 0.1
 #: The attribute naming a joint object's parent joint object (the page draws their bone).
@@ -58,7 +60,7 @@ def check_upload(name: str, size: int | None) -> None:
     >>> check_upload("walk.mp3", 1000)
     Traceback (most recent call last):
     ...
-    sketchanim.errors.ArgumentError: name: 'walk.mp3': a clip upload is a .bvh file
+    sketchanim.errors.ArgumentError: name: 'walk.mp3': a clip upload is a .bvh or a .c3d file
     """
     if Path(name).suffix.lower() not in CLIP_UPLOADS:
         raise ArgumentError("name", f"{name!r}: a clip upload is {' or '.join('a ' + s for s in CLIP_UPLOADS)} file")
@@ -66,9 +68,9 @@ def check_upload(name: str, size: int | None) -> None:
         raise TooLarge("name", f"{name!r}: {size / 2**20:.1f} MB; a clip upload is at most {MAX_CLIP_BYTES // 2**20} MB")
 
 
-def read_upload(name: str, data: bytes) -> Clip:
-    """The clip in an upload named ``name``; the reader's error (naming the line and
-    field) under that name, never the temporary file's.
+def read_upload(name: str, data: bytes) -> Clip | Markers:
+    """The clip (a .bvh) or markers (a .c3d) in an upload named ``name``; the reader's
+    error (naming the line and field) under that name, never the temporary file's.
 
     >>> read_upload("x.bvh", b"HIERARCHY\\nROOT")
     Traceback (most recent call last):
@@ -77,17 +79,42 @@ def read_upload(name: str, data: bytes) -> Clip:
     """
     check_upload(name, len(data))
     with tempfile.TemporaryDirectory() as tmp:
-        scratch = Path(tmp) / "upload.bvh"
+        scratch = Path(tmp) / f"upload{Path(name).suffix.lower()}"
         scratch.write_bytes(data)
         try:
-            return read_bvh(scratch)
+            return read_clip(scratch)
         except InputError as err:
             err.args = tuple(str(a).replace(str(scratch), name) for a in err.args)
             raise
 
 
-def joint_object(name: str, track: ContinuousTrack, parent: str | None = None) -> SceneObject:
-    """A joint's object: a small sphere where its position track starts; a joint with a
+@dataclass(frozen=True)
+class SceneClip:
+    """An upload as the scene takes it: tracks by joint or marker name (their attributes'
+    tracks by attribute), each one's parent (index; -1: none), and the frames' times."""
+
+    tracks: dict[str, dict[str, Track]]
+    parents: tuple[int, ...]
+    times: np.ndarray
+
+
+def scene_clip(upload: Clip | Markers) -> SceneClip:
+    """A clip's joints (parented as its skeleton is) or markers (none parented) as tracks
+    (:func:`~sketchanim.mocap.scene_clip.joint_tracks`, :func:`~sketchanim.mocap.scene_clip.marker_tracks`).
+
+    >>> p = np.zeros((30, 1, 3))
+    >>> made = scene_clip(Markers(("toe",), np.arange(30) / 30, p))
+    >>> list(made.tracks), made.parents
+    (['toe'], (-1,))
+    """
+    if isinstance(upload, Markers):
+        tracks = marker_tracks(upload)
+        return SceneClip(tracks, (-1,) * len(tracks), upload.times)
+    return SceneClip(dict(joint_tracks(upload)), upload.skeleton.parents, upload.times)
+
+
+def joint_object(name: str, track: Track, parent: str | None = None) -> SceneObject:
+    """A joint's (or marker's) object: a small sphere where its position track starts; a joint with a
     parent joint carries it as its ``parent`` attribute (an enum of that one object's
     name: the page draws a bone between the two; it persists and undoes with the object).
 
@@ -103,13 +130,15 @@ def joint_object(name: str, track: ContinuousTrack, parent: str | None = None) -
     if parent is not None:
         obj.add(BONE_PARENT, AttributeType.enum([parent]), parent)
     obj.attributes["scale"].value = np.full(3, JOINT_SCALE)
+    if not isinstance(track, ContinuousTrack):
+        raise ArgumentError("position", f"{name}: a position track is a continuous one")
     obj.attributes["position"].value = np.asarray(track.evaluate([track.start])[0], dtype=float)
     return obj
 
 
-def clip_change(player: Player, prefix: str, joints: dict[str, dict[str, ContinuousTrack]],
+def clip_change(player: Player, prefix: str, joints: dict[str, dict[str, Track]],
                 parents: tuple[int, ...], label: str) -> tuple[Change, list[str]]:
-    """One History step adding a clip's joints (:func:`~sketchanim.mocap.scene_clip.joint_tracks`)
+    """One History step adding a clip's joints or markers (:func:`scene_clip`)
     as objects named ``<prefix>_<joint>`` (numbered where taken), with their tracks, each
     joint's parent (``parents``: the index of each joint's, -1 for none) named by its
     ``parent`` attribute; and the objects' names.

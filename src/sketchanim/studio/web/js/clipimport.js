@@ -1,8 +1,9 @@
 // @ts-check
 /**
  * Clips into the scene from the outliner: a file input (`data-testid="import-clip"`) whose
- * chosen .bvh is posted raw to `POST /api/clips?name=FILE` — the server adds each joint as an
- * object with its world position and orientation tracks, one undoable step, and every page
+ * chosen .bvh or .c3d is posted raw to `POST /api/clips?name=FILE` — the server adds each joint
+ * as an object with its world position and orientation tracks (each marker: its position, and
+ * `visible` false where it was not seen), one undoable step, and every page
  * gets the new state. The line under it says what is happening or what was refused (the
  * server's 4xx `detail`: a truncated file's line, a wrong type, a size over the limit); a
  * refusal is also a notice. Nothing changes on a refusal.
@@ -17,8 +18,8 @@ export class ClipImport {
    */
   constructor(studio, root) {
     this.studio = studio;
-    this.input = el('input', { type: 'file', accept: '.bvh', 'data-testid': 'import-clip' });
-    const label = el('label', { class: 'clip-import', title: 'Add a motion clip: each joint an object with its tracks (undoable)' }, 'import clip (.bvh) ');
+    this.input = el('input', { type: 'file', accept: '.bvh,.c3d', 'data-testid': 'import-clip' });
+    const label = el('label', { class: 'clip-import', title: 'Add a motion clip: each joint (.bvh) or marker (.c3d) an object with its tracks (undoable)' }, 'import clip (.bvh, .c3d) ');
     label.append(this.input);
     this.status = el('div', { class: 'hint clip-status', 'data-testid': 'import-clip-status', role: 'status' });
     const list = root.querySelector('[data-testid=outliner]');     // above the objects' list, which may be long
@@ -39,7 +40,8 @@ export class ClipImport {
     try {
       /** @type {{objects: string[], tracks: number, frames: number, seconds: number}} */
       const made = await fetchJson(`/api/clips?name=${encodeURIComponent(file.name)}`, { method: 'POST', body: file });
-      this.status.textContent = `${file.name}: ${made.objects.length} joints, ${made.frames} frames (${made.seconds.toFixed(1)} s)`;
+      const what = file.name.toLowerCase().endsWith('.c3d') ? 'markers' : 'joints';
+      this.status.textContent = `${file.name}: ${made.objects.length} ${what}, ${made.frames} frames (${made.seconds.toFixed(1)} s)`;
     } catch (err) {
       const text = `${file.name} was not imported: ${reason(err)}`;
       this.status.textContent = text;
