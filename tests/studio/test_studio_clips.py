@@ -185,3 +185,51 @@ def test_a_truncated_c3d_is_refused_naming_it_and_changes_nothing(client, data_d
     assert r.status_code == 400 and r.json()["detail"].startswith("lab.c3d"), r.text
     assert "truncated" in r.json()["detail"] and "upload.c3d" not in r.json()["detail"]
     assert c.get("/api/project").content == before
+
+
+ASF, AMC = "amc/cmu_11.asf", "amc/cmu_11_01.amc"
+
+
+def _amc_body(data_dir, motion: str | None = None) -> dict:  # noqa: ANN001
+    return {"skeleton": (data_dir / ASF).read_text(), "motion": motion if motion is not None else (data_dir / AMC).read_text()}
+
+
+@pytest.mark.realdata
+def test_an_asf_amc_pair_becomes_parented_joint_objects(client, data_dir) -> None:  # noqa: ANN001
+    from sketchanim.formats.clip_files import read_clip
+
+    c, session = client
+    r = c.post("/api/clips/amc?name=walk.amc&skeleton=cmu_11.asf", json=_amc_body(data_dir))
+    assert r.status_code == 200, r.text
+    clip = read_clip(data_dir / AMC, skeleton=data_dir / ASF)
+    names = clip.skeleton.names
+    assert r.json()["objects"] == [f"walk_{n}" for n in names] and r.json()["frames"] == len(clip.times)
+    doc = c.get("/api/project").json()
+    turns, positions = world_pose(clip.skeleton, clip.rotations, clip.translations)
+    unit = clip.unit_m or clip.guess_unit_m()
+    spline, entry = curve(doc, f"walk_{names[0]}.position")
+    assert np.abs(held(spline, clip.times) - positions[:, 0] * unit).max() <= entry["tol"] * (1 + 1e-9)
+    objects = {o["name"]: {a["name"]: a["value"] for a in o["attributes"]} for o in doc["objects"]}
+    for name, up in zip(names, clip.skeleton.parents):
+        assert objects[f"walk_{name}"].get(clips.BONE_PARENT) == (f"walk_{names[up]}" if up >= 0 else None)
+    assert c.get("/api/state").json()["history"]["undo"][-1] == "import walk.amc"
+
+
+@pytest.mark.realdata
+def test_a_truncated_amc_or_a_bad_pair_is_refused_naming_it_and_changes_nothing(client, data_dir) -> None:  # noqa: ANN001
+    c, _ = client
+    before = c.get("/api/project").content
+    text = (data_dir / AMC).read_text()
+    cut = text[: len(text) // 2].rsplit("\n", 3)[0]                     # ends inside a frame
+    r = c.post("/api/clips/amc?name=walk.amc&skeleton=cmu_11.asf", json=_amc_body(data_dir, cut))
+    assert r.status_code == 400 and r.json()["detail"].startswith("walk.amc"), r.text
+    assert "upload" not in r.json()["detail"]
+    body = _amc_body(data_dir)
+    body["skeleton"] = body["skeleton"][:300]
+    r = c.post("/api/clips/amc?name=walk.amc&skeleton=cmu_11.asf", json=body)
+    assert r.status_code == 400 and r.json()["detail"].startswith("cmu_11.asf"), r.text
+    r = c.post("/api/clips/amc?name=walk.amc&skeleton=cmu_11.asf", content=b"not json")
+    assert r.status_code == 400 and "walk.amc" in r.json()["detail"]
+    r = c.post("/api/clips/amc?name=walk.bvh&skeleton=cmu_11.asf", json=body)
+    assert r.status_code in (400, 422)
+    assert c.get("/api/project").content == before

@@ -28,7 +28,7 @@ from fastapi.responses import Response
 from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 from starlette.middleware.trustedhost import TrustedHostMiddleware
-from pydantic import BaseModel
+from pydantic import BaseModel, ValidationError
 
 from sketchanim.errors import ArgumentError, InputError, StorageError
 from sketchanim.project.recent import recent, remember
@@ -574,25 +574,63 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
         with its world position and orientation tracks; or a .c3d's markers, each an
         object with its world position track; one History step. Read and reduced in the
         reductions' thread (the model serves the pages meanwhile)."""
+        try:
+            data = await clip_body(request, name, clips.CLIP_UPLOADS)
+        except clips.TooLarge as err:
+            raise HTTPException(413, str(err)) from None
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        return await add_clip(name, data, None)
+
+    async def clip_body(request: Request, name: str, kinds: tuple[str, ...]) -> bytes:
+        """An upload's body, refused (by name and size) as soon as it shows it is not one."""
+        declared = request.headers.get("content-length")
+        clips.check_upload(name, int(declared) if declared and declared.isdigit() else None, kinds)
+        data = bytearray()
+        async for chunk in request.stream():
+            data += chunk
+            clips.check_upload(name, len(data), kinds)
+        return bytes(data)
+
+    async def add_clip(name: str, data: bytes, skeleton: tuple[str, bytes] | None) -> clips.ClipImported:
+        """Read and reduce an upload in the reductions' thread, add it as one step, tell the pages."""
         loop = asyncio.get_running_loop()
         try:
-            declared = request.headers.get("content-length")
-            clips.check_upload(name, int(declared) if declared and declared.isdigit() else None)
-            data = bytearray()
-            async for chunk in request.stream():
-                data += chunk
-                clips.check_upload(name, len(data))
-            upload = await loop.run_in_executor(hub.reductions, clips.read_upload, name, bytes(data))
+            upload = await loop.run_in_executor(hub.reductions, clips.read_upload, name, data, skeleton)
             made = await loop.run_in_executor(hub.reductions, clips.scene_clip, upload)
             names, out = await hub.call(hub.session.import_clip, Path(name).stem, made.tracks,
                                         made.parents, f"import {name}")
-        except clips.TooLarge as err:
-            raise HTTPException(413, str(err)) from None
         except InputError as err:
             raise HTTPException(400, str(err)) from None
         hub.send(out, None)
         return clips.ClipImported(objects=names, tracks=sum(len(t) for t in made.tracks.values()),
                                   frames=len(made.times), seconds=float(made.times[-1] - made.times[0]))
+
+    @app.post("/api/clips/amc", response_model=clips.ClipImported,
+              openapi_extra={"requestBody": {"required": True, "description": "The two files' texts.",
+                                             "content": {"application/json": {
+                                                 "schema": clips.AmcUpload.model_json_schema()}}}},
+              responses={400: {"description": "Not an ASF/AMC pair, or malformed (the file, line and field named); nothing changed."},
+                         413: {"description": "Over the upload's size limit; nothing changed."}})
+    async def import_amc(request: Request,
+                         name: Annotated[str, Query(json_schema_extra={"pattern": clips.AMC_PATTERN})],
+                         skeleton: Annotated[str, Query(json_schema_extra={"pattern": clips.ASF_PATTERN})]
+                         ) -> clips.ClipImported:
+        """A CMU clip into the scene: an AMC motion (``name``) with its ASF skeleton
+        (``skeleton``), their texts in one JSON body (``{"skeleton", "motion"}``); as a
+        .bvh is, one History step."""
+        try:
+            body = await clip_body(request, name, (".amc",))
+            clips.check_upload(skeleton, None, (".asf",))
+            pair = clips.AmcUpload.model_validate_json(body)
+        except clips.TooLarge as err:
+            raise HTTPException(413, str(err)) from None
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        except ValidationError as err:
+            raise HTTPException(400, f"{name}: the body is not {{\"skeleton\", \"motion\"}} texts "
+                                     f"({err.error_count()} errors)") from None
+        return await add_clip(name, pair.motion.encode(), (skeleton, pair.skeleton.encode()))
 
     @app.websocket("/ws")
     async def stream(socket: WebSocket) -> None:

@@ -30,6 +30,9 @@ from sketchanim.studio.defaults import new_object
 MAX_CLIP_BYTES = 64 * 2**20
 #: What the page may upload as a clip.
 CLIP_UPLOADS = (".bvh", ".c3d")
+#: The names a page may give an ASF/AMC pair's files.
+AMC_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.amc$"
+ASF_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.asf$"
 #: The names a page may give an upload (as the OpenAPI spec says; anything else is
 #: checked and refused with its reason).
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.(bvh|c3d)$"
@@ -53,8 +56,8 @@ class TooLarge(ArgumentError):
     """An upload over :data:`MAX_CLIP_BYTES`."""
 
 
-def check_upload(name: str, size: int | None) -> None:
-    """Refuse an upload by its name (a ``.bvh``) or its size (``size`` bytes, if known).
+def check_upload(name: str, size: int | None, kinds: tuple[str, ...] = CLIP_UPLOADS) -> None:
+    """Refuse an upload by its name (one of ``kinds``) or its size (``size`` bytes, if known).
 
     >>> check_upload("walk.bvh", 1000)
     >>> check_upload("walk.mp3", 1000)
@@ -62,30 +65,46 @@ def check_upload(name: str, size: int | None) -> None:
     ...
     sketchanim.errors.ArgumentError: name: 'walk.mp3': a clip upload is a .bvh or a .c3d file
     """
-    if Path(name).suffix.lower() not in CLIP_UPLOADS:
-        raise ArgumentError("name", f"{name!r}: a clip upload is {' or '.join('a ' + s for s in CLIP_UPLOADS)} file")
+    if Path(name).suffix.lower() not in kinds:
+        raise ArgumentError("name", f"{name!r}: a clip upload is {' or '.join('a ' + s for s in kinds)} file")
     if size is not None and size > MAX_CLIP_BYTES:
         raise TooLarge("name", f"{name!r}: {size / 2**20:.1f} MB; a clip upload is at most {MAX_CLIP_BYTES // 2**20} MB")
 
 
-def read_upload(name: str, data: bytes) -> Clip | Markers:
-    """The clip (a .bvh) or markers (a .c3d) in an upload named ``name``; the reader's
-    error (naming the line and field) under that name, never the temporary file's.
+def read_upload(name: str, data: bytes, skeleton: tuple[str, bytes] | None = None) -> Clip | Markers:
+    """The clip (a .bvh; a .amc with its ``skeleton``, the .asf's name and bytes) or
+    markers (a .c3d) in an upload named ``name``; the reader's error (naming the line and
+    field) under the uploaded file's name, never the temporary file's.
 
     >>> read_upload("x.bvh", b"HIERARCHY\\nROOT")
     Traceback (most recent call last):
     ...
     sketchanim.errors.FileFormatError: x.bvh: no MOTION section
     """
-    check_upload(name, len(data))
+    check_upload(name, len(data), (".amc",) if skeleton else CLIP_UPLOADS)
+    if skeleton:
+        check_upload(skeleton[0], len(skeleton[1]), (".asf",))
     with tempfile.TemporaryDirectory() as tmp:
         scratch = Path(tmp) / f"upload{Path(name).suffix.lower()}"
         scratch.write_bytes(data)
+        sources = {str(scratch): name}
+        if skeleton:
+            asf = Path(tmp) / "upload.asf"
+            asf.write_bytes(skeleton[1])
+            sources[str(asf)] = skeleton[0]
         try:
-            return read_clip(scratch)
+            return read_clip(scratch, skeleton=asf if skeleton else None)
         except InputError as err:
-            err.args = tuple(str(a).replace(str(scratch), name) for a in err.args)
+            for path, shown in sources.items():
+                err.args = tuple(str(a).replace(path, shown) for a in err.args)
             raise
+
+
+class AmcUpload(BaseModel):
+    """``POST /api/clips/amc``'s body: an ASF skeleton's text and an AMC motion's text."""
+
+    skeleton: str
+    motion: str
 
 
 @dataclass(frozen=True)
