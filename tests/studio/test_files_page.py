@@ -283,5 +283,47 @@ def test_import_c3d_markers_from_the_outliner_and_a_truncated_one_is_refused(_pa
         viewport.camera.lookAt(p); viewport.orbit.update(); }})()""")
     page.wait_for_timeout(300)
     SHOTS.mkdir(parents=True, exist_ok=True)
+    while page.locator("[data-testid=notice-dismiss]").count():       # the refusals' notices off the view
+        page.locator("[data-testid=notice-dismiss]").first.click()
     page.locator("[data-testid=viewport]").screenshot(path=str(SHOTS / "c3d-markers.png"))
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_import_an_asf_with_its_amc_from_the_outliner_and_a_lone_or_truncated_amc_is_refused(
+        _page, studio: str, data_dir: Path, tmp_path: Path) -> None:  # noqa: ANN001
+    from sketchanim.formats.clip_files import read_clip
+
+    page = _page(studio)
+    asf, amc = data_dir / "amc" / "cmu_11.asf", data_dir / "amc" / "cmu_11_01.amc"
+    status = page.locator("[data-testid=import-clip-status]")
+    before = project(studio)
+    # an .amc alone: refused on the page, nothing sent
+    page.set_input_files("[data-testid=import-clip]", str(amc))
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.includes('not imported')")
+    assert "an .asf with its .amc" in status.inner_text()
+    # a truncated .amc with its .asf: refused by the server, naming the .amc
+    cut = tmp_path / "cut.amc"
+    text = amc.read_text()
+    cut.write_text(text[: len(text) // 2].rsplit("\n", 3)[0])
+    page.set_input_files("[data-testid=import-clip]", [str(asf), str(cut)])
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.startsWith('cut.amc was not')",
+                           timeout=60_000)
+    assert "cut.amc, line" in status.inner_text() and "truncated" in status.inner_text()
+    assert project(studio) == before
+    # both: the joints, parented, drawn as bones
+    page.set_input_files("[data-testid=import-clip]", [str(asf), str(amc)])
+    page.wait_for_function("document.querySelector('[data-testid=import-clip-status]').textContent.includes(' joints, ')",
+                           timeout=120_000)
+    skeleton = read_clip(amc, skeleton=asf).skeleton
+    assert f"{len(skeleton.names)} joints" in status.inner_text()
+    page.wait_for_function("viewport.bones.pairs.length > 0")
+    assert len(page.evaluate("viewport.bones.report()")) == sum(up >= 0 for up in skeleton.parents)
+    page.evaluate(f"""(() => {{ const p = viewport.nodes.get('cmu_11_01_{skeleton.names[0]}').root.position;
+        viewport.orbit.target.copy(p); viewport.camera.position.set(p.x + 2.2, p.y + 0.6, p.z + 2.2);
+        viewport.camera.lookAt(p); viewport.orbit.update(); }})()""")
+    page.wait_for_timeout(300)
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    while page.locator("[data-testid=notice-dismiss]").count():       # the refusals' notices off the view
+        page.locator("[data-testid=notice-dismiss]").first.click()
+    page.locator("[data-testid=viewport]").screenshot(path=str(SHOTS / "amc-bones.png"))
     assert drew_something(page) > 5 and not page.errors
