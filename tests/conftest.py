@@ -17,6 +17,13 @@ REPO = Path(__file__).resolve().parents[1]
 DATA = Path(os.environ.get("SKETCHANIM_DATA", REPO.parent / "shared" / "data"))
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _own_state_folder(tmp_path_factory: pytest.TempPathFactory) -> None:
+    """The user's state folder (the recent projects' list) is the tests' own, for the
+    tests and the studio servers they start."""
+    os.environ["XDG_STATE_HOME"] = str(tmp_path_factory.mktemp("state"))
+
+
 @pytest.fixture
 def data_dir() -> Path:
     """../shared/data (or $SKETCHANIM_DATA); tests that need it skip when it is absent."""

@@ -143,7 +143,32 @@ def test_export_command(tmp_path: Path) -> None:
     result = runner.invoke(app, ["export", str(tmp_path / "none.sketchanim"), "-o", str(tmp_path / "n.glb")])
     assert result.exit_code == 2 and "no such project file" in result.output
     result = runner.invoke(app, ["export", str(tmp_path / "p.sketchanim"), "-o", str(tmp_path / "p.fbx")])
-    assert result.exit_code == 2 and ".glb or .json" in result.output
+    assert result.exit_code == 2 and ".glb, .json or .usd, .usda, .usdc" in result.output
+
+
+def test_export_command_writes_usd_within_tolerance_at_every_sample(tmp_path: Path) -> None:
+    from pxr import Usd
+
+    scene = Scene()
+    scene.add("ball")
+    scene.add("cam", "camera")
+    t = np.linspace(0, 2, 121)
+    xyz, q = np.c_[t, np.sin(t), 0 * t], Rotation.from_rotvec(np.c_[np.sin(2 * t), t, 0 * t]).as_quat()
+    tracks: dict[str, Track] = {"ball.position": recorded("ball.position", POSITION, t, xyz, 0.005),
+                                "cam.orientation": recorded("cam.orientation", ORIENTATION, t, q, 0.5),
+                                "ball.visible": DiscreteTrack("ball.visible", BOOL, [1.0], [False])}
+    with Project(tmp_path / "p.sketchanim") as project:
+        project.save(scene, tracks)
+    result = CliRunner().invoke(app, ["export", str(tmp_path / "p.sketchanim"), "-o", str(tmp_path / "p.usda")])
+    assert result.exit_code == 0, result.output
+    assert "not in the USD" in result.output and "ball.visible" in result.output
+    stage = Usd.Stage.Open(str(tmp_path / "p.usda"))
+    rate = stage.GetTimeCodesPerSecond()
+    ball = stage.GetPrimAtPath("/ball").GetAttribute("xformOp:translate")
+    assert np.abs(np.array([ball.Get(float(c)) for c in t * rate]) - xyz).max() <= 0.005
+    orient = [stage.GetPrimAtPath("/cam").GetAttribute("xformOp:orient").Get(float(c)) for c in t * rate]
+    played = np.array([[*o.GetImaginary(), o.GetReal()] for o in orient])
+    assert np.degrees(rotation_angle(played, q)).max() <= 0.5
 
 
 @pytest.mark.realdata

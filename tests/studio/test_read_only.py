@@ -144,7 +144,9 @@ def test_the_studio_command_passes_read_only_and_exports(tmp_path, monkeypatch):
         result = CliRunner().invoke(cli, ["studio", str(tmp_path / "p.sketchanim"), "--no-browser", *flags,
                                           "--exports", str(tmp_path)])
         assert result.exit_code == 0, result.output
-        assert calls.pop() == {"read_only": read_only, "exports": tmp_path}
+        assert calls.pop() == {"read_only": read_only, "exports": tmp_path, "files": None}
+    result = CliRunner().invoke(cli, ["studio", str(tmp_path / "p.sketchanim"), "--no-browser", "--files", str(tmp_path)])
+    assert result.exit_code == 0 and calls.pop() == {"read_only": None, "exports": None, "files": tmp_path}
 
 
 def test_an_exports_folder_that_is_not_one_is_refused_at_start(tmp_path):

@@ -14,22 +14,28 @@ from sketchanim.errors import InputError
 from sketchanim.formats.gltf_frames import KEYS
 from sketchanim.limits import LIMITS, one_of
 
+#: What ``export -o`` writes as USD.
+USD_SUFFIXES = (".usd", ".usda", ".usdc")
+
 
 def export_command(
     project: Annotated[Path, typer.Argument(help="A project file (.sketchanim).")],
-    output: Annotated[Path, typer.Option("-o", "--output", help="The scene as glTF (.glb), or the whole project as "
-                                         "JSON (.json).")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="The scene as glTF (.glb) or USD (.usd, .usda, "
+                                         ".usdc), or the whole project as JSON (.json).")],
     keys: Annotated[str, typer.Option("--keys", help="glTF: 'curves' (exact) or 'frames' (LINEAR keys at the "
                                       "takes' samples or --rate, for importers that ignore tangents).")] = "curves",
     rate: Annotated[Optional[float], typer.Option(help=f"With --keys frames: keys per second, "
                                                   f"{LIMITS['rate'].describe()}.")] = None,
 ) -> None:
     """Export a project: its scene as glTF (objects, cameras, lights, and their
-    position, orientation and scale tracks), or everything as JSON.
+    position, orientation and scale tracks) or USD (the same tracks as samples at the
+    takes' times), or everything as JSON.
 
-    Examples: sketchanim export show.sketchanim -o show.glb; sketchanim export show.sketchanim -o show.json"""
+    Examples: sketchanim export show.sketchanim -o show.glb; sketchanim export show.sketchanim -o show.usda;
+    sketchanim export show.sketchanim -o show.json"""
     from sketchanim.atomic import write_atomic
     from sketchanim.export.scene_gltf import scene_glb
+    from sketchanim.export.scene_usd import scene_usd
     from sketchanim.project.store import Project
 
     suffix = output.suffix.lower()
@@ -37,12 +43,16 @@ def export_command(
         one_of("keys", keys, KEYS)
         if rate is not None:
             LIMITS["rate"].check(rate)
-        if suffix not in (".glb", ".json"):
-            fail(f"-o: a project exports to .glb or .json, not {suffix or 'a file without an extension'}")
+        if suffix not in (".glb", ".json", *USD_SUFFIXES):
+            fail(f"-o: a project exports to .glb, .json or {', '.join(USD_SUFFIXES)}, "
+                 f"not {suffix or 'a file without an extension'}")
         with Project(project, create=False) as opened:
             if suffix == ".json":
                 opened.export_json(output)
                 left_out: list[str] = []
+            elif suffix in USD_SUFFIXES:
+                scene, tracks = opened.load()
+                left_out = scene_usd(output, scene, tracks, opened.fps())
             else:
                 scene, tracks = opened.load()
                 glb, left_out = scene_glb(scene, tracks, name=output.stem, keys=keys, rate=rate)
@@ -53,7 +63,8 @@ def export_command(
         fail_to_write(err, output)
     console.print(f"wrote {output}")
     if left_out:
-        stderr.print(f"not in the glTF (core glTF animates only position, orientation and scale): "
+        stderr.print(f"not in the {'USD' if suffix in USD_SUFFIXES else 'glTF'} (a scene file animates only "
+                     f"position, orientation and scale): "
                      f"{', '.join(left_out)}", soft_wrap=True)
 
 
@@ -92,15 +103,40 @@ def studio_command(
                                             "anyway).")] = False,
     exports: Annotated[Optional[Path], typer.Option("--exports", help="The folder the page's exports go to "
                                                     "(default: the project's).")] = None,
+    files: Annotated[Optional[Path], typer.Option("--files", help="The folder the page saves copies into and "
+                                                  "opens projects from (default: the project's).")] = None,
+    show_recent: Annotated[bool, typer.Option("--recent", help="List the projects opened lately, newest first, "
+                                              "and exit.")] = False,
 ) -> None:
     """Start the studio: perform, record, play back and layer animation in the browser.
 
-    Examples: sketchanim studio show.sketchanim; sketchanim studio show.sketchanim --read-only --exports out/"""
+    Examples: sketchanim studio show.sketchanim; sketchanim studio show.sketchanim --read-only --exports out/;
+    sketchanim studio --recent"""
     from sketchanim.studio.serve import serve
 
+    if show_recent:
+        print_recent()
+        return
     try:
-        serve(project, host, port, browser, console.print, read_only=read_only or None, exports=exports)
+        serve(project, host, port, browser, console.print, read_only=read_only or None, exports=exports, files=files)
     except InputError as err:
         fail(str(err))
     except OSError as err:
         fail(f"{err.filename or f'{host}:{port}'}: {err.strerror or err}")
+
+
+def print_recent() -> None:
+    """The recent projects' list, newest first: when each was opened, and its path
+    (marked when it is gone)."""
+    import time
+
+    from sketchanim.project.recent import recent, recent_file
+
+    projects = recent()
+    if not projects:
+        console.print(f"no recent projects ({recent_file()})")
+        return
+    for r in projects:
+        gone = "" if Path(r.path).is_file() else "  (gone)"
+        console.print(f"{time.strftime('%Y-%m-%d %H:%M', time.localtime(r.opened))}  {r.path}{gone}",
+                      soft_wrap=True, highlight=False)

@@ -164,8 +164,8 @@ def track_times(track: ContinuousTrack, rate: float | None = None) -> np.ndarray
 
 def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", keys: str = "curves",
               rate: float | None = None) -> tuple[bytes, list[str]]:
-    """The scene as a .glb: one node per object (its current position, orientation and
-    scale at rest), a perspective camera for each camera, a spot light for each light,
+    """The scene as a .glb: one node per object in space (its current position, orientation and
+    scale at rest; a cue object has none), a perspective camera for each camera, a spot light for each light,
     and one animation of every position, orientation and scale track
     (:func:`export_track`: its curve, written by :func:`written_curve` to play in
     float32 within the tolerance of its take; or with ``keys="frames"``, LINEAR keys at
@@ -184,6 +184,8 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
         raise ArgumentError("keys", f"one of {', '.join(KEYS)}, got {keys!r}")
     nodes, cameras, lights, meshes = [], [], [], []
     for obj in scene.objects.values():
+        if "position" not in obj.attributes:          # a cue object: events, no place in space (left out)
+            continue
         node = Node(obj.name, translation=_rest(scene, obj.name, "position"),
                     rotation=_rest(scene, obj.name, "orientation"), scale=_rest(scene, obj.name, "scale"))
         if obj.kind == "camera":
@@ -201,15 +203,25 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
                 meshes.append(octahedron("object", OBJECT_RADIUS))
             node.mesh = 0
         nodes.append(node)
-    names = {n.name for n in nodes}
-    written, left_out = [], []
-    for path, track in sorted(tracks.items()):
-        obj, attribute = path.split(".")
-        if not isinstance(track, ContinuousTrack) or attribute not in GLTF_PATHS or obj not in names:
-            left_out.append(path)
-            continue
-        written.append(export_track(track, rate))
-    return tracks_glb(nodes, written, name=name, keys=keys, meshes=meshes, cameras=cameras, lights=lights), left_out
+    skipped = left_out(scene, tracks)
+    written = [export_track(track, rate) for path, track in sorted(tracks.items()) if path not in skipped]
+    return tracks_glb(nodes, written, name=name, keys=keys, meshes=meshes, cameras=cameras, lights=lights), skipped
+
+
+def left_out(scene: Scene, tracks: dict[str, Track]) -> list[str]:
+    """The paths of the tracks a scene file leaves out, sorted: all but the position,
+    orientation and scale tracks of the scene's objects (what glTF and USD transforms
+    animate).
+
+    >>> from sketchanim.anim.attributes import BOOL
+    >>> from sketchanim.anim.tracks import DiscreteTrack
+    >>> scene = Scene(); _ = scene.add("box")
+    >>> left_out(scene, {"box.visible": DiscreteTrack("box.visible", BOOL, [0.0], [False])})
+    ['box.visible']
+    """
+    return sorted(path for path, track in tracks.items()
+                  if not isinstance(track, ContinuousTrack) or path.split(".")[1] not in GLTF_PATHS
+                  or path.split(".")[0] not in scene.objects)
 
 
 def export_track(track: ContinuousTrack, rate: float | None = None) -> ExportTrack:

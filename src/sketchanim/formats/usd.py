@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import tempfile
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -101,19 +102,73 @@ def write_usd_path(path: str | os.PathLike[str], times: np.ndarray, rate: float,
     >>> stage.GetEndTimeCode()
     30.0
     """
+    times = np.asarray(times, dtype=float)
+    xform = XformSamples(name, translate=None if positions is None else (times, positions),
+                         orient=None if orientations is None else (times, orientations))
+    return write_usd_xforms(path, rate, [xform], unit_m)
+
+
+#: An Xform op's values: time samples (times in seconds (n,), values (n, d)), or one
+#: constant value (None, (d,)).
+OpValues = tuple[np.ndarray | None, np.ndarray]
+
+
+@dataclass(frozen=True)
+class XformSamples:
+    """One Xform prim at the stage's root, ``/name``: its translate, orient (unit
+    quaternions x, y, z, w) and scale ops, each time samples or a constant
+    (:data:`OpValues`), or absent (None)."""
+
+    name: str
+    translate: OpValues | None = None
+    orient: OpValues | None = None
+    scale: OpValues | None = None
+
+
+def write_usd_xforms(path: str | os.PathLike[str], rate: float, xforms: list[XformSamples],
+                     unit_m: float | None = 1.0) -> Path:
+    """Write Xform prims at the stage's root as USD (.usda, .usd, .usdc), atomically,
+    in double precision: each op's samples at time code ``t * rate``
+    (``timeCodesPerSecond`` is ``rate``), applied translate, orient, scale (as glTF's
+    T R S); the stage spans every sample. The first prim is the default one.
+
+    >>> import tempfile
+    >>> from pxr import Usd
+    >>> out = Path(tempfile.mkdtemp()) / "s.usda"
+    >>> a = XformSamples("a", translate=(np.array([0.0, 1.0]), np.array([[0.0, 0, 0], [2.0, 0, 0]])))
+    >>> b = XformSamples("b", scale=(None, np.array([1.0, 2.0, 3.0])))
+    >>> stage = Usd.Stage.Open(str(write_usd_xforms(out, 24.0, [a, b])))
+    >>> stage.GetPrimAtPath("/a").GetAttribute("xformOp:translate").Get(12.0), stage.GetEndTimeCode()
+    (Gf.Vec3d(1.0, 0.0, 0.0), 24.0)
+    >>> stage.GetPrimAtPath("/b").GetAttribute("xformOp:scale").Get()
+    Gf.Vec3d(1.0, 2.0, 3.0)
+    """
     Gf, _, UsdGeom = pxr_modules()
-    codes = np.asarray(times, dtype=float) * rate
+    sampled = [np.asarray(op[0], dtype=float) * rate for x in xforms
+               for op in (x.translate, x.orient, x.scale) if op is not None and op[0] is not None and len(op[0])]
+    codes = np.concatenate(sampled) if sampled else np.zeros(1)
+
+    def value(kind: str, v: np.ndarray) -> Any:
+        if kind == "orient":
+            x, y, z, w = map(float, v)
+            return Gf.Quatd(w, x, y, z)
+        return Gf.Vec3d(*map(float, v))
 
     def build(stage: Any) -> str:
-        xform = UsdGeom.Xform.Define(stage, f"/{name}")
-        if positions is not None:
-            translate = xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble)
-            for code, p in zip(codes, np.asarray(positions, dtype=float)):
-                translate.Set(Gf.Vec3d(*map(float, p)), float(code))
-        if orientations is not None:
-            orient = xform.AddOrientOp(UsdGeom.XformOp.PrecisionDouble)
-            for code, (x, y, z, w) in zip(codes, np.asarray(orientations, dtype=float)):
-                orient.Set(Gf.Quatd(float(w), float(x), float(y), float(z)), float(code))
-        return f"/{name}"
+        for xform in xforms:
+            prim = UsdGeom.Xform.Define(stage, f"/{xform.name}")
+            adders = {"translate": prim.AddTranslateOp, "orient": prim.AddOrientOp, "scale": prim.AddScaleOp}
+            for kind, add in adders.items():
+                op_values = getattr(xform, kind)
+                if op_values is None:
+                    continue
+                op = add(UsdGeom.XformOp.PrecisionDouble)
+                times, values = op_values
+                if times is None:
+                    op.Set(value(kind, np.asarray(values, dtype=float)))
+                    continue
+                for code, v in zip(np.asarray(times, dtype=float) * rate, np.asarray(values, dtype=float)):
+                    op.Set(value(kind, v), float(code))
+        return f"/{xforms[0].name}"
 
-    return _write_stage(Path(path), rate, float(codes[0]), float(codes[-1]), unit_m, build)
+    return _write_stage(Path(path), rate, float(codes.min()), float(codes.max()), unit_m, build)

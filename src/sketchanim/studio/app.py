@@ -16,20 +16,24 @@ import os
 import time
 from collections import deque
 from collections.abc import AsyncIterator, Awaitable, Callable
+from typing import Annotated
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import asynccontextmanager
 from pathlib import Path
 from urllib.parse import urlsplit
 
 import anyio
-from fastapi import FastAPI, HTTPException, Request, WebSocket, WebSocketDisconnect
+from fastapi import FastAPI, HTTPException, Query, Request, WebSocket, WebSocketDisconnect
 from fastapi.responses import FileResponse, Response
+from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 from starlette.middleware.trustedhost import TrustedHostMiddleware
-from pydantic import BaseModel
+from pydantic import BaseModel, ValidationError
 
-from sketchanim.errors import InputError
-from sketchanim.studio import protocol
+from sketchanim.errors import ArgumentError, InputError, StorageError
+from sketchanim.project.recent import recent, remember
+from sketchanim.studio import clips, downloads, projectfiles, protocol
+from sketchanim.studio.exports import ExportExists
 from sketchanim.studio.handlers import check_writable, error_code, handle
 from sketchanim.studio.session import Session
 from sketchanim.studio.sounds import SoundTooLarge, http_status, read_capped, sound_name, too_large
@@ -196,7 +200,7 @@ class Hub:
 
     def client(self, socket: WebSocket) -> Client:
         """A new page on ``socket``, among the connected (its first ``state`` is the caller's to queue)."""
-        client = Client(next(self._numbers), socket, lambda: self.call(self.session.state))
+        client = Client(next(self._numbers), socket, lambda: self.call(lambda: self.session.state()))
         self.clients[client.number] = client
         return client
 
@@ -225,19 +229,21 @@ class Hub:
         failed save is tried again) in the model thread, its messages sent."""
         while True:
             try:
-                self.send(await self.call(self.session.tick, time.monotonic()), None)
+                now = time.monotonic()
+                self.send(await self.call(lambda: self.session.tick(now)), None)
             except Exception:                       # a bug: logged, and time goes on
                 log.exception("the studio's timer failed")
             await asyncio.sleep(TICK)
 
     async def save(self) -> None:
         """Save now (in the model thread) and send what the save says."""
-        self.send(await self.call(self.session.save), None)
+        self.send(await self.call(lambda: self.session.save()), None)
 
     async def handle(self, client: Client, frame: str | bytes) -> None:
         """One frame from ``client``: parsed, run, answered (an error reply for anything
         refused; the socket stays open)."""
-        self.thread.submit(self.session.heard, client.number, time.monotonic())    # in order with the model's calls
+        now = time.monotonic()
+        self.thread.submit(lambda: self.session.heard(client.number, now))    # in order with the model's calls
         if not client.allowed():
             client.put(error("rate", f"more than {RATE:.0f} messages a second; this one was dropped"))
             return
@@ -252,21 +258,29 @@ class Hub:
             self._reducing.add(task)
             task.add_done_callback(self._reducing.discard)
             return
-        await self.carry_out(client, message, lambda: self.call(handle, self.session, message, client.number))
+        await self.carry_out(client, message, lambda: self.call(lambda: handle(self.session, message, client.number)))
 
     async def reduce(self, message: protocol.TrackReduce) -> list[protocol.Out]:
         """A ``track.reduce``: checked and put in the model's thread, the tracks reduced
         again from their takes in the reductions' thread (the model's serves the other
-        messages meanwhile; a track changed meanwhile is refused when put)."""
-        check_writable(self.session, message)
-        work = await self.call(self.session.reduction, message.paths, message.tol)
+        messages meanwhile; a track changed meanwhile is refused when put, and all of it
+        when another project was opened meanwhile)."""
+        session = self.session
+        check_writable(session, message)
+        work = await self.call(session.reduction, message.paths, message.tol)
         made = await asyncio.get_running_loop().run_in_executor(self.reductions, work)
-        return await self.call(self.session.reduced, made, message.preview)
+
+        def put() -> list[protocol.Out]:
+            if self.session is not session:
+                raise ArgumentError("track.reduce", "another project was opened meanwhile; nothing was changed")
+            return session.reduced(made, message.preview)
+
+        return await self.call(put)
 
     async def kept_samples(self, message: protocol.TrackSamples) -> list[protocol.Out]:
         """A ``track.samples``: the track taken in the model's thread, the samples its
         curve keeps found in the reductions' thread."""
-        work = await self.call(self.session.kept_samples, message.path)
+        work = await self.call(lambda: self.session.kept_samples(message.path))
         return await asyncio.get_running_loop().run_in_executor(self.reductions, work)
 
     async def beats(self, message: protocol.SoundBeats) -> list[protocol.Out]:
@@ -311,7 +325,7 @@ class Hub:
         saved at once), what it previewed without a set goes back
         (:meth:`Session.leave`)."""
         self.clients.pop(client.number, None)
-        self.send(await self.call(self.session.leave, client.number), None)
+        self.send(await self.call(lambda: self.session.leave(client.number)), None)
         await self.save()
 
     async def serve(self, socket: WebSocket) -> None:
@@ -321,7 +335,7 @@ class Hub:
         client = self.client(socket)
         reader = pump = None
         try:
-            client.put(await self.call(self.session.state))
+            client.put(await self.call(lambda: self.session.state()))
             reader = asyncio.ensure_future(self.read(client))
             pump = asyncio.ensure_future(client.pump())
             await asyncio.wait((reader, pump), return_when=asyncio.FIRST_COMPLETED)
@@ -343,6 +357,66 @@ class Hub:
                     task.cancel()
             with anyio.CancelScope(shield=True):     # a take the page was recording is kept, even on a cancel
                 await self.leave(client)
+
+    # -- files: save as, open (projectfiles.py) ------------------------------------------------
+
+    #: The folder the page saves copies into and opens projects from (set by create_app).
+    files: Path
+    #: How the studio was started: ``read_only`` and ``exports`` for each project it opens.
+    opening: tuple[bool | None, str | os.PathLike[str] | None] = (None, None)
+
+    async def switch(self, path: Path) -> None:
+        """Go on with the project at ``path``: the open one saved and closed (its lock
+        let go), ``path`` opened (as the studio was started: read-only or not, its exports
+        folder) and remembered in the recent list, every page sent its ``state``. Refused
+        (an :class:`InputError`, nothing changed) while a take records or a reduction
+        runs, or when ``path`` does not open (it is locked, damaged...)."""
+        if self._reducing:
+            raise ArgumentError("project", "tracks are being reduced again; open the project once they are back")
+        old = self.session
+        if path.resolve() == old.path:
+            raise AlreadyOpen("project", f"{old.path.name} is the open project")
+
+        def reopen() -> Session:
+            if old.take is not None:
+                raise ArgumentError("project", "a take is recording; end it before another project opens")
+            try:
+                new = Session(path, *self.opening)  # fails before anything changed: the open project stays
+            except OSError as err:
+                raise StorageError(f"{path.name}: cannot be opened ({err.strerror or err})") from None
+            old.close()
+            self.session = new                  # in the model's thread: what comes after it runs on the new one
+            return new
+
+        new = await self.call(reopen)
+        remember_opened(new.path)
+        state = await self.call(new.state)
+        for client in list(self.clients.values()):
+            client.put(state)
+
+
+class AlreadyOpen(ArgumentError):
+    """The project to open is the open one."""
+
+
+def refusal_status(err: InputError) -> int:
+    """The HTTP status of a refused save as or open: 409 for a name taken or the open
+    project, 404 for a project not there, else 400.
+
+    >>> refusal_status(AlreadyOpen("project", "a.sketchanim is the open project"))
+    409
+    """
+    if isinstance(err, (ExportExists, AlreadyOpen)):
+        return 409
+    return 404 if isinstance(err, projectfiles.ProjectMissing) else 400
+
+
+def remember_opened(path: Path) -> None:
+    """Put ``path`` first in the recent list; a list that cannot be written is logged."""
+    try:
+        remember(path)
+    except OSError as err:
+        log.warning("the recent projects' list cannot be written (%s): %s", err.filename, err.strerror or err)
 
 
 def same_origin(origin: str | None, host: str | None) -> bool:
@@ -369,7 +443,8 @@ def same_origin(origin: str | None, host: str | None) -> bool:
 
 def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: list[str] | None = None,
                close: bool = False, read_only: bool | None = None,
-               exports: str | os.PathLike[str] | None = None) -> FastAPI:
+               exports: str | os.PathLike[str] | None = None,
+               files: str | os.PathLike[str] | None = None) -> FastAPI:
     """The studio app for the project file ``project`` (created if missing). With
     ``warm``, the compiled kernels are warmed at start and ``ready`` is said after;
     without, the app is ready at once. ``hosts``: the only ``Host`` headers answered
@@ -377,7 +452,10 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     rebinding); any if None. When the app stops, a take still running is
     kept and the project saved, and with ``close`` the file is closed (a server's app;
     otherwise ``app.state.hub.session.close()`` does it, and the app can start again).
-    ``read_only`` and ``exports``: as :class:`Session` takes them.
+    ``read_only`` and ``exports``: as :class:`Session` takes them. ``files``: the folder
+    the page saves copies into and opens projects from (the project's if None); a
+    project opened from the page is put first in the recent list
+    (:mod:`sketchanim.project.recent`; ``sketchanim studio`` puts its own there).
 
     >>> import tempfile
     >>> from fastapi.testclient import TestClient
@@ -389,6 +467,11 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
     >>> app.state.hub.session.close()
     """
     hub = Hub(Session(project, read_only, exports))
+    hub.opening = (read_only, exports)
+    hub.files = hub.session.folder if files is None else Path(files).resolve()
+    if not hub.files.is_dir():
+        hub.session.close()
+        raise ArgumentError("files", f"{hub.files} is not a folder")
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -472,6 +555,138 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             raise HTTPException(http_status(err), str(err)) from None
         return FileResponse(path)
 
+    @app.get("/api/export/choices", response_model=downloads.ExportChoices)
+    async def export_choices() -> downloads.ExportChoices:
+        """What the export dialog offers: each format, its file, what each client plays from it."""
+        s = hub.session
+        return await hub.call(lambda: downloads.choices(s.path, s.scene, dict(s.player.tracks)))
+
+    @app.get("/api/export", response_class=Response,
+             responses={200: {"content": {"model/gltf-binary": {}, "application/octet-stream": {},
+                                          "application/json": {}},
+                              "description": "The export, as a download named after the project."},
+                        400: {"description": "Not an export format, or one this server cannot write."}})
+    async def export_download(format: Annotated[str, Query(json_schema_extra={"enum": list(downloads.FORMATS)})]
+                              = "glb") -> Response:
+        """The scene (``glb``, ``glb-frames``, ``usd``) or the project (``json``) as a
+        download, made by the writers ``sketchanim export`` uses; nothing is written."""
+        s = hub.session
+        try:
+            fmt = downloads.check_format(format)
+            data = await hub.call(lambda: downloads.build(format, s.path, s.scene, dict(s.player.tracks), s.fps,
+                                                          s.export_document))
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        return Response(data, media_type=fmt.media_type,
+                        headers={"Content-Disposition": downloads.disposition(downloads.file_name(s.path, fmt))})
+
+    @app.post("/api/project/save-as", response_model=projectfiles.ProjectFile,
+              responses={400: {"description": "Not a project name, or not writable; nothing changed."},
+                         409: {"description": "The name is taken; nothing changed."}})
+    async def save_as(name: Annotated[str, Query(json_schema_extra={"pattern": projectfiles.NAME_PATTERN})]
+                      ) -> projectfiles.ProjectFile:
+        """Write the model, as the pages see it, as a new project ``name`` in the files
+        folder (atomically, never over a file), then go on with the copy: every page
+        gets its ``state``; the project it was is saved and closed as it is."""
+        try:
+            target = projectfiles.copy_target(hub.files, name)
+            s = hub.session
+            await hub.call(lambda: projectfiles.write_copy(target, s.scene, s.player.tracks, s.tolerances, s.fps))
+            await hub.switch(target)
+        except InputError as err:
+            raise HTTPException(refusal_status(err), str(err)) from None
+        return projectfiles.ProjectFile(path=str(target), name=target.name, exists=True)
+
+    @app.post("/api/project/open", response_model=projectfiles.ProjectFile,
+              responses={400: {"description": "Not a project the page may open, or it does not open; nothing changed."},
+                         404: {"description": "No such project file."},
+                         409: {"description": "It is the open project; nothing changed."}})
+    async def open_project(path: str) -> projectfiles.ProjectFile:
+        """Go on with another project: a bare name in the files folder, or a path of
+        the recent list; the open one is saved and closed, every page gets its ``state``."""
+        try:
+            target = projectfiles.openable(path, hub.files, recent())
+            await hub.switch(target)
+        except InputError as err:
+            raise HTTPException(refusal_status(err), str(err)) from None
+        return projectfiles.ProjectFile(path=str(target), name=target.name, exists=True)
+
+    @app.get("/api/recent", response_model=projectfiles.ProjectFiles)
+    async def recent_projects() -> projectfiles.ProjectFiles:
+        """The open project, the files folder, and the projects opened lately (newest first)."""
+        return projectfiles.listing(hub.session.path, hub.files, recent())
+
+    @app.post("/api/clips", response_model=clips.ClipImported,
+              openapi_extra={"requestBody": {"required": True, "description": "The file's bytes.",
+                                             "content": {"application/octet-stream": {
+                                                 "schema": {"type": "string", "format": "binary"}}}}},
+              responses={400: {"description": "Not a clip file, or malformed (the line and field named); nothing changed."},
+                         413: {"description": "Over the upload's size limit; nothing changed."}})
+    async def import_clip(request: Request,
+                          name: Annotated[str, Query(json_schema_extra={"pattern": clips.NAME_PATTERN})]
+                          ) -> clips.ClipImported:
+        """A motion clip (the raw bytes of a .bvh) into the scene: each joint an object
+        with its world position and orientation tracks; or a .c3d's markers, each an
+        object with its world position track; one History step. Read and reduced in the
+        reductions' thread (the model serves the pages meanwhile)."""
+        try:
+            data = await clip_body(request, name, clips.CLIP_UPLOADS)
+        except clips.TooLarge as err:
+            raise HTTPException(413, str(err)) from None
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        return await add_clip(name, data, None)
+
+    async def clip_body(request: Request, name: str, kinds: tuple[str, ...]) -> bytes:
+        """An upload's body, refused (by name and size) as soon as it shows it is not one."""
+        declared = request.headers.get("content-length")
+        clips.check_upload(name, int(declared) if declared and declared.isdigit() else None, kinds)
+        data = bytearray()
+        async for chunk in request.stream():
+            data += chunk
+            clips.check_upload(name, len(data), kinds)
+        return bytes(data)
+
+    async def add_clip(name: str, data: bytes, skeleton: tuple[str, bytes] | None) -> clips.ClipImported:
+        """Read and reduce an upload in the reductions' thread, add it as one step, tell the pages."""
+        loop = asyncio.get_running_loop()
+        try:
+            upload = await loop.run_in_executor(hub.reductions, clips.read_upload, name, data, skeleton)
+            made = await loop.run_in_executor(hub.reductions, clips.scene_clip, upload)
+            names, out = await hub.call(hub.session.import_clip, Path(name).stem, made.tracks,
+                                        made.parents, f"import {name}")
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        hub.send(out, None)
+        return clips.ClipImported(objects=names, tracks=sum(len(t) for t in made.tracks.values()),
+                                  frames=len(made.times), seconds=float(made.times[-1] - made.times[0]))
+
+    @app.post("/api/clips/amc", response_model=clips.ClipImported,
+              openapi_extra={"requestBody": {"required": True, "description": "The two files' texts.",
+                                             "content": {"application/json": {
+                                                 "schema": clips.AmcUpload.model_json_schema()}}}},
+              responses={400: {"description": "Not an ASF/AMC pair, or malformed (the file, line and field named); nothing changed."},
+                         413: {"description": "Over the upload's size limit; nothing changed."}})
+    async def import_amc(request: Request,
+                         name: Annotated[str, Query(json_schema_extra={"pattern": clips.AMC_PATTERN})],
+                         skeleton: Annotated[str, Query(json_schema_extra={"pattern": clips.ASF_PATTERN})]
+                         ) -> clips.ClipImported:
+        """A CMU clip into the scene: an AMC motion (``name``) with its ASF skeleton
+        (``skeleton``), their texts in one JSON body (``{"skeleton", "motion"}``); as a
+        .bvh is, one History step."""
+        try:
+            body = await clip_body(request, name, (".amc",))
+            clips.check_upload(skeleton, None, (".asf",))
+            pair = clips.AmcUpload.model_validate_json(body)
+        except clips.TooLarge as err:
+            raise HTTPException(413, str(err)) from None
+        except InputError as err:
+            raise HTTPException(400, str(err)) from None
+        except ValidationError as err:
+            raise HTTPException(400, f"{name}: the body is not {{\"skeleton\", \"motion\"}} texts "
+                                     f"({err.error_count()} errors)") from None
+        return await add_clip(name, pair.motion.encode(), (skeleton, pair.skeleton.encode()))
+
     @app.websocket("/ws")
     async def stream(socket: WebSocket) -> None:
         if not same_origin(socket.headers.get("origin"), socket.headers.get("host")):
@@ -479,6 +694,16 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             return
         await socket.accept()
         await hub.serve(socket)
+
+    # the last of the API's routes (any added after it would never be reached)
+    @app.api_route("/api/{rest:path}", methods=["GET", "HEAD", "POST", "PUT", "PATCH", "DELETE", "OPTIONS"],
+                   include_in_schema=False)
+    async def methods_allowed(rest: str) -> Response:
+        """A request on the API no route above takes: 405 with the methods its path takes
+        (else the page's static files would answer it), 404 for no such path."""
+        methods = sorted({m for r in app.routes if isinstance(r, APIRoute) and r.path == f"/api/{rest}"
+                          for m in r.methods})
+        return Response(status_code=405 if methods else 404, headers={"Allow": ", ".join(methods)})
 
     for url, folder, html in (("/vendor/three", THREE, False), ("/", WEB, True)):
         if folder.is_dir():                         # three.js comes with scripts/setup; the page with the package

@@ -60,9 +60,8 @@ def _own(name: str, project: Path) -> bool:
 
 
 def checked_name(name: str, project: Path, suffixes: tuple[str, ...] = SUFFIXES, what: str = "exports") -> str:
-    """``name`` if it is a bare file name (no separator, no control character, not
-    hidden, at most :data:`MAX_NAME_BYTES` bytes) ending in one of ``suffixes``, and
-    none of the files of ``project``; :class:`~sketchanim.errors.ArgumentError` naming
+    """``name`` if it is a bare file name (:func:`check_name`) ending in one of
+    ``suffixes``, and none of the files of ``project``; :class:`~sketchanim.errors.ArgumentError` naming
     it otherwise (``what``: what such files are, for the message). The rules of
     :func:`target`; the studio's sounds (:mod:`.sounds`) are named by them too.
 
@@ -73,17 +72,7 @@ def checked_name(name: str, project: Path, suffixes: tuple[str, ...] = SUFFIXES,
     ...
     sketchanim.errors.ArgumentError: file: 'beat.txt': sounds are .wav
     """
-    if not name:
-        raise _refuse(name, "an export needs a file name" if what == "exports" else "a file name is needed")
-    if any(unicodedata.category(c) in ("Cc", "Cs") for c in name):
-        raise _refuse(name, "a file name holds no control characters (NUL, newline...) or lone surrogates")
-    if any(sep and sep in name for sep in ("/", "\\", os.sep, os.altsep)):
-        raise _refuse(name, f"a file name in the {what} folder, not a path")
-    if name in (".", "..") or name.startswith("."):
-        raise _refuse(name, "a file name that is not hidden (it starts with '.')")
-    size = len(os.fsencode(name))
-    if size > MAX_NAME_BYTES:
-        raise _refuse(name[:40] + "...", f"{size} bytes long; a name has at most {MAX_NAME_BYTES}")
+    check_name(name, f"the {what} folder")
     if Path(name).suffix.lower() not in suffixes:
         raise _refuse(name, f"{what} are {' or '.join(suffixes)}")
     if _own(name, project):
@@ -118,6 +107,32 @@ def target(folder: Path, name: str, project: Path, overwrite: bool = False) -> P
     if not overwrite and os.path.lexists(path):
         raise _exists(name)
     return path
+
+
+def check_name(name: str, folder: str) -> str:
+    """``name``, if it is a bare file name for ``folder`` (words naming it): not empty,
+    no separator, no control character, not hidden, at most :data:`MAX_NAME_BYTES`
+    bytes; else an :class:`ArgumentError` saying which.
+
+    >>> check_name("shot.glb", "the exports folder")
+    'shot.glb'
+    >>> check_name("a/b.sketchanim", "the project's folder")
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: file: 'a/b.sketchanim': a file name in the project's folder, not a path
+    """
+    if not name:
+        raise _refuse(name, "needs a file name")
+    if any(unicodedata.category(c) in ("Cc", "Cs") for c in name):
+        raise _refuse(name, "a file name holds no control characters (NUL, newline...) or lone surrogates")
+    if any(sep and sep in name for sep in ("/", "\\", os.sep, os.altsep)):
+        raise _refuse(name, f"a file name in {folder}, not a path")
+    if name in (".", "..") or name.startswith("."):
+        raise _refuse(name, "a file name that is not hidden (it starts with '.')")
+    size = len(os.fsencode(name))
+    if size > MAX_NAME_BYTES:
+        raise _refuse(name[:40] + "...", f"{size} bytes long; a name has at most {MAX_NAME_BYTES}")
+    return name
 
 
 def write(path: Path, data: bytes, overwrite: bool = False) -> Path:

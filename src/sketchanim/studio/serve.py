@@ -12,7 +12,7 @@ from pathlib import Path
 
 import uvicorn
 
-from sketchanim.studio.app import create_app
+from sketchanim.studio.app import create_app, remember_opened
 from sketchanim.studio.protocol import MAX_FRAME_BYTES
 
 
@@ -39,21 +39,23 @@ def server_config(app: object, **options: object) -> uvicorn.Config:
 
 
 def serve(project: Path, host: str, port: int, browser: bool, say: Callable[[str], object] = print, *,
-          read_only: bool | None = None, exports: Path | None = None) -> None:
+          read_only: bool | None = None, exports: Path | None = None, files: Path | None = None) -> None:
     """Serve the studio for ``project`` on ``host:port`` until interrupted; open the page
     in a browser if ``browser`` and there is a display. ``read_only`` and ``exports``:
-    as :class:`~.session.Session` takes them. The port is bound first, so a busy one
-    fails here (:class:`OSError`) before anything else starts."""
+    as :class:`~.session.Session` takes them; ``files``: as :func:`~.app.create_app` does. The port is bound first, so a busy one
+    fails here (:class:`OSError`) before anything else starts. The project is put
+    first in the recent list."""
     family = socket.AF_INET6 if ":" in host else socket.AF_INET
     sock = socket.socket(family, socket.SOCK_STREAM)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind((host, port))
     loopback = host in ("127.0.0.1", "localhost", "::1") or host.startswith("127.")
     app = create_app(project, hosts=["127.0.0.1", "localhost", "[::1]", host] if loopback else None, close=True,
-                     read_only=read_only, exports=exports)
+                     read_only=read_only, exports=exports, files=files)
     shown = f"[{host}]" if ":" in host else host
     url = f"http://{'127.0.0.1' if host in ('0.0.0.0', '::') else shown}:{sock.getsockname()[1]}/"
     session = app.state.hub.session
+    remember_opened(session.path)
     mode = " (read-only: it plays and exports, edits are refused)" if session.read_only else ""
     say(f"sketchanim studio: {session.path}{mode} at {url} (Ctrl-C stops it); exports go to {session.exports}")
     if browser and has_display():

@@ -601,6 +601,23 @@ class Session:
             data, _ = scene_glb(self.scene, dict(self.player.tracks), name=path.stem)
         return exporting.write(path, data, overwrite)
 
+    # -- clips (clips.py) ---------------------------------------------------------------------
+
+    def import_clip(self, prefix: str, joints: dict, parents: tuple[int, ...], label: str
+                    ) -> tuple[list[str], list[p.Out]]:
+        """Add a clip's joints (:func:`~sketchanim.mocap.scene_clip.joint_tracks`) as
+        objects ``<prefix>_<joint>`` with their tracks and parents (index, -1: none), as one step; refused in a
+        read-only project or while a take is recorded. The objects' names, and the
+        messages."""
+        from sketchanim.studio.clips import clip_change
+
+        if self.read_only:
+            raise ArgumentError("clip", f"{self.path.name} is open read-only: a clip cannot be added")
+        self.takes.refuse_while_recording("clip import")
+        change, names = clip_change(self.player, prefix, joints, parents, label)
+        self.editor.run(change)
+        return names, self._told()
+
     def flush(self) -> list[p.Out]:
         """End a take still running (kept) and save; the messages of the take's end."""
         out = [] if self.take is None else self.end_take(self.take.owner, self.take.id, None, "shutdown")

@@ -5,8 +5,11 @@
  * performance.now(), playback of every track, the performer's samples — then drawing).
  */
 import { Connection } from './Connection.js';
+import { ClipImport } from './clipimport.js';
 import { CueFlash } from './cueflash.js';
 import { CurveEditor } from './curveeditor.js';
+import { ExportDialog } from './exportdialog.js';
+import { FilesDialog } from './filesdialog.js';
 import { Header } from './header.js';
 import { Help } from './help.js';
 import { Inspector } from './inspector.js';
@@ -33,13 +36,17 @@ new Notices(studio, $('notices'));
 new LockBanner(studio, $('viewport'));
 const cueFlash = new CueFlash(studio, $('viewport'));
 new Outliner(studio, $('outliner'), viewport);
+new ClipImport(studio, $('outliner'));
 new Inspector(studio, $('inspector'));
 new Layers(studio, $('inspector'));
 const transportBar = new TransportBar(studio, $('transport'));
 const timeline = new Timeline(studio, /** @type {HTMLCanvasElement} */ ($('timeline')));
 const sounds = new SoundPanel(studio, transportBar.soundSlot);
 const curveEditor = new CurveEditor(studio, $('curves'));
-new Help(studio, /** @type {HTMLElement} */ (document.querySelector('header.top')), window);   // before the keys: its Escape goes first
+const header = /** @type {HTMLElement} */ (document.querySelector('header.top'));
+new FilesDialog(studio, header, window);            // the dialogs before the keys: their Escape goes first
+new ExportDialog(header, window);
+new Help(studio, header, window);   // before the keys: its Escape goes first
 bindKeyboard(window, studioActions(studio, viewport));
 
 /** Per-frame timings (ms) of the last frames, for benchmarks: playback (evaluate every track,

@@ -12,6 +12,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { TransformControls } from 'three/addons/controls/TransformControls.js';
+import { Bones } from './bones.js';
 import { active, applyPad, padResolution, readPad } from './gamepad.js';
 import { MotionPaths } from './motionpaths.js';
 import { OnionSkin } from './onionskin.js';
@@ -114,6 +115,7 @@ export class Viewport {
     studio.signals.on('state', () => this.build());
     studio.signals.on('selection', () => this.showSelection());
     studio.signals.on('frame', () => this.poll());
+    this.bones = new Bones(this);       // after build's 'state' handler: the nodes are there
     this.bind();
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
