@@ -143,7 +143,29 @@ def test_export_command(tmp_path: Path) -> None:
     result = runner.invoke(app, ["export", str(tmp_path / "none.sketchanim"), "-o", str(tmp_path / "n.glb")])
     assert result.exit_code == 2 and "no such project file" in result.output
     result = runner.invoke(app, ["export", str(tmp_path / "p.sketchanim"), "-o", str(tmp_path / "p.fbx")])
-    assert result.exit_code == 2 and ".glb, .json or .usd, .usda, .usdc" in result.output
+    assert result.exit_code == 2 and ".glb, .json, .bvh or .usd, .usda, .usdc" in result.output
+    result = runner.invoke(app, ["export", str(tmp_path / "p.sketchanim"), "-o", str(tmp_path / "p.bvh")])
+    assert result.exit_code == 2 and "no skeleton" in result.output and not (tmp_path / "p.bvh").exists()
+
+
+def test_export_command_writes_a_skeleton_as_bvh(tmp_path: Path) -> None:
+    from sketchanim.anim.scene import BONE_PARENT
+    from sketchanim.formats.bvh import read_bvh
+
+    scene = Scene()
+    scene.add("hips")
+    scene.add("head").add(BONE_PARENT, AttributeType.enum(["hips"]), "hips")
+    t = np.linspace(0, 1, 61)
+    walk = np.c_[t, 1 + 0 * t, 0 * t]
+    tracks: dict[str, Track] = {"hips.position": recorded("hips.position", POSITION, t, walk, 0.005),
+                                "head.position": recorded("head.position", POSITION, t, walk + [0, 0.6, 0], 0.005)}
+    with Project(tmp_path / "p.sketchanim") as project:
+        project.save(scene, tracks)
+    result = CliRunner().invoke(app, ["export", str(tmp_path / "p.sketchanim"), "-o", str(tmp_path / "p.bvh")])
+    assert result.exit_code == 0, result.output
+    back = read_bvh(tmp_path / "p.bvh")
+    assert back.skeleton.names == ("hips", "head") and back.skeleton.parents == (-1, 0)
+    assert np.abs(back.world_positions()[:, 1] - (tracks["hips.position"].evaluate(back.times) + [0, 0.6, 0])).max() <= 0.011
 
 
 def test_export_command_writes_usd_within_tolerance_at_every_sample(tmp_path: Path) -> None:

@@ -56,6 +56,19 @@ def take_studio(tmp_path: Path):  # noqa: ANN201
         yield url
 
 
+def _shoot_at(page, name: str, back: tuple[float, float], file: str) -> None:  # noqa: ANN001
+    """A look at object ``name`` (the camera ``back`` = (across, up) metres off it, looking at
+    it), the notices dismissed, kept in ``SHOTS / file``."""
+    page.evaluate(f"""(() => {{ const p = viewport.nodes.get('{name}').root.position;
+        viewport.orbit.target.copy(p); viewport.camera.position.set(p.x + {back[0]}, p.y + {back[1]}, p.z + {back[0]});
+        viewport.camera.lookAt(p); viewport.orbit.update(); }})()""")
+    page.wait_for_timeout(300)
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    while page.locator("[data-testid=notice-dismiss]").count():       # the refusals' notices off the view
+        page.locator("[data-testid=notice-dismiss]").first.click()
+    page.locator("[data-testid=viewport]").screenshot(path=str(SHOTS / file))
+
+
 def _download(page, testid: str, folder: Path) -> Path:  # noqa: ANN001
     """Open the dialog, choose ``testid``, the browser's download saved in ``folder``."""
     page.click("[data-testid=export]")
@@ -238,12 +251,7 @@ def test_an_imported_skeleton_is_drawn_as_bones_that_follow_playback_and_a_grab(
     moved = ends_at_joints()
     assert max(np.linalg.norm(np.subtract(a["from"], b["from"])) for a, b in zip(bones, moved)) > 0.05
     # a look: the camera at the hips (for the screenshot, kept in SHOTS)
-    page.evaluate(f"""(() => {{ const p = viewport.nodes.get('{prefix}Hips').root.position;
-        viewport.orbit.target.copy(p); viewport.camera.position.set(p.x + 2.2, p.y + 0.6, p.z + 2.2);
-        viewport.camera.lookAt(p); viewport.orbit.update(); }})()""")
-    page.wait_for_timeout(300)
-    SHOTS.mkdir(parents=True, exist_ok=True)
-    page.locator("[data-testid=viewport]").screenshot(path=str(SHOTS / "bones.png"))
+    _shoot_at(page, f"{prefix}Hips", (2.2, 0.6), "bones.png")
     # and a joint moved by hand (as a grab moves it: the local value, drawn before the server hears)
     head = prefix + "Head"
     page.evaluate(f"studio.setLocal('{head}.position', [0.5, 2.5, 0.5])")
@@ -278,14 +286,7 @@ def test_import_c3d_markers_from_the_outliner_and_a_truncated_one_is_refused(_pa
     assert len(markers) == 51
     assert curve(project(studio), markers[0] + ".position") is not None
     page.wait_for_selector(f"[data-testid=outliner] >> text={markers[0]}")
-    page.evaluate(f"""(() => {{ const p = viewport.nodes.get('{markers[0]}').root.position;
-        viewport.orbit.target.copy(p); viewport.camera.position.set(p.x + 2.5, p.y + 1.0, p.z + 2.5);
-        viewport.camera.lookAt(p); viewport.orbit.update(); }})()""")
-    page.wait_for_timeout(300)
-    SHOTS.mkdir(parents=True, exist_ok=True)
-    while page.locator("[data-testid=notice-dismiss]").count():       # the refusals' notices off the view
-        page.locator("[data-testid=notice-dismiss]").first.click()
-    page.locator("[data-testid=viewport]").screenshot(path=str(SHOTS / "c3d-markers.png"))
+    _shoot_at(page, markers[0], (2.5, 1.0), "c3d-markers.png")
     assert drew_something(page) > 5 and not page.errors
 
 
@@ -318,12 +319,5 @@ def test_import_an_asf_with_its_amc_from_the_outliner_and_a_lone_or_truncated_am
     assert f"{len(skeleton.names)} joints" in status.inner_text()
     page.wait_for_function("viewport.bones.pairs.length > 0")
     assert len(page.evaluate("viewport.bones.report()")) == sum(up >= 0 for up in skeleton.parents)
-    page.evaluate(f"""(() => {{ const p = viewport.nodes.get('cmu_11_01_{skeleton.names[0]}').root.position;
-        viewport.orbit.target.copy(p); viewport.camera.position.set(p.x + 2.2, p.y + 0.6, p.z + 2.2);
-        viewport.camera.lookAt(p); viewport.orbit.update(); }})()""")
-    page.wait_for_timeout(300)
-    SHOTS.mkdir(parents=True, exist_ok=True)
-    while page.locator("[data-testid=notice-dismiss]").count():       # the refusals' notices off the view
-        page.locator("[data-testid=notice-dismiss]").first.click()
-    page.locator("[data-testid=viewport]").screenshot(path=str(SHOTS / "amc-bones.png"))
+    _shoot_at(page, f"cmu_11_01_{skeleton.names[0]}", (2.2, 0.6), "amc-bones.png")
     assert drew_something(page) > 5 and not page.errors

@@ -233,3 +233,44 @@ def test_a_truncated_amc_or_a_bad_pair_is_refused_naming_it_and_changes_nothing(
     r = c.post("/api/clips/amc?name=walk.bvh&skeleton=cmu_11.asf", json=body)
     assert r.status_code in (400, 422)
     assert c.get("/api/project").content == before
+
+
+@pytest.mark.realdata
+def test_an_imported_skeleton_exports_as_bvh_that_plays_the_scenes_joints(client, data_dir) -> None:  # noqa: ANN001
+    """The export dialog offers BVH once the scene has a skeleton; the download, read and
+    played by forward kinematics, puts every joint where the scene plays it at every frame:
+    orientations as the tracks', positions within what fixed bone lengths allow (at each
+    level of the chain: twice the position tolerance, and the bone swung by twice the
+    orientation tolerance)."""
+    c, session = client
+    assert "bvh" not in [x["format"] for x in c.get("/api/export/choices").json()["choices"]]
+    assert c.get("/api/export?format=bvh").status_code == 400
+    assert c.post("/api/clips?name=dash.bvh", content=(data_dir / CLIP).read_bytes()).status_code == 200
+    assert "bvh" in [x["format"] for x in c.get("/api/export/choices").json()["choices"]]
+    r = c.get("/api/export?format=bvh")
+    assert r.status_code == 200 and 'filename="p.bvh"' in r.headers["content-disposition"]
+    path = session.path.parent / "got.bvh"
+    path.write_bytes(r.content)
+    back = read_bvh(path)
+    turns, positions = world_pose(back.skeleton, back.rotations, back.translations)
+    doc = c.get("/api/project").json()
+    fps = session.fps
+    assert np.allclose(np.diff(back.times), 1 / fps)
+    # from the truth (the clip's own frames): the root's translation is its track's (within its
+    # tolerance); a joint is where its parent is put, plus its bone (a median over the frames of
+    # tracks within their tolerances) turned by its parent's orientation (within its tolerance)
+    sk, far = back.skeleton, np.zeros(len(back.skeleton))
+    for j, name in enumerate(sk.names):
+        spline, entry = curve(doc, f"{name}.position")
+        rot, _ = curve(doc, f"{name}.orientation")
+        up = sk.parents[j]
+        if up < 0:
+            far[j] = entry["tol"]
+        else:
+            parent_tol = curve(doc, f"{sk.names[up]}.position")[1]["tol"]
+            parent_rot = np.radians(curve(doc, f"{sk.names[up]}.orientation")[1]["tol"])
+            far[j] = far[up] + entry["tol"] + parent_tol + 2 * np.linalg.norm(sk.offsets[j]) * parent_rot
+        assert np.abs(positions[:, j] - held(spline, back.times)).max() <= far[j] + entry["tol"] + 1e-6, name
+        q = held(rot, back.times)
+        angle = np.degrees((Rotation.from_quat(q / np.linalg.norm(q, axis=1, keepdims=True)).inv() * turns[j]).magnitude())
+        assert angle.max() <= 1e-4, name

@@ -107,7 +107,7 @@ def test_choices_say_what_each_client_plays_within(exported) -> None:  # noqa: A
     assert choices[3]["file"] == "show.json" and choices[3]["clients"][0]["plays"].startswith("exact")
 
 
-@pytest.mark.parametrize("query, words", [("format=fbx", ["'fbx'", "glb, glb-frames, usd, json"]),
+@pytest.mark.parametrize("query, words", [("format=fbx", ["'fbx'", "glb, glb-frames, usd, bvh, json"]),
                                           ("format=", ["''", "not an export format"]),
                                           ("format=../x", ["'../x'"])])
 def test_a_bad_format_is_a_400_naming_it(exported, query: str, words: list[str]) -> None:  # noqa: ANN001

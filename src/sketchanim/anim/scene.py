@@ -28,6 +28,10 @@ KINDS: dict[str, dict[str, AttributeType]] = {
     "cue": {"cue": EVENT},
 }
 
+#: The attribute a joint object names its parent joint object in (an enum of that one name):
+#: the hierarchy of an imported skeleton, which the page draws as bones and a BVH export keeps.
+BONE_PARENT = "parent"
+
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_\-]{0,63}")
 
 

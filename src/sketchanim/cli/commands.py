@@ -21,7 +21,7 @@ USD_SUFFIXES = (".usd", ".usda", ".usdc")
 def export_command(
     project: Annotated[Path, typer.Argument(help="A project file (.sketchanim).")],
     output: Annotated[Path, typer.Option("-o", "--output", help="The scene as glTF (.glb) or USD (.usd, .usda, "
-                                         ".usdc), or the whole project as JSON (.json).")],
+                                         ".usdc), its skeletons as BVH (.bvh), or the whole project as JSON (.json).")],
     keys: Annotated[str, typer.Option("--keys", help="glTF: 'curves' (exact) or 'frames' (LINEAR keys at the "
                                       "takes' samples or --rate, for importers that ignore tangents).")] = "curves",
     rate: Annotated[Optional[float], typer.Option(help=f"With --keys frames: keys per second, "
@@ -29,13 +29,16 @@ def export_command(
 ) -> None:
     """Export a project: its scene as glTF (objects, cameras, lights, and their
     position, orientation and scale tracks) or USD (the same tracks as samples at the
-    takes' times), or everything as JSON.
+    takes' times), its imported clips' skeletons as BVH (at the project's frame rate), or
+    everything as JSON.
 
     Examples: sketchanim export show.sketchanim -o show.glb; sketchanim export show.sketchanim -o show.usda;
-    sketchanim export show.sketchanim -o show.json"""
+    sketchanim export show.sketchanim -o show.bvh; sketchanim export show.sketchanim -o show.json"""
     from sketchanim.atomic import write_atomic
+    from sketchanim.export.scene_bvh import skeleton_clip
     from sketchanim.export.scene_gltf import scene_glb
     from sketchanim.export.scene_usd import scene_usd
+    from sketchanim.formats.bvh import write_bvh
     from sketchanim.project.store import Project
 
     suffix = output.suffix.lower()
@@ -43,13 +46,17 @@ def export_command(
         one_of("keys", keys, KEYS)
         if rate is not None:
             LIMITS["rate"].check(rate)
-        if suffix not in (".glb", ".json", *USD_SUFFIXES):
-            fail(f"-o: a project exports to .glb, .json or {', '.join(USD_SUFFIXES)}, "
+        if suffix not in (".glb", ".json", ".bvh", *USD_SUFFIXES):
+            fail(f"-o: a project exports to .glb, .json, .bvh or {', '.join(USD_SUFFIXES)}, "
                  f"not {suffix or 'a file without an extension'}")
         with Project(project, create=False) as opened:
             if suffix == ".json":
                 opened.export_json(output)
                 left_out: list[str] = []
+            elif suffix == ".bvh":
+                scene, tracks = opened.load()
+                write_bvh(output, skeleton_clip(scene, tracks, opened.fps()))
+                left_out = []
             elif suffix in USD_SUFFIXES:
                 scene, tracks = opened.load()
                 left_out = scene_usd(output, scene, tracks, opened.fps())

@@ -261,9 +261,11 @@ def _layout(clip: Clip, i: int) -> tuple[str, ...]:
     return ROOT_LAYOUT if clip.translating[i] else JOINT_LAYOUT
 
 
-def _frames(clip: Clip, layouts: list[tuple[str, ...]]) -> np.ndarray:
+def _frames(clip: Clip, layouts: list[tuple[str, ...]], order: list[int]) -> np.ndarray:
+    """The MOTION rows: the channels of the joints in ``order`` (the hierarchy's, depth first)."""
     columns = []
-    for i, names in enumerate(layouts):
+    for i in order:
+        names = layouts[i]
         rot = [c for c in names if c in ROTATIONS]
         angles = None
         if rot:
@@ -279,13 +281,23 @@ def _frames(clip: Clip, layouts: list[tuple[str, ...]]) -> np.ndarray:
 
 
 def bvh_text(clip: Clip) -> str:
-    """The BVH text of ``clip`` (its frames as they are, at ``clip.frame_time``)."""
+    """The BVH text of ``clip`` (its frames as they are, at ``clip.frame_time``): its
+    joints depth first, whatever their order in the clip (a parent before its children),
+    and each frame's channels in that order.
+
+    >>> from sketchanim.motion.skeleton import Skeleton
+    >>> s = Skeleton(("hips", "left", "right", "toe"), (-1, 0, 0, 1), np.eye(4, 3))
+    >>> clip = Clip.still(s, [0.0, 0.1])
+    >>> [line.split()[1] for line in bvh_text(clip).splitlines() if line.split()[0] in ("ROOT", "JOINT")]
+    ['hips', 'left', 'toe', 'right']
+    """
     sk = clip.skeleton
     layouts = [_layout(clip, i) for i in range(len(sk))]
     children: dict[int, list[int]] = {i: [] for i in range(-1, len(sk))}
     for i, p in enumerate(sk.parents):
         children[p].append(i)
     out = ["HIERARCHY"]
+    order: list[int] = []                       # the joints as written: their channels' order in MOTION
     # depth first with a stack (no recursion); ("close", depth) ends a joint's block
     stack: list[tuple[int | str, int]] = [(root, 0) for root in reversed(children[-1])]
     while stack:
@@ -299,11 +311,12 @@ def bvh_text(clip: Clip) -> str:
         if not layouts[i] and not children[i] and sk.parents[i] >= 0:
             out.extend([f"{pad}End Site", f"{pad}{{", f"{pad}  OFFSET {off}", f"{pad}}}"])
             continue
+        order.append(i)
         out.extend([f"{pad}{'ROOT' if sk.parents[i] < 0 else 'JOINT'} {sk.names[i]}", f"{pad}{{",
                     f"{pad}  OFFSET {off}", f"{pad}  CHANNELS {len(layouts[i])} {' '.join(layouts[i])}".rstrip()])
         stack.append(("close", depth))
         stack += [(c, depth + 1) for c in reversed(children[i])]
-    frames = _frames(clip, layouts)
+    frames = _frames(clip, layouts, order)
     out += ["MOTION", f"Frames: {len(frames)}", f"Frame Time: {clip.frame_time:.10g}"]
     out += [" ".join(f"{v:.10g}" for v in row) for row in frames]
     return "\n".join(out) + "\n"

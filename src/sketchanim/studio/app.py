@@ -565,10 +565,11 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
              responses={200: {"content": {"model/gltf-binary": {}, "application/octet-stream": {},
                                           "application/json": {}},
                               "description": "The export, as a download named after the project."},
-                        400: {"description": "Not an export format, or one this server cannot write."}})
+                        400: {"description": "Not an export format, or one this server or this scene cannot "
+                                             "write (BVH without a skeleton)."}})
     async def export_download(format: Annotated[str, Query(json_schema_extra={"enum": list(downloads.FORMATS)})]
                               = "glb") -> Response:
-        """The scene (``glb``, ``glb-frames``, ``usd``) or the project (``json``) as a
+        """The scene (``glb``, ``glb-frames``, ``usd``, ``bvh``) or the project (``json``) as a
         download, made by the writers ``sketchanim export`` uses; nothing is written."""
         s = hub.session
         try:

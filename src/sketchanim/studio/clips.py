@@ -17,7 +17,7 @@ from pydantic import BaseModel
 from sketchanim.anim.attributes import AttributeType
 from sketchanim.anim.commands import Change
 from sketchanim.anim.player import Player
-from sketchanim.anim.scene import SceneObject
+from sketchanim.anim.scene import BONE_PARENT, SceneObject
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.formats.clip_files import read_clip
@@ -38,8 +38,6 @@ ASF_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.asf$"
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,100}\.(bvh|c3d)$"
 #: A joint sphere's scale (the page's sphere has a 0.45 m radius at scale 1: here 4.5 cm).
 JOINT_SCALE = 0.1
-#: The attribute naming a joint object's parent joint object (the page draws their bone).
-BONE_PARENT = "parent"
 
 
 class ClipImported(BaseModel):

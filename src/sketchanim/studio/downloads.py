@@ -4,8 +4,8 @@ what each client plays from it, within which tolerance (the largest tolerance of
 tracks the file animates; docs/clients.md says what each promise rests on).
 
 Every format goes through the writers ``sketchanim export`` uses: glTF (exact
-CUBICSPLINE keys, or LINEAR keys at the takes' samples: ``--keys frames``), USD, and the
-project as JSON. Nothing is written beside the project: a file that has to be written
+CUBICSPLINE keys, or LINEAR keys at the takes' samples: ``--keys frames``), USD, BVH (the
+skeletons of imported clips, :mod:`sketchanim.export.scene_bvh`), and the project as JSON. Nothing is written beside the project: a file that has to be written
 to be made (USD) is made in a temporary folder.
 """
 
@@ -24,6 +24,7 @@ from pydantic import BaseModel
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError
+from sketchanim.export.scene_bvh import skeletons
 from sketchanim.export.scene_gltf import left_out
 
 
@@ -51,6 +52,10 @@ FORMATS = {
     "usd": Format("USD, the curves as double-precision samples at the takes' times", ".usd",
                   "application/octet-stream", (
         ("usd-core, Omniverse: at every recorded sample (straight lines between)", "tol"),)),
+    "bvh": Format("BVH, the imported skeletons as joint hierarchies at the project's frame rate", ".bvh",
+                  "application/octet-stream", (
+        ("Blender's BVH importer, MotionBuilder, any BVH reader",
+         "at each frame: the joints' orientations as the scene's, positions over each bone's median length"),)),
     "json": Format("The whole project as JSON (curves, takes, tolerances)", ".json", "application/json", (
         ("sketchanim (sketchanim export, the studio's /api/project)", "exact: the float64 curves and raw takes"),)),
 }
@@ -88,7 +93,7 @@ def check_format(name: str) -> Format:
     >>> check_format("fbx")
     Traceback (most recent call last):
     ...
-    sketchanim.errors.ArgumentError: format: 'fbx' is not an export format; one of glb, glb-frames, usd, json
+    sketchanim.errors.ArgumentError: format: 'fbx' is not an export format; one of glb, glb-frames, usd, bvh, json
     """
     if name not in FORMATS:
         raise ArgumentError("format", f"{name!r} is not an export format; one of {', '.join(FORMATS)}")
@@ -143,7 +148,8 @@ def disposition(name: str) -> str:
 
 
 def choices(project: Path, scene: Scene, tracks: dict[str, Track]) -> ExportChoices:
-    """Every format the dialog offers for this scene, with what each client plays.
+    """Every format the dialog offers for this scene (BVH where it has a skeleton: an
+    imported clip's joints), with what each client plays.
 
     >>> scene = Scene(); _ = scene.add("box")
     >>> c = choices(Path("show.sketchanim"), scene, {}).choices
@@ -156,7 +162,7 @@ def choices(project: Path, scene: Scene, tracks: dict[str, Track]) -> ExportChoi
         ExportChoice(format=name, title=fmt.title, file=file_name(project, fmt),
                      clients=[ClientPlay(client=c, plays=tol if plays == "tol" else plays) for c, plays in fmt.clients],
                      left_out=[] if name == "json" else skipped)
-        for name, fmt in FORMATS.items()])
+        for name, fmt in FORMATS.items() if name != "bvh" or skeletons(scene)])
 
 
 def build(name: str, project: Path, scene: Scene, tracks: dict[str, Track], fps: float,
@@ -169,12 +175,16 @@ def build(name: str, project: Path, scene: Scene, tracks: dict[str, Track], fps:
     >>> build("glb", Path("show.sketchanim"), scene, {}, 30.0, lambda: b"{}")[:4]
     b'glTF'
     """
+    from sketchanim.export.scene_bvh import skeleton_clip
     from sketchanim.export.scene_gltf import scene_glb
     from sketchanim.export.scene_usd import scene_usd
+    from sketchanim.formats.bvh import bvh_text
 
     fmt = check_format(name)
     if name == "json":
         return document()
+    if name == "bvh":
+        return bvh_text(skeleton_clip(scene, tracks, fps)).encode()
     if name == "usd":
         with tempfile.TemporaryDirectory() as tmp:
             out = Path(tmp) / file_name(project, fmt)

@@ -7,7 +7,7 @@
  */
 import * as THREE from 'three';
 
-/** The attribute naming an object's parent object (studio/clips.py BONE_PARENT). */
+/** The attribute naming an object's parent object (anim/scene.py BONE_PARENT). */
 const PARENT = 'parent';
 
 export class Bones {
