@@ -55,7 +55,8 @@ FORMATS = {
     "bvh": Format("BVH, the imported skeletons as joint hierarchies at the project's frame rate", ".bvh",
                   "application/octet-stream", (
         ("Blender's BVH importer, MotionBuilder, any BVH reader",
-         "at each frame: the joints' orientations as the scene's, positions over each bone's median length"),)),
+         "at each frame: the joints' orientations as the scene's, positions over each bone's median length "
+         "(its own where it moves)"),)),
     "json": Format("The whole project as JSON (curves, takes, tolerances)", ".json", "application/json", (
         ("sketchanim (sketchanim export, the studio's /api/project)", "exact: the float64 curves and raw takes"),)),
 }
@@ -75,7 +76,7 @@ class ExportChoice(BaseModel):
     title: str
     file: str
     clients: list[ClientPlay]
-    #: tracks the file leaves out (a scene file animates transforms only)
+    #: tracks the file leaves out (a scene file animates transforms only; BVH the skeletons only)
     left_out: list[str]
 
 
@@ -158,11 +159,13 @@ def choices(project: Path, scene: Scene, tracks: dict[str, Track]) -> ExportChoi
     """
     tol = within(tracks, scene)
     skipped = left_out(scene, tracks)
+    joints = {name for skeleton in skeletons(scene) for name in skeleton}
+    outside = sorted(p for p in tracks if p.split(".")[0] not in joints or p.split(".")[1] not in ("position", "orientation"))
     return ExportChoices(choices=[
         ExportChoice(format=name, title=fmt.title, file=file_name(project, fmt),
                      clients=[ClientPlay(client=c, plays=tol if plays == "tol" else plays) for c, plays in fmt.clients],
-                     left_out=[] if name == "json" else skipped)
-        for name, fmt in FORMATS.items() if name != "bvh" or skeletons(scene)])
+                     left_out=[] if name == "json" else outside if name == "bvh" else skipped)
+        for name, fmt in FORMATS.items() if name != "bvh" or joints])
 
 
 def build(name: str, project: Path, scene: Scene, tracks: dict[str, Track], fps: float,

@@ -75,7 +75,7 @@ export class ExportDialog {
       clients.append(item);
     }
     block.append(el('div', { class: 'export-title' }, c.title), clients);
-    if (c.left_out.length) block.append(el('p', { class: 'hint' }, `left out (glTF and USD animate transforms only): ${c.left_out.join(', ')}`));
+    if (c.left_out.length) block.append(el('p', { class: 'hint' }, `left out (${c.format === 'bvh' ? 'BVH holds the skeletons only' : 'glTF and USD animate transforms only'}): ${c.left_out.join(', ')}`));
     block.append(get);
     return block;
   }
