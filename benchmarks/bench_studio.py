@@ -21,8 +21,8 @@ driven by Playwright) against a real server.
    the page's frame interval and script meanwhile.
 
 5. Timeline (``--only timeline``, not in the default run): 50 lanes (25 objects, a position
-   and an orientation track each) and a 10 min strip of synthetic peaks (100 per second)
-   above them, the view spanning the 10 min: the timeline's draw, everything painted again
+   and an orientation track each) and the waveform of a 10 min sound (synthetic, 22.05 kHz,
+   drawn by the sound panel's own peak pyramid, ``waveform.js``) above them, the view spanning the 10 min: the timeline's draw, everything painted again
    each frame, then the playhead alone moving (what playback draws), median and p99 ms
    (target: a few ms).
 6. Sound (``--only sound``, not in the default run): a WAV of ``--sound-minutes`` imported, played through at 1x:
@@ -201,20 +201,15 @@ def retolerance(browser, url: str, repeats: int = 5) -> dict:  # noqa: ANN001
 
 #: A strip of 10 minutes of synthetic peaks (100 a second): per pixel, the largest peak
 #: of the seconds under it, as a waveform is drawn.
-PEAKS_STRIP = """() => {
-  const rate = 100, peaks = new Float32Array(600 * rate);
-  for (let i = 0; i < peaks.length; i += 1) peaks[i] = Math.abs(Math.sin(i / 37) * Math.sin(i / 1111)) * (0.6 + 0.4 * Math.random());
-  studio.strips.push({ id: 'peaks', label: 'sound (10 min)', height: 28, draw: (g, a, t0, t1) => {
-    g.fillStyle = '#6fcf7f';
-    for (let px = 0; px < a.width; px += 1) {
-      const i0 = Math.max(0, Math.floor((t0 + (px / a.width) * (t1 - t0)) * rate));
-      const i1 = Math.min(peaks.length, Math.ceil((t0 + ((px + 1) / a.width) * (t1 - t0)) * rate));
-      let m = 0;
-      for (let i = i0; i < i1; i += 1) if (peaks[i] > m) m = peaks[i];
-      const h = m * a.height;
-      g.fillRect(a.x + px, a.y + (a.height - h) / 2, 1, h);
-    }
-  } });
+WAVEFORM_STRIP = """async () => {
+  // 10 minutes of a synthetic sound at 22.05 kHz through the sound panel's own waveform (its
+  // peak pyramid and drawing): what the timeline draws for an imported 10 min sound
+  const { peakPyramid, drawWaveform } = await import('/js/waveform.js');
+  const rate = 22050, samples = new Float32Array(600 * rate);
+  for (let i = 0; i < samples.length; i += 1) samples[i] = Math.sin(i / 7) * Math.abs(Math.sin(i / 40000)) * (0.6 + 0.4 * Math.random());
+  const pyramid = peakPyramid(samples, rate);
+  studio.strips.push({ id: 'sound', label: 'sound (10 min)', height: 28,
+    draw: (g, a, t0, t1) => drawWaveform(g, a, pyramid, t0, t1, 0, '#6fcf7f') });
   studio.transport.setLoop([0, 600]);
 }"""
 
@@ -223,7 +218,7 @@ def timeline_draw(browser, url: str, frames: int = 300) -> dict:  # noqa: ANN001
     """The timeline painted again ``frames`` times over 50 lanes and a 10 min strip: ms per draw."""
     page = open_page(browser, url, size=(1600, 900))
     page.evaluate("document.querySelector('[data-testid=timeline]').style.height = '1200px'")      # every lane shown
-    page.evaluate(PEAKS_STRIP)
+    page.evaluate(WAVEFORM_STRIP)
     lanes = page.evaluate("timeline.invalidate(), timeline.draw(), timeline.rows.filter((r) => r.kind === 'lane').length")
     page.wait_for_timeout(500)                    # the canvas resized and first painted before the frames timed
     # each draw then flushed (one pixel read back): the canvas's rasterisation counted in, as a frame's end does
@@ -243,7 +238,7 @@ def timeline_draw(browser, url: str, frames: int = 300) -> dict:  # noqa: ANN001
 
 def timeline_table(console: Console, made: dict) -> None:
     """The table of section 5."""
-    table = Table(title=f"Timeline: {made['lanes']} lanes and a 10 min strip of peaks, the view over 10 min")
+    table = Table(title=f"Timeline: {made['lanes']} lanes and a 10 min sound's waveform, the view over 10 min")
     for col in ("per frame", "frames", "median ms", "p99 ms", "target"):
         table.add_column(col, justify="right" if col != "per frame" else "left")
     for name, d, target in (("the timeline's draw (its script)", made["draw"], ""),
