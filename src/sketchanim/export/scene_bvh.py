@@ -28,6 +28,10 @@ ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation"
 JOINT_CHANNELS = ("Zrotation", "Xrotation", "Yrotation")
 
 
+class NoSkeleton(ArgumentError):
+    """A BVH asked of a scene that has no skeleton."""
+
+
 def skeletons(scene: Scene) -> list[list[str]]:
     """The scene's skeletons: for each root (a joint some object names as its parent,
     naming none itself), its joints in the scene's order, but each after its parent.
@@ -88,7 +92,7 @@ def skeleton_clip(scene: Scene, tracks: dict[str, Track], fps: float) -> Clip:
         raise ArgumentError("fps", f"must be > 0, got {fps!r}")
     found = skeletons(scene)
     if not found:
-        raise ArgumentError("format", "the scene has no skeleton to write as BVH (import a clip: its joints make one)")
+        raise NoSkeleton("format", "the scene has no skeleton to write as BVH (import a clip: its joints make one)")
     joints = [name for skeleton in found for name in skeleton]
     roots = {skeleton[0] for skeleton in found}
     spans = [(t.start, t.end) for name in joints for a in ("position", "orientation")

@@ -31,6 +31,7 @@ from starlette.middleware.trustedhost import TrustedHostMiddleware
 from pydantic import BaseModel, ValidationError
 
 from sketchanim.errors import ArgumentError, InputError, StorageError
+from sketchanim.export.scene_bvh import NoSkeleton
 from sketchanim.project.recent import recent, remember
 from sketchanim.studio import clips, downloads, projectfiles, protocol
 from sketchanim.studio.exports import ExportExists
@@ -565,8 +566,8 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
              responses={200: {"content": {"model/gltf-binary": {}, "application/octet-stream": {},
                                           "application/json": {}},
                               "description": "The export, as a download named after the project."},
-                        400: {"description": "Not an export format, or one this server or this scene cannot "
-                                             "write (BVH without a skeleton)."}})
+                        400: {"description": "Not an export format, or one this server cannot write."},
+                        409: {"description": "BVH of a scene without a skeleton (import a clip first)."}})
     async def export_download(format: Annotated[str, Query(json_schema_extra={"enum": list(downloads.FORMATS)})]
                               = "glb") -> Response:
         """The scene (``glb``, ``glb-frames``, ``usd``, ``bvh``) or the project (``json``) as a
@@ -576,6 +577,8 @@ def create_app(project: str | os.PathLike[str], *, warm: bool = True, hosts: lis
             fmt = downloads.check_format(format)
             data = await hub.call(lambda: downloads.build(format, s.path, s.scene, dict(s.player.tracks), s.fps,
                                                           s.export_document))
+        except NoSkeleton as err:
+            raise HTTPException(409, str(err)) from None
         except InputError as err:
             raise HTTPException(400, str(err)) from None
         return Response(data, media_type=fmt.media_type,

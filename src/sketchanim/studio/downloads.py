@@ -45,7 +45,7 @@ FORMATS = {
         ("three.js, Babylon.js (the glTF spec's cubic spline)", "tol"),
         ("Blender, through blender/sketchanim_import.py", "tol"),
         ("Blender's own glTF importer", "not within: it drops the tangents and overshoots; use glTF frames"))),
-    "glb-frames": Format("glTF binary, LINEAR keys at the takes' samples (--keys frames)", ".frames.glb",
+    "glb-frames": Format("glTF binary, LINEAR keys at the takes' samples (frame keys)", ".frames.glb",
                          "model/gltf-binary", (
         ("Blender's own glTF importer, any importer that drops tangents", "tol"),
         ("three.js, Babylon.js", "tol"))),
