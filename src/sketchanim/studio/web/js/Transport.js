@@ -7,7 +7,7 @@
  * a reload, relayed to the other pages) and out as the "transport", "settings" and "record"
  * signals. While another page records a take, or the project is read-only, record mode stays off here.
  */
-import { Clock } from './clock.js';
+import { Clock, inLoop } from './clock.js';
 
 /** @typedef {import('./messages.js').TransportFields} TransportFields */
 
@@ -137,7 +137,7 @@ export class Transport {
     const t = this.clock.raw(stamp);
     const loop = this.clock.loop;
     if (!this.clock.playing || !loop || !(loop[1] > loop[0])) return t;
-    return loop[0] + ((((t - loop[0]) % (loop[1] - loop[0])) + (loop[1] - loop[0])) % (loop[1] - loop[0]));
+    return inLoop(t, loop);
   }
 
   /** The frame the transport is on (the project's frame rate; frame 0 at time 0). */

@@ -6,6 +6,19 @@
  * stamped on an animation frame gets the transport time of that frame.
  */
 
+/**
+ * `time` brought into the loop range `[a, b)` (the loop's length added or taken away).
+ * @param {number} time
+ * @param {[number, number]} loop
+ * @returns {number}
+ *
+ * @example
+ * inLoop(5.5, [1, 3]);   // 1.5
+ */
+export function inLoop(time, [a, b]) {
+  return a + ((((time - a) % (b - a)) + (b - a)) % (b - a));
+}
+
 export class Clock {
   constructor() {
     /** Transport seconds at the anchor. */
@@ -46,7 +59,7 @@ export class Clock {
       if (time >= b || time < a) {
         wrapped = true;
         laps = Math.abs(Math.floor((time - a) / (b - a)));
-        time = a + ((((time - a) % (b - a)) + (b - a)) % (b - a));
+        time = inLoop(time, this.loop);
         this.time0 = time;
         this.now0 = now;
       }
