@@ -17,16 +17,34 @@ import numpy as np
 from sketchanim.anim.attributes import BOOL, COLOR, EVENT, FOV, INTENSITY, ORIENTATION, POSITION, SCALE, AttributeType
 from sketchanim.errors import ArgumentError
 
+#: Joint slots of an articulated chain: its ``lengths``, ``limits`` and ``hinges`` hold one
+#: entry per slot, and the chain is its leading slots of positive length (2 to 8 of them).
+CHAIN_SLOTS = 8
+
 #: Standard attributes of each object kind; every kind has ``cue``, its events (what the
 #: animator marks on it while performing: a hit, a cut, a line of dialogue). A cue object has
 #: no place in space: it holds events alone (the beats baked from a sound, cues to trigger).
+#: A chain and a walker are rigs: the animator performs their ``goal`` (an ordinary position
+#: track) and their pose is derived from it (:mod:`sketchanim.anim.rigs`). A chain stands at
+#: its ``position``, straight up at rest, its segment ``lengths`` in scene units, each joint's
+#: ``limits`` in degrees from rest and ``hinges`` 1 for a hinge (about the joint's x axis) or 0
+#: for a ball; a walker follows its goal on the ground, a humanoid ``height`` metres tall.
 KINDS: dict[str, dict[str, AttributeType]] = {
     "object": {"position": POSITION, "orientation": ORIENTATION, "scale": SCALE, "visible": BOOL, "cue": EVENT},
     "light": {"position": POSITION, "orientation": ORIENTATION, "color": COLOR, "intensity": INTENSITY, "on": BOOL,
               "cue": EVENT},
     "camera": {"position": POSITION, "orientation": ORIENTATION, "fov": FOV, "cue": EVENT},
     "cue": {"cue": EVENT},
+    "chain": {"position": POSITION, "goal": POSITION,
+              "lengths": AttributeType("vector", CHAIN_SLOTS, 1e-3, "scene units", (0.5, 0.4, 0.3, 0.25, 0.2, 0.0, 0.0, 0.0)),
+              "limits": AttributeType("vector", CHAIN_SLOTS, 0.1, "degrees", (150.0,) * CHAIN_SLOTS),
+              "hinges": AttributeType("vector", CHAIN_SLOTS, 1e-3, "", (0.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0)),
+              "cue": EVENT},
+    "walker": {"goal": POSITION, "height": AttributeType("float", 1, 1e-3, "scene units", (1.75,)), "cue": EVENT},
 }
+
+#: The kinds whose pose is derived from a performed goal.
+RIGS = ("chain", "walker")
 
 #: The attribute a joint object names its parent joint object in (an enum of that one name):
 #: the hierarchy of an imported skeleton, which the page draws as bones and a BVH export keeps.

@@ -3,6 +3,8 @@ draws for plain objects."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from scipy.spatial.transform import Rotation
 
@@ -11,6 +13,10 @@ from sketchanim.anim.scene import Scene, SceneObject
 
 #: The mesh the page draws for an object of kind "object".
 SHAPE = AttributeType.enum(["box", "sphere", "cone", "cylinder", "torus"])
+
+#: Where a new chain's goal is from its base: in front of and below its reach (the default
+#: lengths reach 1.65), so the chain starts bent toward it.
+CHAIN_GOAL = np.array([0.5, 1.1, 0.0])
 
 
 def _looking_at(position: list[float], target: list[float]) -> list[float]:
@@ -23,15 +29,25 @@ def _looking_at(position: list[float], target: list[float]) -> list[float]:
     return Rotation.from_matrix(np.c_[right, np.cross(back, right), back]).as_quat().tolist()
 
 
-def new_object(name: str, kind: str) -> SceneObject:
-    """An object as the studio adds it: a plain object gets a ``shape`` (a box).
+def new_object(name: str, kind: str, place: Sequence[float] | None = None) -> SceneObject:
+    """An object as the studio adds it, at ``place`` if given: a plain object gets a
+    ``shape`` (a box); a walker's goal is its place; a chain stands there with its goal
+    in front of its tip, where the animator grabs it.
 
     >>> new_object("crate", "object").attributes["shape"].value
     'box'
+    >>> arm = new_object("arm", "chain", [1.0, 0.0, 0.0])
+    >>> arm.attributes["position"].value.tolist(), arm.attributes["goal"].value.tolist()
+    ([1.0, 0.0, 0.0], [1.5, 1.1, 0.0])
     """
     obj = SceneObject(name, kind)
     if kind == "object":
         obj.add("shape", SHAPE)
+    at = obj.attributes["goal" if kind == "walker" else "position"]
+    if place is not None:
+        at.value = at.type.check(place, f"{name}.{'goal' if kind == 'walker' else 'position'}")
+    if kind == "chain":
+        obj.attributes["goal"].value = obj.attributes["position"].value + CHAIN_GOAL
     return obj
 
 

@@ -108,9 +108,7 @@ class Editor:
 
     def add_object(self, name: str, kind: str, position: Sequence[float] | None = None) -> None:
         """Add an object (with a ``shape`` if it is a plain object), at ``position`` if given."""
-        obj = new_object(name, kind)
-        if position is not None:
-            obj.attributes["position"].value = obj.attributes["position"].type.check(position, f"{name}.position")
+        obj = new_object(name, kind, position)
         self.run(AddObject(self.player, obj))
 
     def duplicate_object(self, name: str, to: str) -> None:

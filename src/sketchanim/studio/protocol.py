@@ -88,7 +88,7 @@ class ObjectAdd(_Message):
 
     type: Literal["object.add"]
     name: Name
-    kind: Literal["object", "light", "camera"] = "object"
+    kind: Literal["object", "light", "camera", "chain", "walker"] = "object"
     position: Vector3 | None = None
 
 
