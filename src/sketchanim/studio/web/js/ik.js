@@ -37,8 +37,6 @@ const MAX_TURN = 0.1;
 const EPS = 0.05;
 /** The damping at a zero singular value (in reaches). */
 const DAMPING = 0.05;
-/** The damping of the rest bias's projection (in reaches): near-exact null-space projection. */
-const PROJECTION = 1e-3;
 /** The rest bias's gain per iteration. */
 const BIAS = 0.05;
 /** Goals farther than (1 - BAND) reaches bias the chain toward straight, not the rest bend. */
@@ -127,14 +125,34 @@ function prepare(chain) {
       throw new Error(`chain: joint ${i} has length ${chain.lengths[i]} and limit ${limit}, need > 0 and (0, pi]`);
     }
     p.hinge[i] = chain.hinges[i] ? 1 : 0;
-    p.cosLim[i] = Math.cos(0.5 * limit);
-    p.sinLim[i] = Math.sin(0.5 * limit);
-    const bend = i === 0 ? 0 : Math.min(CURL / (n - 1), 0.5 * limit);
-    p.restX[i] = Math.sin(0.5 * bend);
-    p.restW[i] = Math.cos(0.5 * bend);
+    [p.cosLim[i], p.sinLim[i]] = halfTurn(limit);
+    // The rest bend as an update turns a joint (below): by 2 atan(bend / 2), nearly bend.
+    const h = 0.5 * (i === 0 ? 0 : Math.min(CURL / (n - 1), 0.5 * limit));
+    const hn = Math.sqrt(h * h + 1);
+    p.restX[i] = h / hn;
+    p.restW[i] = 1 / hn;
     p.reach += chain.lengths[i];
   }
   return p;
+}
+
+/**
+ * cos and sin of half an angle in [0, pi], by their Taylor series to 1e-16 (arithmetic alone,
+ * so that the page and the model, whose libraries' cos may differ in the last bit, agree to
+ * the bit: a chain at a bifurcation, folding toward a goal behind it, would amplify that bit).
+ * @param {number} angle
+ * @returns {[number, number]}
+ */
+function halfTurn(angle) {
+  const x = 0.5 * angle, x2 = x * x;
+  let c = 1, s = x, tc = 1, ts = x;
+  for (let k = 1; k <= 12; k++) {
+    tc = -tc * x2 / ((2 * k - 1) * (2 * k));
+    ts = -ts * x2 / ((2 * k) * (2 * k + 1));
+    c += tc;
+    s += ts;
+  }
+  return [c, s];
 }
 
 /**
@@ -309,13 +327,13 @@ function iterate(p, q, tx, ty, tz, keep) {
   jacobi(p);
   const v = p.v;
   const eps2 = EPS * reach * EPS * reach, damp2 = DAMPING * reach * DAMPING * reach;
-  const mu2 = PROJECTION * reach * PROJECTION * reach;
+  const rx = dx - jx, ry = dy - jy, rz = dz - jz;
   let yx = 0, yy = 0, yz = 0;
   for (let m = 0; m < 3; m++) {
     const s = Math.max(a[4 * m], 0);
     const lambda2 = s < eps2 ? damp2 * (1 - s / eps2) : 0;
     const ux = v[m], uy = v[3 + m], uz = v[6 + m];
-    const g = (ux * dx + uy * dy + uz * dz) / (s + lambda2) - (ux * jx + uy * jy + uz * jz) / (s + mu2);
+    const g = (ux * rx + uy * ry + uz * rz) / (s + lambda2);
     yx += g * ux; yy += g * uy; yz += g * uz;
   }
   let most = 0;
