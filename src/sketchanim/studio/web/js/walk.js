@@ -33,12 +33,16 @@ export const RUN_CONTACT = 0.8;
 /** The velocity's smoothing time constant, seconds. */
 export const SMOOTHING = 0.15;
 /** Fastest turn, rad/s. */
-export const TURN_RATE = 2.0;
+export const TURN_RATE = 3.0;
+/** While the body turns, the feet step at least at the cadence of this relative speed. */
+export const RV_TURN = 2.0;
 /** Slowest speed the body turns to face, relative. */
 export const RV_FACE = 0.1;
 /** Least drift (leg lengths) that makes a planted foot step, and the yaw drift (rad). */
 export const DRIFT_MIN = 0.09;
 export const DRIFT_YAW = 0.35;
+/** The least drift (leg lengths) once the body is still: the stop steps. */
+export const DRIFT_SETTLE = 0.04;
 /** Shortest time a foot stays planted, seconds. */
 export const STANCE_MIN = 0.1;
 /** Where a foot lands: this fraction of its stance's travel short of centred under its hip. */
@@ -290,12 +294,15 @@ export function advance(state, marker) {
   const vz = state.velocity[1] + a * ((nz - bz) * RATE - state.velocity[1]);
   const speed = Math.sqrt(vx * vx + vz * vz);
   let heading = state.heading;
+  let turning = speed <= RV_FACE * r.leg;
   if (speed > RV_FACE * r.leg) {
     const turn = wrap(Math.atan2(vx, vz) - heading);
     const step = TURN_RATE * dt;
     heading = wrap(heading + Math.min(Math.max(turn, -step), step));
+    turning = Math.abs(turn) > DRIFT_YAW;
   }
-  const g = gait(speed, r.leg);
+  for (const f of state.feet) turning = turning || (f.planted && Math.abs(wrap(heading - f.yaw)) > DRIFT_YAW);
+  const g = gait(speed, r.leg, turning ? RV_TURN * r.leg : 0.0);
   /** @type {WalkState} */
   const moved = { ...state, tick, body, velocity: [vx, vz], heading, marker: m, behindSince: since, behindSpeed: fastest };
   moved.feet = stepFeet(moved, g);
@@ -303,14 +310,17 @@ export function advance(state, marker) {
 }
 
 /**
- * Boulic's walking cycle at `speed` m/s for legs `leg` m long (as walk.py's gait).
+ * Boulic's walking cycle at `speed` m/s for legs `leg` m long, timed at least as at `pace`
+ * m/s (as walk.py's gait).
  * @param {number} speed
  * @param {number} leg
+ * @param {number} [pace]
  * @returns {Gait}
  */
-export function gait(speed, leg) {
+export function gait(speed, leg, pace = 0.0) {
   const slow = RV_SLOW * leg;
-  const v = speed > slow ? speed : slow;
+  let v = speed > slow ? speed : slow;
+  v = pace > v ? pace : v;
   const cycle = CYCLE * Math.sqrt(leg / v);
   let stance, run;
   if (speed > RV_RUN * leg) {
@@ -321,7 +331,7 @@ export function gait(speed, leg) {
     run = false;
   }
   const drift = speed * stance;
-  const least = DRIFT_MIN * leg;
+  const least = (speed > RV_FACE * leg ? DRIFT_MIN : DRIFT_SETTLE) * leg;
   return { cycle, stance, swing: cycle - stance, run, drift: drift > least ? drift : least };
 }
 
@@ -678,7 +688,7 @@ export function walk(skeleton, markers) {
       const previous = state;
       state = advance(state, markers.slice(k * 3, k * 3 + 3));
       if (previous.behindSince >= 0 && state.behindSince < 0) {
-        behind.push([previous.behindSince / RATE, k / RATE, previous.behindSpeed]);
+        behind.push([previous.behindSince / RATE, (k - 1) / RATE, previous.behindSpeed]);
       }
     }
     rotations.set(state.rotations, k * j * 4);
