@@ -208,7 +208,7 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
             nodes.append(Node(f"{obj.name}.goal", translation=_rest(scene, obj.name, "goal")))
             goal = tracks.get(f"{obj.name}.goal")
             if isinstance(goal, ContinuousTrack):
-                rigged.append(replace(export_track(goal, rate), path=f"{obj.name}.goal.position"))
+                rigged.append(export_track(replace(goal, path=f"{obj.name}.goal.position"), rate))
             continue
         if "position" not in obj.attributes:          # a cue object: events, no place in space (left out)
             continue
