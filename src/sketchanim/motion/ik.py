@@ -70,8 +70,10 @@ EPS = 0.05
 DAMPING = 0.05
 #: The rest bias's gain per iteration.
 BIAS = 0.05
-#: Goals farther than ``1 - BAND`` reaches bias the chain toward straight, not the rest bend.
+#: Goals from 1 to ``1 + BAND`` reaches out turn the rest bias from the rest bend to straight.
 BAND = 0.05
+#: The share of the damping the bias's projection keeps while the goal is in reach.
+PROJECTED = 0.01
 #: Bisection steps pulling a tick back that would move the effector beyond its allowance.
 BACKOFF = 12
 
@@ -317,118 +319,162 @@ def _clamp(p: _Prepared, q: list[float], i: int) -> None:
     q[k + 3] = -c if w < 0 else c
 
 
-def _iterate(p: _Prepared, q: list[float], pos: list[float], world: list[float],
-             tx: float, ty: float, tz: float, keep: float) -> None:
-    """One damped least-squares iteration of ``q`` (in place) toward (tx, ty, tz); ``keep``
-    is how much of the rest bend the bias keeps (1 all, 0 straight)."""
-    n, reach, hinge, rest_x = p.n, p.reach, p.hinge, p.rest_x
-    _forward(p, q, pos, world)
-    ex, ey, ez = pos[3 * n], pos[3 * n + 1], pos[3 * n + 2]
-    dx, dy, dz = tx - ex, ty - ey, tz - ez
-    dn = math.sqrt(dx * dx + dy * dy + dz * dz)
-    if dn > STEP * reach:
-        f = STEP * reach / dn
-        dx *= f
-        dy *= f
-        dz *= f
+def _dls(p: _Prepared, dx: float, dy: float, dz: float, cols: list[float], bias: list[float],
+         skip: list[bool], turn: list[float], keep: float) -> float:
+    """The damped least-squares update of every joint not skipped into ``turn`` (a hinge's
+    angle, a ball's world rotation vector; skipped joints 0) for the error (dx, dy, dz);
+    returns the factor that holds every joint's turn to ``MAX_TURN``."""
+    n, reach, hinge = p.n, p.reach, p.hinge
     a0 = a1 = a2 = a4 = a5 = a8 = 0.0
     jx = jy = jz = 0.0                  # J z: the rest bias's effector motion
-    cols: list[tuple[float, float, float]] = []
-    bias: list[tuple[float, float, float]] = []
     for i in range(n):
-        j, k = 3 * i, 4 * i
-        rx, ry, rz = ex - pos[j], ey - pos[j + 1], ez - pos[j + 2]
-        sign = -2 if q[k + 3] < 0 else 2
+        if skip[i]:
+            continue
+        j = 3 * i
+        cx, cy, cz = cols[j], cols[j + 1], cols[j + 2]
+        bx, by, bz = bias[j], bias[j + 1], bias[j + 2]
         if hinge[i]:
-            wx, wy, wz, ww = world[k], world[k + 1], world[k + 2], world[k + 3]
-            # The hinge's world axis: the first column of its world rotation.
-            ax, ay, az = 1 - 2 * (wy * wy + wz * wz), 2 * (wx * wy + ww * wz), 2 * (wx * wz - ww * wy)
-            cx, cy, cz = ay * rz - az * ry, az * rx - ax * rz, ax * ry - ay * rx
-            cols.append((cx, cy, cz))
             a0 += cx * cx
             a1 += cx * cy
             a2 += cx * cz
             a4 += cy * cy
             a5 += cy * cz
             a8 += cz * cz
-            zb = -BIAS * (sign * q[k] - keep * 2 * rest_x[i])
-            bias.append((zb, 0.0, 0.0))
-            jx += zb * cx
-            jy += zb * cy
-            jz += zb * cz
+            jx += bx * cx
+            jy += bx * cy
+            jz += bx * cz
         else:
-            cols.append((rx, ry, rz))
-            # Its three world-axis columns w x r give |r|^2 I - r r^T.
-            rr = rx * rx + ry * ry + rz * rz
-            a0 += rr - rx * rx
-            a1 -= rx * ry
-            a2 -= rx * rz
-            a4 += rr - ry * ry
-            a5 -= ry * rz
-            a8 += rr - rz * rz
-            lx = -BIAS * (sign * q[k] - keep * 2 * rest_x[i])
-            ly = -BIAS * (sign * q[k + 1])
-            lz = -BIAS * (sign * q[k + 2])
-            bx, by, bz = (lx, ly, lz) if i == 0 else _rotate(world, k - 4, False, lx, ly, lz)
-            bias.append((bx, by, bz))
-            jx += by * rz - bz * ry
-            jy += bz * rx - bx * rz
-            jz += bx * ry - by * rx
+            # Its three world-axis columns w x r (r = cols) give |r|^2 I - r r^T.
+            rr = cx * cx + cy * cy + cz * cz
+            a0 += rr - cx * cx
+            a1 -= cx * cy
+            a2 -= cx * cz
+            a4 += rr - cy * cy
+            a5 -= cy * cz
+            a8 += rr - cz * cz
+            jx += by * cz - bz * cy
+            jy += bz * cx - bx * cz
+            jz += bx * cy - by * cx
     a = [a0, a1, a2, a1, a4, a5, a2, a5, a8]
     v = _jacobi(a)
     eps2 = EPS * reach * EPS * reach
     damp2 = DAMPING * reach * DAMPING * reach
-    rx, ry, rz = dx - jx, dy - jy, dz - jz
+    # The bias's own motion is taken out with less damping (PROJECTED of it) while the goal
+    # is in reach, so that it does not pull a reachable goal's effector off it; with all of
+    # it beyond, so that the bias straightens a chain the error alone barely can (singular).
+    projected = PROJECTED + (1 - PROJECTED) * (1 - keep)
     yx = yy = yz = 0.0
     for m in range(3):
         s = max(a[4 * m], 0.0)
         lambda2 = damp2 * (1 - s / eps2) if s < eps2 else 0.0
         ux, uy, uz = v[m], v[3 + m], v[6 + m]
-        g = (ux * rx + uy * ry + uz * rz) / (s + lambda2)
+        g = (ux * dx + uy * dy + uz * dz) / (s + lambda2) - (ux * jx + uy * jy + uz * jz) / (s + projected * lambda2)
         yx += g * ux
         yy += g * uy
         yz += g * uz
     most = 0.0
-    turns: list[tuple[float, float, float]] = []
     for i in range(n):
-        cx, cy, cz = cols[i]
-        bx, by, bz = bias[i]
-        if hinge[i]:
-            d = bx + (cx * yx + cy * yy + cz * yz)
-            turns.append((d, 0.0, 0.0))
+        j = 3 * i
+        cx, cy, cz = cols[j], cols[j + 1], cols[j + 2]
+        if skip[i]:
+            turn[j] = turn[j + 1] = turn[j + 2] = 0.0
+        elif hinge[i]:
+            d = bias[j] + (cx * yx + cy * yy + cz * yz)
+            turn[j] = d
             most = max(most, abs(d))
         else:
             # J^T y for a ball: r x y.
-            ox = bx + (cy * yz - cz * yy)
-            oy = by + (cz * yx - cx * yz)
-            oz = bz + (cx * yy - cy * yx)
-            turns.append((ox, oy, oz))
+            ox = bias[j] + (cy * yz - cz * yy)
+            oy = bias[j + 1] + (cz * yx - cx * yz)
+            oz = bias[j + 2] + (cx * yy - cy * yx)
+            turn[j], turn[j + 1], turn[j + 2] = ox, oy, oz
             most = max(most, math.sqrt(ox * ox + oy * oy + oz * oz))
-    scale = MAX_TURN / most if most > MAX_TURN else 1
+    return MAX_TURN / most if most > MAX_TURN else 1
+
+
+def _turned(p: _Prepared, q: list[float], world: list[float], i: int, scale: float, turn: list[float],
+            out: list[float]) -> None:
+    """Joint i of ``q`` turned by ``scale * turn`` (not yet held to its limit) into ``out``."""
+    k, j = 4 * i, 3 * i
+    x, y, z, w = q[k], q[k + 1], q[k + 2], q[k + 3]
+    if p.hinge[i]:
+        h = 0.5 * scale * turn[j]
+        hn = math.sqrt(h * h + 1)
+        hx, hw = h / hn, 1 / hn
+        nx, nw = hx * w + hw * x, hw * w - hx * x
+        norm = math.sqrt(nx * nx + nw * nw)
+        out[k], out[k + 1], out[k + 2], out[k + 3] = nx / norm, 0.0, 0.0, nw / norm
+        return
+    # The world turn in the parent's frame, then applied on the left of the local rotation.
+    ox, oy, oz = scale * turn[j], scale * turn[j + 1], scale * turn[j + 2]
+    if i > 0:
+        ox, oy, oz = _rotate(world, k - 4, True, ox, oy, oz)
+    hx0, hy0, hz0 = 0.5 * ox, 0.5 * oy, 0.5 * oz
+    hn = math.sqrt(hx0 * hx0 + hy0 * hy0 + hz0 * hz0 + 1)
+    hx, hy, hz, hw = hx0 / hn, hy0 / hn, hz0 / hn, 1 / hn
+    nx = hw * x + hx * w + hy * z - hz * y
+    ny = hw * y - hx * z + hy * w + hz * x
+    nz = hw * z + hx * y - hy * x + hz * w
+    nw = hw * w - hx * x - hy * y - hz * z
+    norm = math.sqrt(nx * nx + ny * ny + nz * nz + nw * nw)
+    out[k], out[k + 1], out[k + 2], out[k + 3] = nx / norm, ny / norm, nz / norm, nw / norm
+
+
+def _iterate(p: _Prepared, q: list[float], pos: list[float], world: list[float],
+             tx: float, ty: float, tz: float, keep: float) -> None:
+    """One damped least-squares iteration of ``q`` (in place) toward (tx, ty, tz); ``keep``
+    is how much of the rest bend the bias keeps (1 all, 0 straight). A joint the update
+    would take past its limit is held where it is and the update solved again without it
+    (once), so the others make up for it rather than pushing it in vain."""
+    n, hinge, rest_x = p.n, p.hinge, p.rest_x
+    _forward(p, q, pos, world)
+    ex, ey, ez = pos[3 * n], pos[3 * n + 1], pos[3 * n + 2]
+    dx, dy, dz = tx - ex, ty - ey, tz - ez
+    dn = math.sqrt(dx * dx + dy * dy + dz * dz)
+    if dn > STEP * p.reach:
+        f = STEP * p.reach / dn
+        dx *= f
+        dy *= f
+        dz *= f
+    cols = [0.0] * (3 * n)
+    bias = [0.0] * (3 * n)
     for i in range(n):
-        k = 4 * i
-        x, y, z, w = q[k], q[k + 1], q[k + 2], q[k + 3]
+        j, k = 3 * i, 4 * i
+        rx, ry, rz = ex - pos[j], ey - pos[j + 1], ez - pos[j + 2]
+        sign = -2 if q[k + 3] < 0 else 2
+        # The base points the chain: it is not biased upright when the goal is out of reach.
+        gain = -BIAS * keep if i == 0 else -BIAS
         if hinge[i]:
-            h = 0.5 * scale * turns[i][0]
-            hn = math.sqrt(h * h + 1)
-            hx, hw = h / hn, 1 / hn
-            nx, nw = hx * w + hw * x, hw * w - hx * x
-            norm = math.sqrt(nx * nx + nw * nw)
-            q[k], q[k + 1], q[k + 2], q[k + 3] = nx / norm, 0.0, 0.0, nw / norm
+            wx, wy, wz, ww = world[k], world[k + 1], world[k + 2], world[k + 3]
+            # The hinge's world axis: the first column of its world rotation; its column a x r.
+            ax, ay, az = 1 - 2 * (wy * wy + wz * wz), 2 * (wx * wy + ww * wz), 2 * (wx * wz - ww * wy)
+            cols[j], cols[j + 1], cols[j + 2] = ay * rz - az * ry, az * rx - ax * rz, ax * ry - ay * rx
+            bias[j] = gain * (sign * q[k] - keep * 2 * rest_x[i])
         else:
-            # The world turn in the parent's frame, then applied on the left of the local rotation.
-            ox, oy, oz = (scale * turns[i][0], scale * turns[i][1], scale * turns[i][2])
-            if i > 0:
-                ox, oy, oz = _rotate(world, k - 4, True, ox, oy, oz)
-            hx0, hy0, hz0 = 0.5 * ox, 0.5 * oy, 0.5 * oz
-            hn = math.sqrt(hx0 * hx0 + hy0 * hy0 + hz0 * hz0 + 1)
-            hx, hy, hz, hw = hx0 / hn, hy0 / hn, hz0 / hn, 1 / hn
-            nx = hw * x + hx * w + hy * z - hz * y
-            ny = hw * y - hx * z + hy * w + hz * x
-            nz = hw * z + hx * y - hy * x + hz * w
-            nw = hw * w - hx * x - hy * y - hz * z
-            norm = math.sqrt(nx * nx + ny * ny + nz * nz + nw * nw)
-            q[k], q[k + 1], q[k + 2], q[k + 3] = nx / norm, ny / norm, nz / norm, nw / norm
+            cols[j], cols[j + 1], cols[j + 2] = rx, ry, rz
+            lx = gain * (sign * q[k] - keep * 2 * rest_x[i])
+            ly = gain * (sign * q[k + 1])
+            lz = gain * (sign * q[k + 2])
+            bias[j], bias[j + 1], bias[j + 2] = (lx, ly, lz) if i == 0 else _rotate(world, k - 4, False, lx, ly, lz)
+    skip = [False] * n
+    turn = [0.0] * (3 * n)
+    trial = [0.0] * (4 * n)
+    scale = _dls(p, dx, dy, dz, cols, bias, skip, turn, keep)
+    held = False
+    for i in range(n):
+        _turned(p, q, world, i, scale, turn, trial)
+        if abs(trial[4 * i + 3]) < p.cos_lim[i]:
+            skip[i] = True
+            held = True
+    if held:
+        scale = _dls(p, dx, dy, dz, cols, bias, skip, turn, keep)
+        for i in range(n):
+            if skip[i]:
+                trial[4 * i:4 * i + 4] = q[4 * i:4 * i + 4]
+            else:
+                _turned(p, q, world, i, scale, turn, trial)
+    q[:] = trial
+    for i in range(n):
         _clamp(p, q, i)
 
 
@@ -490,7 +536,16 @@ def _advance(p: _Prepared, pose: list[float], gx: float, gy: float, gz: float,
         dy *= f
         dz *= f
     tx, ty, tz = sx + dx, sy + dy, sz + dz
-    far = (math.sqrt(gx * gx + gy * gy + gz * gz) - (1 - BAND) * reach) / (BAND * reach)
+    # A target out of reach is brought onto the reach's sphere (no nearer to the effector:
+    # the ball is convex), where the straight chain pointing at it ends: the error the solver
+    # sees is then one it can remove, not one that makes it overshoot straight and back.
+    tn = math.sqrt(tx * tx + ty * ty + tz * tz)
+    if tn > reach:
+        f = reach / tn
+        tx *= f
+        ty *= f
+        tz *= f
+    far = (math.sqrt(gx * gx + gy * gy + gz * gz) - reach) / (BAND * reach)
     keep = 1 - min(max(far, 0.0), 1.0)
     out = list(pose)
     for _ in range(ITERATIONS):
