@@ -21,7 +21,7 @@ from sketchanim.anim.layers import reduce_samples
 from sketchanim.anim.rigs import rig_clip, ticks
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
-from sketchanim.export.rig_bake import SHELL, bake
+from sketchanim.export.rig_bake import CONTACT_SHARE, SHELL, bake
 from sketchanim.export.scene_bvh import skeleton_clip
 from sketchanim.export.scene_gltf import left_out, scene_glb
 from sketchanim.formats.bvh import read_bvh, write_bvh
@@ -73,7 +73,7 @@ def played_world(played: dict, clip: Clip, name: str) -> np.ndarray:
 
 
 def test_rigs_bake_into_a_valid_glb_that_three_js_plays_within_tolerance(tmp_path: Path) -> None:
-    t = np.arange(int(6 * RATE) + 1) / RATE
+    t = np.arange(int(4 * RATE) + 1) / RATE
     scene, tracks = scene_of(t)
     glb, skipped = scene_glb(scene, tracks)
     assert skipped == [] and left_out(scene, tracks) == []
@@ -81,16 +81,18 @@ def test_rigs_bake_into_a_valid_glb_that_three_js_plays_within_tolerance(tmp_pat
     (tmp_path / "rigs.glb").write_bytes(glb)
     (tmp_path / "rigs.frames.glb").write_bytes(frames)
     for report in validate(tmp_path / "rigs.glb", tmp_path / "rigs.frames.glb"):
-        assert report["issues"]["numErrors"] == 0, report["issues"]["messages"][:5]
+        assert report["numErrors"] == 0, report["messages"][:5]
     at = ticks(tracks)
     for file in ("rigs.glb", "rigs.frames.glb"):
         played = three_play(tmp_path / file, at)
         for name in ("arm", "walker"):
             clip = rig_clip(scene, tracks, name)
             miss = np.linalg.norm(played_world(played, clip, name) - clip.world_positions(), axis=-1)
-            assert miss.max() <= POSITION.tol + FLOAT32, (file, name, float(miss.max()))
-            goal = np.linalg.norm(played[f"{name}.goal"]["position"] - tracks[f"{name}.goal"].evaluate(at), axis=-1)
-            assert goal.max() <= POSITION.tol, (file, name, float(goal.max()))
+            within = POSITION.tol * (CONTACT_SHARE if name == "walker" else 1.0)
+            assert miss.max() <= within + FLOAT32, (file, name, float(miss.max()))
+            keyed = slice(None) if file == "rigs.glb" else np.isclose(at * 30, np.round(at * 30))   # frames: at 30 Hz
+            goal = played[f"{name}.goal"]["position"][keyed] - tracks[f"{name}.goal"].evaluate(at[keyed])
+            assert np.linalg.norm(goal, axis=-1).max() <= POSITION.tol, (file, name)
 
 
 @settings(max_examples=12, deadline=None)
@@ -201,4 +203,4 @@ def test_blender_plays_the_baked_rigs(tmp_path: Path) -> None:
         rotations, translations = joint_locals(poses, named.skeleton, 1.0)
         got = world_pose(clip.skeleton, rotations, translations)[1]
         miss = np.linalg.norm(got - clip.world_positions(), axis=-1)
-        assert miss.max() <= POSITION.tol + FLOAT32, (name, float(miss.max()))
+        assert miss.max() <= POSITION.tol * (CONTACT_SHARE if name == "walker" else 1.0) + FLOAT32, name
