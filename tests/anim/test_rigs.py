@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from scipy.interpolate import BSpline
 
 from sketchanim.anim.attributes import POSITION
-from sketchanim.anim.rigs import SETTLE, chain, rig_clip, rigs, ticks
+from sketchanim.anim.rigs import LEAD, SETTLE, chain, rig_clip, rigs, ticks
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError
@@ -35,10 +35,15 @@ def test_a_chain_is_its_solver_on_the_goal_from_its_base(ends: list[float], t1: 
     at = ticks(tracks)
     assert at[0] == 0 and at[-1] >= t1 + SETTLE - 1e-9 and np.allclose(np.diff(at), 1 / ik.RATE)
     clip = rig_clip(scene, tracks, "arm")
-    base = tracks["arm.position"].evaluate(at) if moving_base else np.tile([0.2, 0.0, -0.3], (len(at), 1))
-    expected = ik.solve(chain(scene, "arm"), tracks["arm.goal"].evaluate(at) - base)
+    held = np.r_[np.zeros(LEAD), at]                                      # LEAD ticks at the start, then on
+    base = tracks["arm.position"].evaluate(held) if moving_base else np.tile([0.2, 0.0, -0.3], (len(held), 1))
+    expected = ik.solve(chain(scene, "arm"), tracks["arm.goal"].evaluate(held) - base)[LEAD:]
     assert np.array_equal(clip.rotations[:, :-1], expected)
-    assert np.allclose(clip.world_positions()[:, 0], base)
+    assert np.allclose(clip.world_positions()[:, 0], base[LEAD:])
+    tip = clip.world_positions()[0, -1] - base[LEAD]                     # at rest on its goal at 0
+    goal = tracks["arm.goal"].evaluate([0.0])[0] - base[LEAD]
+    if np.linalg.norm(goal) < 0.9 * 1.65 and np.linalg.norm(goal) > 0.3:
+        assert np.linalg.norm(tip - goal) < 1e-3
     mid = (at[:-1] + at[1:]) / 2                                           # between ticks: slerped
     between = rig_clip(scene, tracks, "arm", mid)
     for j in range(len(clip.skeleton) - 1):
@@ -53,9 +58,10 @@ def test_a_walker_is_the_walk_of_its_goal() -> None:
     scene.set("bob.height", [1.6])
     tracks: dict[str, Track] = {"bob.goal": line("bob.goal", [0.0, 0.0, 0.0], [3.0, 0.0, 1.0], 3.0)}
     clip = rig_clip(scene, tracks, "bob")
-    done = walk.walk(walk.humanoid(1.6), tracks["bob.goal"].evaluate(ticks(tracks)))
+    done = walk.walk(walk.humanoid(1.6), tracks["bob.goal"].evaluate(np.r_[np.zeros(LEAD), ticks(tracks)]))
     assert clip.skeleton.names == walk.humanoid(1.6).names
-    assert np.array_equal(clip.rotations, done.rotations) and np.array_equal(clip.translations[:, 0], done.root)
+    assert np.array_equal(clip.rotations, done.rotations[LEAD:])
+    assert np.array_equal(clip.translations[:, 0], done.root[LEAD:])
     assert np.all(np.isfinite(clip.world_positions()))
 
 

@@ -29,6 +29,10 @@ from sketchanim.motion.skeleton import JOINT_CHANNELS, ROOT_CHANNELS, Clip, Skel
 #: catch-up to a goal that came back in reach.
 SETTLE = 1.0
 
+#: Ticks a rig's solver runs on its goal's first value before time 0 (from the rest pose),
+#: so that at 0 the figure has come to rest on its goal: a chain holds it, a walker stands.
+LEAD = int(2 * ik.RATE)
+
 
 def played(scene: Scene, tracks: dict[str, Track], path: str, times: np.ndarray) -> np.ndarray:
     """``path``'s values at ``times`` (n, d) as the player plays them: its curve, held
@@ -100,9 +104,10 @@ def rig_clip(scene: Scene, tracks: dict[str, Track], name: str, times: np.ndarra
     if obj is None or obj.kind not in RIGS:
         raise ArgumentError("object", f"{name!r} is not a chain or a walker")
     at = ticks(tracks)
-    goals = played(scene, tracks, f"{name}.goal", at)
+    held = np.r_[np.zeros(LEAD), at]                  # LEAD ticks at the goal's first value, then the ticks
+    goals = played(scene, tracks, f"{name}.goal", held)
     if obj.kind == "chain":
-        clip = _chain_clip(chain(scene, name), at, goals, played(scene, tracks, f"{name}.position", at))
+        clip = _chain_clip(chain(scene, name), at, goals, played(scene, tracks, f"{name}.position", held))
     else:
         clip = _walker_clip(height(scene, name), at, goals)
     return clip if times is None else resampled(clip, np.asarray(times, dtype=float))
@@ -115,11 +120,11 @@ def _chain_clip(structure: ik.Chain, at: np.ndarray, goals: np.ndarray, base: np
     names = tuple(f"j{i + 1}" for i in range(joints)) + ("tip",)
     offsets = np.zeros((joints + 1, 3))
     offsets[1:, 1] = lengths
-    offsets[0] = base[0]
+    offsets[0] = base[LEAD]
     skeleton = Skeleton(names, tuple(range(-1, joints)), offsets)
     rotations, translations = skeleton.rest_pose(len(at))
-    rotations[:, :joints] = ik.solve(structure, goals - base)
-    translations[:, 0] = base
+    rotations[:, :joints] = ik.solve(structure, goals - base)[LEAD:]
+    translations[:, 0] = base[LEAD:]
     rotating = np.r_[np.ones(joints, bool), False]
     translating = np.zeros(joints + 1, bool)
     translating[0] = True
@@ -132,11 +137,11 @@ def _walker_clip(tall: float, at: np.ndarray, goals: np.ndarray) -> Clip:
     skeleton = walk.humanoid(tall)
     done = walk.walk(skeleton, goals)
     _, translations = skeleton.rest_pose(len(at))
-    translations[:, 0] = done.root
+    translations[:, 0] = done.root[LEAD:]
     translating = np.zeros(len(skeleton), bool)
     translating[0] = True
     channels = (ROOT_CHANNELS,) + (JOINT_CHANNELS,) * (len(skeleton) - 1)
-    return Clip(skeleton, at, np.asarray(done.rotations, dtype=float), translations, np.ones(len(skeleton), bool),
+    return Clip(skeleton, at, np.asarray(done.rotations[LEAD:], dtype=float), translations, np.ones(len(skeleton), bool),
                 translating, channels, unit_m=1.0)
 
 
