@@ -13,7 +13,8 @@ from scipy.interpolate import BSpline
 from sketchanim.anim.attributes import POSITION
 from sketchanim.anim.rigs import LEAD, SETTLE, chain, rig_clip, rigs, ticks
 from sketchanim.anim.scene import Scene
-from sketchanim.anim.tracks import ContinuousTrack, Track
+from sketchanim.anim.layers import compose
+from sketchanim.anim.tracks import ContinuousTrack, Take, Track
 from sketchanim.errors import ArgumentError
 from sketchanim.motion import ik, walk
 from sketchanim.reducer.metric import rotation_angle
@@ -79,3 +80,29 @@ def test_rigs_and_their_errors() -> None:
     scene.set("arm.lengths", [0.5] + [0.0] * 7)
     with pytest.raises(ArgumentError, match="lengths"):
         rig_clip(scene, {}, "arm")
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.floats(0.8, 2.5), st.floats(0.3, 1.5), st.floats(-1.0, 1.0))
+def test_a_punch_in_on_a_walkers_path_moves_the_walk_from_there_on_only(start: float, length: float, swerve: float) -> None:
+    """Re-recording part of a walker's path: the walk follows the new path and, the pose being
+    stepped forward in time, nothing before the punch-in changes."""
+    t = np.arange(int(4 * ik.RATE) + 1) / ik.RATE
+    first = Take(t, np.c_[1.1 * t, 0 * t, 0.3 * np.sin(t)])
+    part = t[(t >= start) & (t <= start + length)]
+    again = Take(part, np.c_[1.1 * part, 0 * part, 0.3 * np.sin(part) + swerve * np.sin(np.pi * (part - start) / length)])
+    scene = Scene()
+    scene.add("bob", "walker")
+    before = {"bob.goal": ContinuousTrack("bob.goal", POSITION, compose(POSITION, [first], 0.005, 4), 0.005, (first,))}
+    after = {"bob.goal": ContinuousTrack("bob.goal", POSITION, compose(POSITION, [first, again], 0.005, 4), 0.005,
+                                         (first, again))}
+    old, new = rig_clip(scene, before, "bob"), rig_clip(scene, after, "bob")
+    changed = np.flatnonzero(np.any(np.abs(new.world_positions() - old.world_positions()) > 0, axis=(1, 2)))
+    curve_changed = np.flatnonzero(np.any(np.abs(after["bob.goal"].evaluate(new.times)
+                                                 - before["bob.goal"].evaluate(new.times)) > 0, axis=1))
+    if abs(swerve) > 0.05:
+        assert changed.size and curve_changed.size
+    if changed.size:
+        assert changed[0] >= curve_changed[0]                              # nothing before the goal changed
+    hips = np.linalg.norm(new.translations[:, 0, [0, 2]] - after["bob.goal"].evaluate(new.times)[:, [0, 2]], axis=1)
+    assert hips[new.times <= t[-1]].max() < 0.6                           # the walk follows the new path
