@@ -310,8 +310,10 @@ def _page_walk(path: np.ndarray, height: float, tmp_path: Path) -> dict:
 @given(random_paths(), st.sampled_from([1.6, 1.75, 1.85]))
 def test_page_walk_matches(tmp_path_factory: pytest.TempPathFactory, path: np.ndarray, height: float) -> None:
     """The page's walk.js on the same markers: every joint's rotation within 1e-6 rad,
-    the root within 1e-9 m, the same stance and the same ``behind``."""
-    w = walk(humanoid(height), path)
+    the root within 1e-9 m, the same stance and the same ``behind``; its worldPoints
+    are world_pose's joint positions (to 1e-9 m)."""
+    figure = humanoid(height)
+    w = walk(figure, path)
     page = _page_walk(path, height, tmp_path_factory.mktemp("walk"))
     q = np.array(page["rotations"]).reshape(w.rotations.shape)
     angle = (Rotation.from_quat(q.reshape(-1, 4)).inv() * Rotation.from_quat(w.rotations.reshape(-1, 4))).magnitude()
@@ -319,3 +321,4 @@ def test_page_walk_matches(tmp_path_factory: pytest.TempPathFactory, path: np.nd
     assert np.abs(np.array(page["root"]).reshape(-1, 3) - w.root).max() <= 1e-9
     assert np.array_equal(np.array(page["stance"], bool).reshape(-1, 2), w.stance)
     assert np.allclose(np.array(page["behind"]).reshape(-1, 3), np.array(w.behind).reshape(-1, 3), rtol=0, atol=1e-9)
+    assert np.abs(np.array(page["points"]).reshape(len(path), -1, 3) - world(figure, w)).max() <= 1e-9
