@@ -59,6 +59,9 @@ DRIFT_YAW = 0.35
 DRIFT_SETTLE = 0.04
 #: Shortest time a foot stays planted, seconds.
 STANCE_MIN = 0.1
+#: A walking foot drifted this far past its threshold lifts as soon as the other foot has
+#: been planted ``STANCE_MIN``, not waiting for half a cycle since the other lifted.
+OVERDUE = 1.1
 #: Where a foot lands: this fraction of its stance's travel short of centred under its hip
 #: (it lifts as far past centred plus this), as a heel strike lands nearer than a toe-off leaves.
 LAND_SHIFT = 0.15
@@ -175,7 +178,7 @@ class Foot(NamedTuple):
     """One foot: its ankle's world position were the foot flat, its yaw and the pitch of
     its heel's rise about the toe (rad); planted since tick ``landed``, or swinging since
     tick ``lifted`` from ankle ``lift_at`` (heel risen ``lift_pitch``) and ``lift_yaw`` for
-    ``swing`` seconds."""
+    ``swing`` seconds, the hips then held down to ``lift_height`` by its reach."""
 
     ankle: Vec
     yaw: float
@@ -187,6 +190,7 @@ class Foot(NamedTuple):
     lift_yaw: float
     lift_pitch: float
     swing: float
+    lift_height: float
 
 
 @dataclass(frozen=True)
@@ -280,7 +284,7 @@ def start(skeleton: Skeleton, marker: object) -> WalkState:
     """
     r = rig(skeleton)
     m = _marker(marker)
-    feet = tuple(Foot(a, 0.0, 0.0, True, 0, NEVER, a, 0.0, 0.0, 0.0) for a in (
+    feet = tuple(Foot(a, 0.0, 0.0, True, 0, NEVER, a, 0.0, 0.0, 0.0, 0.0) for a in (
         (m[0] + r.hip[i][0], m[1] + r.ankle, m[2] + r.hip[i][2]) for i in (0, 1)))
     state = WalkState(r, 0, m, (0.0, 0.0), 0.0, feet, m, -1, 0.0,  # type: ignore[arg-type]
                       np.zeros((r.joints, 4)), np.zeros(3))
@@ -410,7 +414,8 @@ def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
     """The feet one tick on: swings advance (landing when done); a planted foot lifts when
     out of reach, or when it has drifted past the gait's threshold -- or the other foot
     will have half a cycle on, this one having drifted further -- and the other foot lets
-    it: planted (walking) and lifted half a cycle ago (walking and running)."""
+    it: planted (walking) and lifted half a cycle ago (walking and running), or planted a
+    moment when this one is overdue."""
     feet = list(state.feet)
     land = g.stance * (0.5 - LAND_SHIFT)
     for i in (0, 1):
@@ -440,10 +445,12 @@ def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
         forced = _reach_height(state, i, _ankle(state.rig, f)) < _floor(state)
         wants = (ratios[i] >= 1.0 or later[1 - i] >= 1.0 and ratios[i] >= ratios[1 - i]) and \
             (state.tick - f.landed) / RATE >= STANCE_MIN
-        free = (other.planted or g.run) and (state.tick - other.lifted) / RATE >= g.cycle / 2.0
+        free = (other.planted or g.run) and (state.tick - other.lifted) / RATE >= g.cycle / 2.0 or \
+            other.planted and ratios[i] >= OVERDUE and (state.tick - other.landed) / RATE >= STANCE_MIN
         if forced or (wants and free):
-            feet[i] = f._replace(planted=False, lifted=state.tick, lift_at=_ankle(state.rig, f), lift_yaw=f.yaw,
-                                 lift_pitch=f.pitch, swing=g.swing)
+            ankle = _ankle(state.rig, f)
+            feet[i] = f._replace(planted=False, lifted=state.tick, lift_at=ankle, lift_yaw=f.yaw, lift_pitch=f.pitch,
+                                 swing=g.swing, lift_height=_reach_height(state, i, ankle))
     for i in (0, 1):
         f = feet[i]
         if not f.planted:
@@ -524,13 +531,21 @@ def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkSta
     low = _floor(state)
     for i in (0, 1):
         f = feet[i]
-        h = _reach_height(state, i, _ankle(r, f))
+        if f.planted:
+            h = _reach_height(state, i, _ankle(r, f))
+        else:                          # a swing lets the hips up from where it lifted, then down to where it lands
+            e = 2.0 * (state.tick - f.lifted) / RATE / f.swing
+            if e < 1.0:
+                h = f.lift_height
+                e = e * e * (3.0 - 2.0 * e)
+            else:
+                h = _reach_height(state, i, _ankle(r, f))
+                e = 2.0 - e
+                e = 0.0 if e < 0.0 else e * e * (3.0 - 2.0 * e)
+            h = low if h < low else h
+            h = top if h > top else h
+            h = h + (top - h) * e
         h = low if h < low else h
-        if not f.planted:                          # a swing holds the hips down only as it lifts and lands
-            e = (state.tick - f.lifted) / RATE / f.swing
-            e = 1.0 if e > 1.0 else e
-            e = e * e * (3.0 - 2.0 * e)
-            h = top + (h - top) * (1.0 - 4.0 * e * (1.0 - e))
         y = h if h < y else y
     q = [(0.0, 0.0, 0.0, 1.0)] * r.joints
     half = 0.5 * state.heading

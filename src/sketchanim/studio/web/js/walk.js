@@ -45,6 +45,8 @@ export const DRIFT_YAW = 0.35;
 export const DRIFT_SETTLE = 0.04;
 /** Shortest time a foot stays planted, seconds. */
 export const STANCE_MIN = 0.1;
+/** A walking foot drifted this far past its threshold lifts once the other is planted STANCE_MIN. */
+export const OVERDUE = 1.1;
 /** Where a foot lands: this fraction of its stance's travel short of centred under its hip. */
 export const LAND_SHIFT = 0.15;
 /** The most a planted foot's heel rises (rad, pivoting on the toe). */
@@ -108,7 +110,8 @@ const OFFSETS = {
  */
 /**
  * @typedef {object} Foot  Its ankle were the foot flat, yaw, heel pitch; planted since tick
- *   `landed`, or swinging since tick `lifted` from `liftAt` / `liftYaw` / `liftPitch`.
+ *   `landed`, or swinging since tick `lifted` from `liftAt` / `liftYaw` / `liftPitch`, the
+ *   hips then held down to `liftHeight` by its reach.
  * @property {Vec} ankle
  * @property {number} yaw
  * @property {number} pitch
@@ -119,6 +122,7 @@ const OFFSETS = {
  * @property {number} liftYaw
  * @property {number} liftPitch
  * @property {number} swing
+ * @property {number} liftHeight
  */
 /**
  * @typedef {object} WalkState  The walker at one tick (see walk.py's WalkState).
@@ -246,7 +250,7 @@ export function start(skeleton, marker) {
     /** @type {Vec} */
     const a = [m[0] + r.hip[i][0], m[1] + r.ankle, m[2] + r.hip[i][2]];
     return { ankle: a, yaw: 0.0, pitch: 0.0, planted: true, landed: 0, lifted: NEVER, liftAt: a, liftYaw: 0.0,
-      liftPitch: 0.0, swing: 0.0 };
+      liftPitch: 0.0, swing: 0.0, liftHeight: 0.0 };
   }));
   /** @type {WalkState} */
   const state = { rig: r, tick: 0, body: m, velocity: [0.0, 0.0], heading: 0.0, feet, marker: m, behindSince: -1,
@@ -419,10 +423,12 @@ function stepFeet(state, g) {
     const forced = reachHeight(state, i, ankleOf(state.rig, f)) < floorOf(state);
     const wants = (ratios[i] >= 1.0 || (later[1 - i] >= 1.0 && ratios[i] >= ratios[1 - i])) &&
       (state.tick - f.landed) / RATE >= STANCE_MIN;
-    const free = (other.planted || g.run) && (state.tick - other.lifted) / RATE >= g.cycle / 2.0;
+    const free = ((other.planted || g.run) && (state.tick - other.lifted) / RATE >= g.cycle / 2.0) ||
+      (other.planted && ratios[i] >= OVERDUE && (state.tick - other.landed) / RATE >= STANCE_MIN);
     if (forced || (wants && free)) {
-      feet[i] = { ...f, planted: false, lifted: state.tick, liftAt: ankleOf(state.rig, f), liftYaw: f.yaw,
-        liftPitch: f.pitch, swing: g.swing };
+      const ankle = ankleOf(state.rig, f);
+      feet[i] = { ...f, planted: false, lifted: state.tick, liftAt: ankle, liftYaw: f.yaw, liftPitch: f.pitch,
+        swing: g.swing, liftHeight: reachHeight(state, i, ankle) };
     }
   }
   for (const i of [0, 1]) {
@@ -518,14 +524,24 @@ function posed(state, speed) {
   const low = floorOf(state);
   for (const i of [0, 1]) {
     const f = feet[i];
-    let h = reachHeight(state, i, ankleOf(r, f));
-    h = h < low ? low : h;
-    if (!f.planted) {
-      let e = (state.tick - f.lifted) / RATE / f.swing;
-      e = e > 1.0 ? 1.0 : e;
-      e = e * e * (3.0 - 2.0 * e);
-      h = top + (h - top) * (1.0 - 4.0 * e * (1.0 - e));
+    let h;
+    if (f.planted) {
+      h = reachHeight(state, i, ankleOf(r, f));
+    } else {
+      let e = 2.0 * (state.tick - f.lifted) / RATE / f.swing;
+      if (e < 1.0) {
+        h = f.liftHeight;
+        e = e * e * (3.0 - 2.0 * e);
+      } else {
+        h = reachHeight(state, i, ankleOf(r, f));
+        e = 2.0 - e;
+        e = e < 0.0 ? 0.0 : e * e * (3.0 - 2.0 * e);
+      }
+      h = h < low ? low : h;
+      h = h > top ? top : h;
+      h = h + (top - h) * e;
     }
+    h = h < low ? low : h;
     y = h < y ? h : y;
   }
   const q = new Float64Array(r.joints * 4);
