@@ -16,10 +16,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
-from walk_paths import segments, straight
+from walk_paths import landings, lifts, segments, straight, toe_speeds, world
 
 from sketchanim.errors import ArgumentError
-from sketchanim.motion.kinematics import world_pose
 from sketchanim.motion.skeleton import Skeleton
 from sketchanim.motion.walk import (
     CYCLE,
@@ -41,38 +40,6 @@ NODE = shutil.which("node")
 SLIDE = 0.02          # m/s: the brief's bound on a planted toe's median speed
 FIGURE = humanoid(1.75)
 LEG = rig(FIGURE).leg
-
-
-def world(skeleton: Skeleton, w: Walk) -> np.ndarray:
-    """Joint positions (n, J, 3) by forward kinematics, the root at the walk's root."""
-    n = len(w.root)
-    translations = np.broadcast_to(skeleton.offsets, (n, len(skeleton), 3)).copy()
-    translations[:, 0] = w.root
-    return world_pose(skeleton, w.rotations, translations)[1]
-
-
-def toe_speeds(skeleton: Skeleton, w: Walk, points: np.ndarray | None = None) -> list[np.ndarray]:
-    """Each toe's speed (m/s) between samples at 60 Hz both inside one stance span."""
-    points = world(skeleton, w) if points is None else points
-    out = []
-    for side, toe in enumerate(("l_toe", "r_toe")):
-        planted = w.stance[:, side]
-        k = np.arange(0, len(planted) - 2, 2)
-        held = planted[k] & planted[k + 1] & planted[k + 2]
-        p = points[:, skeleton.index(toe)]
-        out.append(np.linalg.norm(p[k + 2] - p[k], axis=1)[held] * 60.0)
-    return out
-
-
-def lifts(w: Walk, side: int) -> np.ndarray:
-    """The ticks foot ``side`` lifts."""
-    s = w.stance[:, side]
-    return np.flatnonzero(s[:-1] & ~s[1:]) + 1
-
-
-def landings(w: Walk, side: int) -> np.ndarray:
-    s = w.stance[:, side]
-    return np.flatnonzero(~s[:-1] & s[1:]) + 1
 
 
 def heading_of(w: Walk) -> np.ndarray:
