@@ -59,8 +59,9 @@ DRIFT_YAW = 0.35
 DRIFT_SETTLE = 0.04
 #: Shortest time a foot stays planted, seconds.
 STANCE_MIN = 0.1
-#: A walking foot drifted this far past its threshold lifts as soon as the other foot has
-#: been planted ``STANCE_MIN``, not waiting for half a cycle since the other lifted.
+#: A foot drifted this far past its threshold lifts as soon as the other foot has been
+#: planted ``STANCE_MIN`` (or, running, lifted that long ago), not waiting for half a
+#: cycle since the other lifted.
 OVERDUE = 1.1
 #: Where a foot lands: this fraction of its stance's travel short of centred under its hip
 #: (it lifts as far past centred plus this), as a heel strike lands nearer than a toe-off leaves.
@@ -74,6 +75,8 @@ CLEARANCE = 0.08
 CROUCH = 0.98
 REACH = 0.995
 FLOOR = 0.7
+#: How far (leg lengths) a run sinks the hips at mid-stance.
+RUN_SINK = 0.05
 #: Arm swing (rad per leg length of foot separation) and its bound; elbow bend walking and running.
 ARM_SWING = 0.7
 ARM_MAX = 0.8
@@ -177,8 +180,9 @@ NEVER = -1000000
 class Foot(NamedTuple):
     """One foot: its ankle's world position were the foot flat, its yaw and the pitch of
     its heel's rise about the toe (rad); planted since tick ``landed``, or swinging since
-    tick ``lifted`` from ankle ``lift_at`` (heel risen ``lift_pitch``) and ``lift_yaw`` for
-    ``swing`` seconds, the hips then held down to ``lift_height`` by its reach."""
+    tick ``lifted`` from ankle ``lift_at`` (heel risen ``lift_pitch``) and ``lift_yaw``, the
+    hips then held down to ``lift_height`` by its reach, ``progress`` of the swing done (each
+    tick a tick's share of the gait's swing then: a swing quickens as the body does)."""
 
     ankle: Vec
     yaw: float
@@ -189,7 +193,7 @@ class Foot(NamedTuple):
     lift_at: Vec
     lift_yaw: float
     lift_pitch: float
-    swing: float
+    progress: float
     lift_height: float
 
 
@@ -420,10 +424,15 @@ def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
     land = g.stance * (0.5 - LAND_SHIFT)
     for i in (0, 1):
         f = feet[i]
-        if not f.planted and (state.tick - f.lifted) / RATE >= f.swing:
+        if f.planted:
+            continue
+        done = f.progress + 1.0 / (RATE * g.swing)
+        if done >= 1.0:
             spot = _rest_spot(state, i, land)
             feet[i] = f._replace(ankle=(spot[0], state.body[1] + state.rig.ankle, spot[1]), yaw=state.heading,
                                  pitch=0.0, planted=True, landed=state.tick)
+        else:
+            feet[i] = f._replace(progress=done)
     ratios = [0.0, 0.0]
     later = [0.0, 0.0]
     for i in (0, 1):
@@ -446,11 +455,12 @@ def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
         wants = (ratios[i] >= 1.0 or later[1 - i] >= 1.0 and ratios[i] >= ratios[1 - i]) and \
             (state.tick - f.landed) / RATE >= STANCE_MIN
         free = (other.planted or g.run) and (state.tick - other.lifted) / RATE >= g.cycle / 2.0 or \
-            other.planted and ratios[i] >= OVERDUE and (state.tick - other.landed) / RATE >= STANCE_MIN
+            ratios[i] >= OVERDUE and (other.planted and (state.tick - other.landed) / RATE >= STANCE_MIN or
+                                      g.run and (state.tick - other.lifted) / RATE >= STANCE_MIN)
         if forced or (wants and free):
             ankle = _ankle(state.rig, f)
             feet[i] = f._replace(planted=False, lifted=state.tick, lift_at=ankle, lift_yaw=f.yaw, lift_pitch=f.pitch,
-                                 swing=g.swing, lift_height=_reach_height(state, i, ankle))
+                                 progress=0.0, lift_height=_reach_height(state, i, ankle))
     for i in (0, 1):
         f = feet[i]
         if not f.planted:
@@ -497,12 +507,8 @@ def _swung(state: WalkState, side: int, f: Foot, g: Gait) -> Foot:
     where it will land (under its hip, the body's motion to the landing and the stance's
     landing lead ahead), smoothstepped, raised by the clearance on a parabola, the heel
     coming down."""
-    gone = (state.tick - f.lifted) / RATE
-    s = gone / f.swing
-    s = 1.0 if s > 1.0 else s
-    left = f.swing - gone
-    left = 0.0 if left < 0.0 else left
-    spot = _rest_spot(state, side, left + g.stance * (0.5 - LAND_SHIFT))
+    s = f.progress
+    spot = _rest_spot(state, side, (1.0 - s) * g.swing + g.stance * (0.5 - LAND_SHIFT))
     e = s * s * (3.0 - 2.0 * s)
     lx, ly, lz = f.lift_at
     y = state.body[1] + state.rig.ankle
@@ -514,13 +520,23 @@ def _swung(state: WalkState, side: int, f: Foot, g: Gait) -> Foot:
 
 def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkState:
     """``state`` with feet ``placed`` and the pose of its feet and body: the hips at the body, as high as
-    the feet's reach lets them (at most the crouched rest height, at least the floor),
+    the feet's reach lets them (at most the crouched rest height, less a run's sink at
+    mid-stance; at least the floor),
     two-bone IK on each leg, the spine leaning with speed, the arms swinging against the
     legs."""
     r = state.rig
     b = state.body
     s, c = math.sin(state.heading), math.cos(state.heading)
+    run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg)
+    run = 0.0 if run < 0.0 else 1.0 if run > 1.0 else run
     top = b[1] + r.pelvis - (1.0 - CROUCH) * (r.thigh + r.shin)
+    sink = 0.0
+    for f in placed:                           # a run's stance: the hips lowest at its middle
+        if run > 0.0 and f.planted:
+            u = (state.tick - f.landed) / RATE * speed / (RUN_CONTACT * r.leg)
+            u = 4.0 * u * (1.0 - u) if u < 1.0 else 0.0
+            sink = u if u > sink else sink
+    top = top - RUN_SINK * r.leg * run * sink
     y = top
     feet = list(placed)
     for i in (0, 1):
@@ -534,7 +550,7 @@ def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkSta
         if f.planted:
             h = _reach_height(state, i, _ankle(r, f))
         else:                          # a swing lets the hips up from where it lifted, then down to where it lands
-            e = 2.0 * (state.tick - f.lifted) / RATE / f.swing
+            e = 2.0 * f.progress
             if e < 1.0:
                 h = f.lift_height
                 e = e * e * (3.0 - 2.0 * e)
@@ -565,8 +581,6 @@ def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkSta
     lean = LEAN_REST + LEAN_SPEED * speed
     lean = LEAN_MAX if lean > LEAN_MAX else lean
     q[r.index[1]] = (math.sin(0.5 * lean), 0.0, 0.0, math.cos(0.5 * lean))
-    run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg)
-    run = 0.0 if run < 0.0 else 1.0 if run > 1.0 else run
     elbow = ELBOW_WALK + (ELBOW_RUN - ELBOW_WALK) * run
     for i in (0, 1):
         swing = ARM_SWING * (forward[1 - i] - forward[i]) / r.leg

@@ -45,7 +45,7 @@ export const DRIFT_YAW = 0.35;
 export const DRIFT_SETTLE = 0.04;
 /** Shortest time a foot stays planted, seconds. */
 export const STANCE_MIN = 0.1;
-/** A walking foot drifted this far past its threshold lifts once the other is planted STANCE_MIN. */
+/** A foot drifted this far past its threshold lifts once the other is planted (running: lifted) STANCE_MIN. */
 export const OVERDUE = 1.1;
 /** Where a foot lands: this fraction of its stance's travel short of centred under its hip. */
 export const LAND_SHIFT = 0.15;
@@ -57,6 +57,8 @@ export const CLEARANCE = 0.08;
 export const CROUCH = 0.98;
 export const REACH = 0.995;
 export const FLOOR = 0.7;
+/** How far (leg lengths) a run sinks the hips at mid-stance. */
+export const RUN_SINK = 0.05;
 /** Arm swing (rad per leg length of foot separation), its bound, elbow bends. */
 export const ARM_SWING = 0.7;
 export const ARM_MAX = 0.8;
@@ -111,7 +113,7 @@ const OFFSETS = {
 /**
  * @typedef {object} Foot  Its ankle were the foot flat, yaw, heel pitch; planted since tick
  *   `landed`, or swinging since tick `lifted` from `liftAt` / `liftYaw` / `liftPitch`, the
- *   hips then held down to `liftHeight` by its reach.
+ *   hips then held down to `liftHeight` by its reach, `progress` of the swing done.
  * @property {Vec} ankle
  * @property {number} yaw
  * @property {number} pitch
@@ -121,7 +123,7 @@ const OFFSETS = {
  * @property {Vec} liftAt
  * @property {number} liftYaw
  * @property {number} liftPitch
- * @property {number} swing
+ * @property {number} progress
  * @property {number} liftHeight
  */
 /**
@@ -250,7 +252,7 @@ export function start(skeleton, marker) {
     /** @type {Vec} */
     const a = [m[0] + r.hip[i][0], m[1] + r.ankle, m[2] + r.hip[i][2]];
     return { ankle: a, yaw: 0.0, pitch: 0.0, planted: true, landed: 0, lifted: NEVER, liftAt: a, liftYaw: 0.0,
-      liftPitch: 0.0, swing: 0.0, liftHeight: 0.0 };
+      liftPitch: 0.0, progress: 0.0, liftHeight: 0.0 };
   }));
   /** @type {WalkState} */
   const state = { rig: r, tick: 0, body: m, velocity: [0.0, 0.0], heading: 0.0, feet, marker: m, behindSince: -1,
@@ -395,10 +397,14 @@ function stepFeet(state, g) {
   const land = g.stance * (0.5 - LAND_SHIFT);
   for (const i of [0, 1]) {
     const f = feet[i];
-    if (!f.planted && (state.tick - f.lifted) / RATE >= f.swing) {
+    if (f.planted) continue;
+    const done = f.progress + 1.0 / (RATE * g.swing);
+    if (done >= 1.0) {
       const spot = restSpot(state, i, land);
       feet[i] = { ...f, ankle: [spot[0], state.body[1] + state.rig.ankle, spot[1]], yaw: state.heading, pitch: 0.0,
         planted: true, landed: state.tick };
+    } else {
+      feet[i] = { ...f, progress: done };
     }
   }
   const ratios = [0.0, 0.0];
@@ -424,11 +430,12 @@ function stepFeet(state, g) {
     const wants = (ratios[i] >= 1.0 || (later[1 - i] >= 1.0 && ratios[i] >= ratios[1 - i])) &&
       (state.tick - f.landed) / RATE >= STANCE_MIN;
     const free = ((other.planted || g.run) && (state.tick - other.lifted) / RATE >= g.cycle / 2.0) ||
-      (other.planted && ratios[i] >= OVERDUE && (state.tick - other.landed) / RATE >= STANCE_MIN);
+      (ratios[i] >= OVERDUE && ((other.planted && (state.tick - other.landed) / RATE >= STANCE_MIN) ||
+        (g.run && (state.tick - other.lifted) / RATE >= STANCE_MIN)));
     if (forced || (wants && free)) {
       const ankle = ankleOf(state.rig, f);
       feet[i] = { ...f, planted: false, lifted: state.tick, liftAt: ankle, liftYaw: f.yaw, liftPitch: f.pitch,
-        swing: g.swing, liftHeight: reachHeight(state, i, ankle) };
+        progress: 0.0, liftHeight: reachHeight(state, i, ankle) };
     }
   }
   for (const i of [0, 1]) {
@@ -485,12 +492,8 @@ function heel(r, f, hip) {
  * @returns {Foot}
  */
 function swung(state, side, f, g) {
-  const gone = (state.tick - f.lifted) / RATE;
-  let s = gone / f.swing;
-  s = s > 1.0 ? 1.0 : s;
-  let left = f.swing - gone;
-  left = left < 0.0 ? 0.0 : left;
-  const spot = restSpot(state, side, left + g.stance * (0.5 - LAND_SHIFT));
+  const s = f.progress;
+  const spot = restSpot(state, side, (1.0 - s) * g.swing + g.stance * (0.5 - LAND_SHIFT));
   const e = s * s * (3.0 - 2.0 * s);
   const [lx, ly, lz] = f.liftAt;
   const y = state.body[1] + state.rig.ankle;
@@ -511,7 +514,18 @@ function posed(state, speed) {
   const r = state.rig;
   const b = state.body;
   const s = Math.sin(state.heading), c = Math.cos(state.heading);
-  const top = b[1] + r.pelvis - (1.0 - CROUCH) * (r.thigh + r.shin);
+  let run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg);
+  run = run < 0.0 ? 0.0 : run > 1.0 ? 1.0 : run;
+  let top = b[1] + r.pelvis - (1.0 - CROUCH) * (r.thigh + r.shin);
+  let sink = 0.0;
+  for (const f of state.feet) {
+    if (run > 0.0 && f.planted) {
+      let u = (state.tick - f.landed) / RATE * speed / (RUN_CONTACT * r.leg);
+      u = u < 1.0 ? 4.0 * u * (1.0 - u) : 0.0;
+      sink = u > sink ? u : sink;
+    }
+  }
+  top = top - RUN_SINK * r.leg * run * sink;
   let y = top;
   const feet = [...state.feet];
   for (const i of [0, 1]) {
@@ -528,7 +542,7 @@ function posed(state, speed) {
     if (f.planted) {
       h = reachHeight(state, i, ankleOf(r, f));
     } else {
-      let e = 2.0 * (state.tick - f.lifted) / RATE / f.swing;
+      let e = 2.0 * f.progress;
       if (e < 1.0) {
         h = f.liftHeight;
         e = e * e * (3.0 - 2.0 * e);
@@ -567,8 +581,6 @@ function posed(state, speed) {
   let lean = LEAN_REST + LEAN_SPEED * speed;
   lean = lean > LEAN_MAX ? LEAN_MAX : lean;
   put(r.index[1], [Math.sin(0.5 * lean), 0.0, 0.0, Math.cos(0.5 * lean)]);
-  let run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg);
-  run = run < 0.0 ? 0.0 : run > 1.0 ? 1.0 : run;
   const elbow = ELBOW_WALK + (ELBOW_RUN - ELBOW_WALK) * run;
   for (const i of [0, 1]) {
     let swing = ARM_SWING * (forward[1 - i] - forward[i]) / r.leg;
