@@ -1,12 +1,14 @@
 """Generated ground paths for the walker (sketchanim.motion.walk): the marker at each
-tick, (n, 3), y the ground height. Shared by tests/motion/test_walk.py and
-benchmarks/bench_walk.py."""
+tick, (n, 3), y the ground height; and what a walk does on them (planted toes' speeds,
+steps). Shared by tests/motion/test_walk.py and benchmarks/bench_walk.py."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from sketchanim.motion.walk import RATE
+from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.skeleton import Skeleton
+from sketchanim.motion.walk import RATE, Walk
 
 
 def straight(speed: float, seconds: float, rest: float = 0.5) -> np.ndarray:
@@ -33,3 +35,35 @@ def segments(parts: list[tuple[float, float, float]], heading: float = 0.0, slop
     xz = np.cumsum(step, axis=0) - step[0]
     travelled = np.cumsum(np.abs(speed)) / RATE
     return np.c_[xz[:, 0], slope * travelled, xz[:, 1]]
+
+
+def world(skeleton: Skeleton, w: Walk) -> np.ndarray:
+    """Joint positions (n, J, 3) by forward kinematics, the root at the walk's root."""
+    n = len(w.root)
+    translations = np.broadcast_to(skeleton.offsets, (n, len(skeleton), 3)).copy()
+    translations[:, 0] = w.root
+    return world_pose(skeleton, w.rotations, translations)[1]
+
+
+def toe_speeds(skeleton: Skeleton, w: Walk, points: np.ndarray | None = None) -> list[np.ndarray]:
+    """Each toe's speed (m/s) between samples at 60 Hz both inside one stance span."""
+    points = world(skeleton, w) if points is None else points
+    out = []
+    for side, toe in enumerate(("l_toe", "r_toe")):
+        planted = w.stance[:, side]
+        k = np.arange(0, len(planted) - 2, 2)
+        held = planted[k] & planted[k + 1] & planted[k + 2]
+        p = points[:, skeleton.index(toe)]
+        out.append(np.linalg.norm(p[k + 2] - p[k], axis=1)[held] * 60.0)
+    return out
+
+
+def lifts(w: Walk, side: int) -> np.ndarray:
+    """The ticks foot ``side`` lifts."""
+    s = w.stance[:, side]
+    return np.flatnonzero(s[:-1] & ~s[1:]) + 1
+
+
+def landings(w: Walk, side: int) -> np.ndarray:
+    s = w.stance[:, side]
+    return np.flatnonzero(~s[:-1] & s[1:]) + 1

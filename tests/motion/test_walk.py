@@ -16,10 +16,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
-from walk_paths import segments, straight
+from walk_paths import landings, lifts, segments, straight, toe_speeds, world
 
 from sketchanim.errors import ArgumentError
-from sketchanim.motion.kinematics import world_pose
 from sketchanim.motion.skeleton import Skeleton
 from sketchanim.motion.walk import (
     CYCLE,
@@ -41,38 +40,6 @@ NODE = shutil.which("node")
 SLIDE = 0.02          # m/s: the brief's bound on a planted toe's median speed
 FIGURE = humanoid(1.75)
 LEG = rig(FIGURE).leg
-
-
-def world(skeleton: Skeleton, w: Walk) -> np.ndarray:
-    """Joint positions (n, J, 3) by forward kinematics, the root at the walk's root."""
-    n = len(w.root)
-    translations = np.broadcast_to(skeleton.offsets, (n, len(skeleton), 3)).copy()
-    translations[:, 0] = w.root
-    return world_pose(skeleton, w.rotations, translations)[1]
-
-
-def toe_speeds(skeleton: Skeleton, w: Walk, points: np.ndarray | None = None) -> list[np.ndarray]:
-    """Each toe's speed (m/s) between samples at 60 Hz both inside one stance span."""
-    points = world(skeleton, w) if points is None else points
-    out = []
-    for side, toe in enumerate(("l_toe", "r_toe")):
-        planted = w.stance[:, side]
-        k = np.arange(0, len(planted) - 2, 2)
-        held = planted[k] & planted[k + 1] & planted[k + 2]
-        p = points[:, skeleton.index(toe)]
-        out.append(np.linalg.norm(p[k + 2] - p[k], axis=1)[held] * 60.0)
-    return out
-
-
-def lifts(w: Walk, side: int) -> np.ndarray:
-    """The ticks foot ``side`` lifts."""
-    s = w.stance[:, side]
-    return np.flatnonzero(s[:-1] & ~s[1:]) + 1
-
-
-def landings(w: Walk, side: int) -> np.ndarray:
-    s = w.stance[:, side]
-    return np.flatnonzero(~s[:-1] & s[1:]) + 1
 
 
 def heading_of(w: Walk) -> np.ndarray:
@@ -278,22 +245,23 @@ def random_paths(draw: st.DrawFn) -> np.ndarray:
 
 
 @settings(max_examples=25, deadline=None)
-@given(random_paths())
-def test_random_paths(path: np.ndarray) -> None:
-    """Any smooth path with pauses at 0 to 8 m/s: no NaN, unit quaternions, planted toes
-    within the slide bound, legs within reach, the body on the marker except where
-    ``behind`` says the path outran the fastest run, the hips above the ground."""
-    w = walk(FIGURE, path)
+@given(random_paths(), st.sampled_from([1.2, 1.75, 2.0]))
+def test_random_paths(path: np.ndarray, height: float) -> None:
+    """Any smooth path with pauses at 0 to 8 m/s, any figure: no NaN, unit quaternions,
+    planted toes within the slide bound, legs within reach, the body on the marker except
+    where ``behind`` says the path outran the fastest run, the hips above the ground."""
+    figure = humanoid(height)
+    w = walk(figure, path)
     assert np.isfinite(w.rotations).all() and np.isfinite(w.root).all()
     assert np.allclose(np.linalg.norm(w.rotations, axis=-1), 1.0)
-    points = assert_planted(FIGURE, w)
+    assert_planted(figure, w)
     k = np.arange(len(path))
     behind = np.zeros(len(path), bool)
     for begin, end, _ in w.behind:
         behind |= (k >= round(begin * RATE)) & (k <= round(end * RATE))
     gap = np.linalg.norm(w.root[:, [0, 2]] - path[:, [0, 2]], axis=1)
     assert gap[~behind].max(initial=0.0) <= 1e-9
-    assert (w.root[:, 1] >= path[:, 1] + 0.6 * LEG).all()
+    assert (w.root[:, 1] >= path[:, 1] + 0.6 * rig(figure).leg).all()
 
 
 def _page_walk(path: np.ndarray, height: float, tmp_path: Path) -> dict:
@@ -310,8 +278,10 @@ def _page_walk(path: np.ndarray, height: float, tmp_path: Path) -> dict:
 @given(random_paths(), st.sampled_from([1.6, 1.75, 1.85]))
 def test_page_walk_matches(tmp_path_factory: pytest.TempPathFactory, path: np.ndarray, height: float) -> None:
     """The page's walk.js on the same markers: every joint's rotation within 1e-6 rad,
-    the root within 1e-9 m, the same stance and the same ``behind``."""
-    w = walk(humanoid(height), path)
+    the root within 1e-9 m, the same stance and the same ``behind``; its worldPoints
+    are world_pose's joint positions (to 1e-9 m)."""
+    figure = humanoid(height)
+    w = walk(figure, path)
     page = _page_walk(path, height, tmp_path_factory.mktemp("walk"))
     q = np.array(page["rotations"]).reshape(w.rotations.shape)
     angle = (Rotation.from_quat(q.reshape(-1, 4)).inv() * Rotation.from_quat(w.rotations.reshape(-1, 4))).magnitude()
@@ -319,3 +289,4 @@ def test_page_walk_matches(tmp_path_factory: pytest.TempPathFactory, path: np.nd
     assert np.abs(np.array(page["root"]).reshape(-1, 3) - w.root).max() <= 1e-9
     assert np.array_equal(np.array(page["stance"], bool).reshape(-1, 2), w.stance)
     assert np.allclose(np.array(page["behind"]).reshape(-1, 3), np.array(w.behind).reshape(-1, 3), rtol=0, atol=1e-9)
+    assert np.abs(np.array(page["points"]).reshape(len(path), -1, 3) - world(figure, w)).max() <= 1e-9
