@@ -114,12 +114,15 @@ def within(tracks: dict[str, Track], scene: Scene) -> str:
     'within 3 mm'
     >>> within({}, scene)
     'exact: nothing is animated, the current values are written'
+    >>> _ = scene.add("arm", "chain")
+    >>> within({"arm.goal": ContinuousTrack("arm.goal", POSITION, s, 0.005)}, scene)
+    'within 5 mm'
     """
     skipped = set(left_out(scene, tracks))
     tols: dict[str, float] = {}
     for path, track in tracks.items():
         if path not in skipped and isinstance(track, ContinuousTrack):
-            kind = path.split(".")[1]
+            kind = path.split(".")[1].replace("goal", "position")   # a rig's figure keeps its goal's distance
             tols[kind] = max(tols.get(kind, 0.0), float(track.tol))
     if not tols:
         return "exact: nothing is animated, the current values are written"
