@@ -122,7 +122,8 @@ def within(tracks: dict[str, Track], scene: Scene) -> str:
     tols: dict[str, float] = {}
     for path, track in tracks.items():
         if path not in skipped and isinstance(track, ContinuousTrack):
-            kind = path.split(".")[1].replace("goal", "position")   # a rig's figure keeps its goal's distance
+            kind = path.split(".")[1]
+            kind = "position" if kind == "goal" else kind          # a rig's figure keeps its goal's distance
             tols[kind] = max(tols.get(kind, 0.0), float(track.tol))
     if not tols:
         return "exact: nothing is animated, the current values are written"
