@@ -153,7 +153,7 @@ test('a walker\'s pose on the ticks is walk.walk\'s on its marker sampled there;
   const mid = /** @type {any} */ (rigs.poseAt('bob', 100.25 / RATE, 0)).root;
   const lerp = [0, 1, 2].map((c) => 0.75 * walked.root[300 + c] + 0.25 * walked.root[303 + c]);
   assert.ok(maxDiff(mid, lerp) <= 1e-12);
-  assert.deepEqual(rigs.behind('bob'), [...walked.behind].filter((b) => b[1] * RATE <= /** @type {any} */ (rigs.rigs.get('bob')).cache.count));
+  assert.deepEqual(rigs.behindUntil('bob', (n - 1) / RATE), walked.behind);
 });
 
 test('live: the figure steps from the pose shown toward the live goal, one step a tick, the goal interpolated', () => {

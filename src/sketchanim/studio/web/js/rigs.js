@@ -59,6 +59,8 @@ const LIVE_MAX = RATE / 2;
  * @property {(state: any, goal: Float64Array) => any} next the state of the next tick
  * @property {(state: any) => Pose} pose                   a state's pose (not copied)
  * @property {(state: any) => [number, number, number][]} behind  where the goal outran the figure so far (s, s, m/s)
+ * @property {ReturnType<typeof ik.chainFromSlots>} [chain]        a chain's structure
+ * @property {ReturnType<typeof walker.humanoid>} [skeleton]       a walker's
  */
 
 /**
@@ -76,7 +78,7 @@ export function chainMotion(lengths, limits, hinges) {
   const chain = ik.chainFromSlots(lengths, limits, hinges);
   const joints = chain.lengths.length;
   /** @param {{pose: Float64Array, goal: Float64Array | null}} state @param {Float64Array} goal */
-  const next = (state, goal) => ({ pose: ik.step(chain, state.pose, goal, state.goal), goal: Float64Array.from(goal) });
+  const next = (state, goal) => ({ pose: ik.step(chain, state.pose, goal, state.goal ?? undefined), goal: Float64Array.from(goal) });
   return {
     chain, joints, next,
     first: (goal) => next({ pose: ik.rest(chain), goal: null }, goal),
@@ -389,12 +391,17 @@ export class Rigs {
   }
 
   /**
-   * Where a walker's goal outran its fastest run, in what its cache covers so far.
+   * Where a walker's goal outran its fastest run, up to `until` seconds (simulated that far).
    * @param {string} name
+   * @param {number} until
    * @returns {[number, number, number][]}
    */
-  behind(name) {
+  behindUntil(name, until) {
     const rig = this.rigs.get(name);
-    return rig?.cache?.state && rig.motion ? rig.motion.behind(rig.cache.state) : [];
+    if (!rig) return [];
+    this.refresh(rig);
+    if (!rig.cache || !rig.motion) return [];
+    rig.cache.ensure(Math.ceil(Math.max(until, 0) * RATE));
+    return rig.motion.behind(rig.cache.state);
   }
 }

@@ -5,7 +5,11 @@
  * facing the view), translate / rotate / scale gizmos (W, E, S), orbit / pan / zoom, a
  * gamepad or 3D mouse moving and turning the selected object, and a preview of the scene
  * camera's view in a corner, with motion paths (motionpaths.js: their control points dragged
- * here take the pointer first) and onion skin (onionskin.js) over it. A hold tells the performer what its input resolves (a pixel
+ * here take the pointer first) and onion skin (onionskin.js) over it. Chains and walkers
+ * (chainview.js, walkerview.js) are drawn in the pose rigs.js derives from their goal: pressing
+ * on a chain's goal handle drags `<name>.goal`, on its body its base (`<name>.position`); a
+ * walker's marker and body both drag its goal, in the ground plane (the marker's height); the
+ * translate gizmo moves a chain's base and a walker's goal (rigs have no rotate or scale). A hold tells the performer what its input resolves (a pixel
  * at the grabbed point's depth, the gizmo's degrees or scale per pixel, the stick's step)
  * and marks every pointer event that moved it (coalesced events included) with its time.
  */
@@ -13,11 +17,14 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { TransformControls } from 'three/addons/controls/TransformControls.js';
 import { Bones } from './bones.js';
+import { ChainView } from './chainview.js';
 import { active, applyPad, padResolution, readPad } from './gamepad.js';
 import { MotionPaths } from './motionpaths.js';
 import { OnionSkin } from './onionskin.js';
 import { pixelWorld, turnPerPixel } from './resolution.js';
+import { Rigs } from './rigs.js';
 import { ViewToggles } from './viewtoggles.js';
+import { WalkerView, behindText } from './walkerview.js';
 
 const PALETTE = [0xe07a5f, 0x81b29a, 0xf2cc8f, 0x6d9dc5, 0xb388eb, 0xf28482, 0x84a59d];
 /** three.js intensity (candela) of a light of intensity 1: a clear pool of light on the floor. */
@@ -35,7 +42,11 @@ const PAD_REST = 0.3;
  * @property {THREE.PerspectiveCamera} [camera]
  * @property {THREE.PerspectiveCamera} [frustum] a short copy of the camera, drawn by the helper
  * @property {THREE.CameraHelper} [helper]
+ * @property {ChainView | WalkerView} [rig]  a chain's or a walker's drawing
  */
+
+/** The attribute the translate gizmo and the body's drag move, by kind (else `position`). */
+const MOVES = { walker: 'goal' };
 
 /** @param {string} shape */
 function geometry(shape) {
@@ -101,7 +112,7 @@ export class Viewport {
     this.raycaster = new THREE.Raycaster();
     this.previewCamera = true;
     this.aimed = false;
-    /** @type {{name: string, plane: THREE.Plane, offset: THREE.Vector3, x: number, y: number} | null} */
+    /** @type {{name: string, path: string, plane: THREE.Plane, offset: THREE.Vector3, x: number, y: number} | null} */
     this.drag = null;
     /** @type {{idle: number} | null} the device's hold */
     this.pad = null;
@@ -111,10 +122,19 @@ export class Viewport {
     this.toggles = new ViewToggles(studio, container);
     this.paths = new MotionPaths(this, this.toggles);
     this.onion = new OnionSkin(this, this.toggles, (path) => this.paths.curveOf(path));
+    this.rigs = new Rigs({
+      curveOf: (path) => this.paths.curveOf(path),
+      valueOf: (path) => studio.values.get(path),
+      live: (path) => studio.performer.holds(path) || !!studio.remoteTake?.paths.includes(path),
+    });
+    /** @type {Map<string, string>} the `behind` notice told last, by walker (told again only when it changes) */
+    this.told = new Map();
     studio.addSink((path, value) => this.apply(path, value));
     studio.signals.on('state', () => this.build());
     studio.signals.on('selection', () => this.showSelection());
     studio.signals.on('frame', () => this.poll());
+    studio.signals.on('frame', (now) => this.pose(now));
+    studio.signals.on('tracks', () => this.tellBehind());
     this.bones = new Bones(this);       // after build's 'state' handler: the nodes are there
     this.bind();
     new ResizeObserver(() => this.resize()).observe(container);
@@ -127,8 +147,10 @@ export class Viewport {
     for (const node of this.nodes.values()) {
       node.root.removeFromParent();
       node.helper?.removeFromParent();
+      node.rig?.dispose();
     }
     this.nodes.clear();
+    this.rigs.keep(this.studio.objects);
     this.studio.objects.forEach((obj, i) => {
       if (obj.kind === 'cue') return;                     // a cue has no place in space (a sound's beats)
       const root = new THREE.Group();
@@ -162,18 +184,24 @@ export class Viewport {
         node.helper = new THREE.CameraHelper(frustum);
         this.scene.add(node.helper);
         node.pick = [body, lens];
+      } else if (obj.kind === 'chain' || obj.kind === 'walker') {
+        const rig = obj.kind === 'chain' ? new ChainView(obj.name, this.scene) : new WalkerView(obj.name, this.scene);
+        node.rig = rig;
+        node.root = rig.root;
       } else {
         const mesh = new THREE.Mesh(geometry('box'), new THREE.MeshStandardMaterial({ color: PALETTE[i % PALETTE.length], roughness: 0.55 }));
         root.add(mesh);
         node.pick = [mesh];
       }
       for (const mesh of node.pick) mesh.userData.object = obj.name;
-      this.scene.add(root);
+      this.scene.add(node.root);
       this.nodes.set(obj.name, node);
       for (const a of obj.attributes) this.apply(`${obj.name}.${a.name}`, this.studio.values.get(`${obj.name}.${a.name}`));
     });
     if (!this.aimed) this.aim();
+    this.pose(performance.now());
     this.showSelection();
+    this.tellBehind();
   }
 
   /** Look at the box (or the scene's first object) from the front, once. */
@@ -199,7 +227,8 @@ export class Viewport {
     if (!node || value == null) return;
     const attr = path.slice(dot + 1);
     const root = node.root;
-    if (attr === 'position') root.position.set(value[0], value[1], value[2]);
+    if (attr === 'goal' && node.rig) node.rig.goal.position.set(value[0], value[1], value[2]);
+    else if (attr === 'position') root.position.set(value[0], value[1], value[2]);
     else if (attr === 'orientation') root.quaternion.set(value[0], value[1], value[2], value[3]);
     else if (attr === 'scale') root.scale.set(value[0], value[1], value[2]);
     else if (attr === 'visible') root.visible = value;
@@ -224,13 +253,83 @@ export class Viewport {
   showSelection() {
     const node = this.studio.selected ? this.nodes.get(this.studio.selected) : null;
     if (node) {
-      this.transform.attach(node.root);
+      const target = this.gizmoTarget(node);
+      if (target) this.transform.attach(target);
+      else this.transform.detach();
       this.selection.setFromObject(node.root);
       this.selection.visible = true;
     } else {
       this.transform.detach();
       this.selection.visible = false;
     }
+  }
+
+  /**
+   * What the gizmo moves of `node` in its mode: a rig's base or goal in translate mode only.
+   * @param {Node} node
+   * @returns {THREE.Object3D | null}
+   */
+  gizmoTarget(node) {
+    if (!node.rig) return node.root;
+    if (this.transform.mode !== 'translate') return null;
+    return node.kind === 'walker' ? node.rig.goal : node.root;
+  }
+
+  // -- chains and walkers -----------------------------------------------------------------
+
+  /**
+   * Each frame: every rig in the pose rigs.js gives it at the transport's time (live while its
+   * goal is performed).
+   * @param {number} now performance.now()
+   */
+  pose(now) {
+    const t = this.studio.transport.time;
+    for (const node of this.nodes.values()) {
+      const rig = node.rig;
+      if (!rig) continue;
+      const pose = this.rigs.poseAt(node.name, t, now);
+      const motion = this.rigs.rigs.get(node.name)?.motion;
+      if (rig instanceof ChainView) {
+        rig.show(motion?.chain ?? null, pose);
+        rig.face(this.camera);
+      } else rig.show(motion?.skeleton ?? null, pose);
+    }
+  }
+
+  /** A notice for each walker whose marker outruns its fastest run (once per change of what it says). */
+  tellBehind() {
+    for (const node of this.nodes.values()) {
+      if (node.kind !== 'walker') continue;
+      const curve = this.studio.tracks.get(`${node.name}.goal`);
+      const spans = curve?.kind === 'curve' ? this.rigs.behindUntil(node.name, curve.end + 1) : [];
+      const text = spans.length ? behindText(node.name, spans) : '';
+      if (text && text !== this.told.get(node.name)) this.studio.tell('warning', text, 'walker');
+      this.told.set(node.name, text);
+    }
+  }
+
+  /**
+   * What each rig shows now, for tests: its joints in the world, its goal, its pose.
+   * @returns {{name: string, kind: string, points: number[][], goal: number[], rotations: number[], root: number[] | null}[]}
+   */
+  rigReport() {
+    const t = this.studio.transport.time;
+    return [...this.nodes.values()].flatMap((node) => {
+      if (!node.rig) return [];
+      const pose = this.rigs.poseAt(node.name, t, performance.now());
+      return [{ name: node.name, kind: node.kind, points: node.rig.world(), goal: node.rig.goal.position.toArray(),
+        rotations: pose ? Array.from(pose.rotations) : [], root: pose?.root ? Array.from(pose.root) : null }];
+    });
+  }
+
+  /**
+   * The page coordinates of a rig's goal handle (a chain's ball, a walker's marker), for tests and tools.
+   * @param {string} name
+   * @returns {{x: number, y: number} | null}
+   */
+  goalScreen(name) {
+    const node = this.nodes.get(name);
+    return node?.rig ? this.pageOf(node.rig.goal.getWorldPosition(new THREE.Vector3())) : null;
   }
 
   // -- the pointer ------------------------------------------------------------------------
@@ -245,9 +344,10 @@ export class Viewport {
     this.transform.addEventListener('dragging-changed', (e) => { this.orbit.enabled = !e.value; });
     this.transform.addEventListener('mouseDown', () => {
       const name = this.studio.selected;
-      if (!name) return;
+      const node = name ? this.nodes.get(name) : null;
+      if (!name || !node) return;
       const mode = this.transform.mode;
-      const attr = { translate: 'position', rotate: 'orientation', scale: 'scale' }[mode];
+      const attr = { translate: MOVES[/** @type {keyof MOVES} */ (node.kind)] ?? 'position', rotate: 'orientation', scale: 'scale' }[mode];
       const path = `${name}.${attr}`;
       this.studio.performer.hold([path], `${mode} ${name}`, null, () => ({ [path]: this.gizmoResolution(name, mode) }));
     });
@@ -255,9 +355,9 @@ export class Viewport {
       const grab = this.studio.performer.grab;
       const node = this.studio.selected ? this.nodes.get(this.studio.selected) : null;
       if (!grab || !node) return;
-      const r = node.root;
+      const r = this.transform.object ?? node.root;
       for (const path of grab.paths) {
-        if (path.endsWith('.position')) this.studio.setLocal(path, r.position.toArray());
+        if (path.endsWith('.position') || path.endsWith('.goal')) this.studio.setLocal(path, r.position.toArray());
         if (path.endsWith('.orientation')) this.studio.setLocal(path, r.quaternion.toArray());
         if (path.endsWith('.scale')) this.studio.setLocal(path, r.scale.toArray());
       }
@@ -272,6 +372,7 @@ export class Viewport {
    */
   setGizmo(mode) {
     this.transform.setMode(mode);
+    this.showSelection();                               // a rig has the translate gizmo alone
   }
 
   /** Show or hide the scene camera's view in the corner (C). */
@@ -298,8 +399,9 @@ export class Viewport {
    * @returns {import('./resolution.js').Resolution}
    */
   gizmoResolution(name, mode) {
-    const root = /** @type {Node} */ (this.nodes.get(name)).root;
-    const centre = root.getWorldPosition(new THREE.Vector3());
+    const node = /** @type {Node} */ (this.nodes.get(name));
+    const root = node.root;
+    const centre = (this.gizmoTarget(node) ?? root).getWorldPosition(new THREE.Vector3());
     const pixel = this.pixelAt(centre);
     if (mode === 'rotate') return { step: turnPerPixel(pixel, Math.max(centre.distanceTo(this.camera.position), 1e-6)), input: 'px' };
     if (mode === 'scale') {
@@ -321,7 +423,7 @@ export class Viewport {
   /** @param {PointerEvent} e */
   press(e) {
     if (e.button !== 0 || this.transform.dragging) return;
-    const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => n.pick);
+    const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => (n.rig ? n.rig.pick : n.pick));
     const hit = this.ray(e).intersectObjects(meshes, false)[0];
     // a control point's handle takes the press over the gizmo and the objects; in record mode (a take
     // is the object's) only where neither is
@@ -335,14 +437,19 @@ export class Viewport {
     if (!hit) return;
     const name = hit.object.userData.object;
     const node = /** @type {Node} */ (this.nodes.get(name));
-    const normal = this.camera.getWorldDirection(new THREE.Vector3());
-    const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.point);
-    this.drag = { name, plane, offset: node.root.position.clone().sub(hit.point), x: e.clientX, y: e.clientY };
+    const path = `${name}.${hit.object.userData.attr ?? 'position'}`;
+    const at = new THREE.Vector3(...this.studio.values.get(path));
+    // a walker's goal slides on the ground (the marker's height); anything else in the plane facing the view
+    const ground = node.kind === 'walker' ? new THREE.Plane(new THREE.Vector3(0, 1, 0), -at.y) : null;
+    const onGround = ground ? this.raycaster.ray.intersectPlane(ground, new THREE.Vector3()) : null;
+    const grabbed = onGround ?? hit.point;
+    const plane = ground && onGround ? ground
+      : new THREE.Plane().setFromNormalAndCoplanarPoint(this.camera.getWorldDirection(new THREE.Vector3()), hit.point);
+    this.drag = { name, path, plane, offset: at.sub(grabbed), x: e.clientX, y: e.clientY };
     this.orbit.enabled = false;
     this.renderer.domElement.setPointerCapture(e.pointerId);
     if (this.studio.selected !== name) this.studio.select(name);
-    const path = `${name}.position`;
-    this.studio.performer.hold([path], `move ${name}`, null, () => ({ [path]: this.dragResolution() }));
+    this.studio.performer.hold([path], `move ${path.endsWith('.goal') ? path : name}`, null, () => ({ [path]: this.dragResolution() }));
     e.stopImmediatePropagation();
   }
 
@@ -352,8 +459,8 @@ export class Viewport {
    */
   dragResolution() {
     const drag = this.drag;
-    const node = drag ? this.nodes.get(drag.name) : null;
-    const point = node && drag ? node.root.position.clone().sub(drag.offset) : this.orbit.target.clone();
+    const value = drag ? this.studio.values.get(drag.path) : null;
+    const point = drag && value ? new THREE.Vector3(...value).sub(drag.offset) : this.orbit.target.clone();
     return { step: this.pixelAt(point), input: 'px' };
   }
 
@@ -368,7 +475,7 @@ export class Viewport {
     for (const ev of events.length ? events : [e]) {
       const point = this.ray(ev).ray.intersectPlane(this.drag.plane, new THREE.Vector3());
       if (!point) continue;
-      this.studio.setLocal(`${this.drag.name}.position`, point.add(this.drag.offset).toArray());
+      this.studio.setLocal(this.drag.path, point.add(this.drag.offset).toArray());
       this.studio.performer.mark(ev.timeStamp);
     }
   }
@@ -417,7 +524,7 @@ export class Viewport {
     const pads = navigator.getGamepads ? [...navigator.getGamepads()].filter(Boolean) : [];
     const pad = /** @type {Gamepad | undefined} */ (pads[0]);
     const name = this.studio.selected;
-    if (!pad || !name || !this.nodes.has(name)) return;
+    if (!pad || !name || !this.nodes.has(name) || this.nodes.get(name)?.rig) return;     // a device steers objects with an orientation
     if (this.pad && this.pad.idle >= PAD_REST) {
       this.pad = null;
       this.studio.performer.release();
@@ -485,7 +592,8 @@ export class Viewport {
       r.setScissorTest(true);
       r.setScissor(x, y, w, h);
       r.setViewport(x, y, w, h);
-      const hidden = [cam.helper, this.transform.getHelper(), this.selection, cam.root, this.paths.group, this.onion.group];
+      const rigs = [...this.nodes.values()].flatMap((n) => (n.rig instanceof ChainView ? [n.rig.goal, n.rig.line] : n.rig ? [n.rig.goal] : []));
+      const hidden = [cam.helper, this.transform.getHelper(), this.selection, cam.root, this.paths.group, this.onion.group, ...rigs];
       const was = hidden.map((o) => o?.visible);
       hidden.forEach((o) => o && (o.visible = false));
       r.render(this.scene, cam.camera);
