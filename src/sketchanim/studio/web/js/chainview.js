@@ -10,7 +10,7 @@ import * as THREE from 'three';
 import * as ik from './ik.js';
 
 /** The colours of a rig: the body, its joints, the goal (every rig's goal is this green), the tip line. */
-export const RIG_COLOURS = { body: 0x8fa3bf, joint: 0xdfe6ef, base: 0x59657a, goal: 0x3dff8f, line: 0x3dff8f };
+export const RIG_COLOURS = { body: 0xa9bdd8, joint: 0xeef2f7, base: 0x6b778c, goal: 0x3dff8f, line: 0x3dff8f };
 /** Radius of the goal's ball, its ring, and the invisible ball that grabs it (scene units). */
 const GOAL = { ball: 0.06, ring: 0.14, grab: 0.17 };
 const UP = new THREE.Vector3(0, 1, 0);
@@ -55,7 +55,7 @@ export class ChainView {
     this.grab = new THREE.Mesh(new THREE.SphereGeometry(GOAL.grab, 12, 8), grabMaterial());
     for (const m of [this.ball, this.ring, this.grab]) {
       m.renderOrder = 20;
-      m.userData = { object: name, attr: 'goal' };
+      m.userData = { object: name, attr: 'goal', handle: true };
       this.goal.add(m);
     }
     scene.add(this.goal);
@@ -108,7 +108,7 @@ export class ChainView {
     const b = new THREE.Vector3();
     for (let i = 0; i <= n; i++) {
       // a taper from base to tip: joints a little wider than their segments
-      const r = 0.055 - (0.025 * i) / n;
+      const r = 0.07 - (0.035 * i) / n;
       this.joints[i].position.set(p[i * 3], p[i * 3 + 1], p[i * 3 + 2]);
       this.joints[i].scale.setScalar(r * 1.25);
       if (i === n) break;

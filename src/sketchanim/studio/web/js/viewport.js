@@ -332,6 +332,17 @@ export class Viewport {
     return node?.rig ? this.pageOf(node.rig.goal.getWorldPosition(new THREE.Vector3())) : null;
   }
 
+  /**
+   * The page coordinates of a rig's joint `i` (world points as rigReport lists them), for tests and tools.
+   * @param {string} name
+   * @param {number} i
+   * @returns {{x: number, y: number} | null}
+   */
+  jointScreen(name, i) {
+    const p = this.nodes.get(name)?.rig?.world()[i];
+    return p ? this.pageOf(new THREE.Vector3(p[0], p[1], p[2])) : null;
+  }
+
   // -- the pointer ------------------------------------------------------------------------
 
   bind() {
@@ -424,7 +435,8 @@ export class Viewport {
   press(e) {
     if (e.button !== 0 || this.transform.dragging) return;
     const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => (n.rig ? n.rig.pick : n.pick));
-    const hit = this.ray(e).intersectObjects(meshes, false)[0];
+    const hits = this.ray(e).intersectObjects(meshes, false);
+    const hit = hits.find((h) => h.object.userData.handle) ?? hits[0];     // a goal handle is drawn over everything: it is grabbed first
     // a control point's handle takes the press over the gizmo and the objects; in record mode (a take
     // is the object's) only where neither is
     const record = this.studio.transport.record;

@@ -52,7 +52,7 @@ export class WalkerView {
     this.sphere = new THREE.SphereGeometry(1, 16, 10);
     /** @type {Skeleton | null} */
     this.skeleton = null;
-    /** @type {THREE.Mesh[]} one per joint with a parent (index: the joint's) */
+    /** @type {(THREE.Mesh | null)[]} a joint's bone from its parent (null: the root's) */
     this.bones = [];
     /** @type {THREE.Mesh[]} */
     this.joints = [];
@@ -75,7 +75,7 @@ export class WalkerView {
     this.disc.rotation.x = -Math.PI / 2;
     for (const m of [this.ring, this.tick, this.disc]) {
       m.renderOrder = 20;
-      m.userData = { object: name, attr: 'goal' };
+      m.userData = { object: name, attr: 'goal', handle: true };
     }
     this.goal.add(this.ring, this.facing, this.disc);
     scene.add(this.goal);
@@ -85,7 +85,7 @@ export class WalkerView {
 
   /** What the pointer grabs: the figure and the marker (both the goal). */
   get pick() {
-    return [...this.bones.filter(Boolean), ...this.joints, this.head, this.ring, this.tick, this.disc];
+    return [...this.bones.filter((b) => b !== null), ...this.joints, this.head, this.ring, this.tick, this.disc];
   }
 
   /**
@@ -98,9 +98,9 @@ export class WalkerView {
     for (const m of [...this.bones, ...this.joints]) m?.removeFromParent();
     const data = { object: this.name, attr: 'goal' };
     this.bones = skeleton.parents.map((p) => {
+      if (p < 0) return null;
       const m = new THREE.Mesh(this.cylinder, this.bone);
       m.userData = data;
-      m.visible = p >= 0;
       this.figure.add(m);
       return m;
     });
@@ -136,7 +136,7 @@ export class WalkerView {
       if (parent < 0) return;
       a.set(p[parent * 3], p[parent * 3 + 1], p[parent * 3 + 2]);
       b.set(p[j * 3], p[j * 3 + 1], p[j * 3 + 2]);
-      const bone = this.bones[j];
+      const bone = /** @type {THREE.Mesh} */ (this.bones[j]);
       const length = a.distanceTo(b);
       bone.visible = length > 1e-6;
       bone.position.copy(a).add(b).multiplyScalar(0.5);
