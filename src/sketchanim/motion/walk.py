@@ -1,0 +1,658 @@
+"""A humanoid that walks along a performed ground path: the walker's goal is a ground
+marker (a position track whose y is the ground height under it), and the figure follows
+it, facing along the path, its step length and cadence following the path's speed
+(Boulic, Magnenat-Thalmann & Thalmann 1990: relative velocity ``RV = v / H``, ``H`` the
+leg length, relative cycle length ``RLc = 1.346 sqrt(RV)``), its feet planted during
+stance and stepping when a foot drifts past a threshold, one leg at a time (running, with
+a flight phase, above the walk-run speed).
+
+The model is a deterministic simulation at :data:`RATE` ticks a second from the start of
+the animation: the caller samples the marker at ticks ``k / RATE``, :func:`start` stands
+the figure still at the first marker and :func:`advance` steps it one tick, so the pose is
+a pure function of the marker's curve. :func:`walk` is :func:`advance` in a loop. The page
+runs the same algorithm (``studio/web/js/walk.js``), operation for operation, so the two
+agree to 1e-6 rad; docs/walker.md describes the model.
+
+Conventions: y up (three.js), the figure faces +z at heading 0 (heading ``a`` faces
+``(sin a, 0, cos a)``) with its left side on +x; rotations are local, scalar-last unit
+quaternions as :mod:`sketchanim.motion.skeleton`'s, ``world = parent * local``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from sketchanim.errors import ArgumentError
+from sketchanim.motion.skeleton import Skeleton
+
+#: Ticks a second. (The IK helper's motion/ik.py defines the same constant; one will go.)
+RATE = 120.0
+
+#: Boulic's relative cycle length per square root of relative velocity.
+CYCLE = 1.346
+#: Below this relative velocity (1/s) the cycle's timing is held at its value here.
+RV_SLOW = 1.0
+#: The walk-run speed, relative (Boulic's walking model holds up to RV 2.3).
+RV_RUN = 2.3
+#: The fastest run, relative: beyond ``RV_FASTEST * H`` m/s the figure falls behind.
+RV_FASTEST = 7.5
+#: A run's stance length (distance the body travels while a foot is planted), in leg lengths.
+RUN_CONTACT = 0.8
+#: The velocity's smoothing time constant, seconds.
+SMOOTHING = 0.15
+#: Fastest turn, rad/s.
+TURN_RATE = 2.0
+#: Slowest speed the body turns to face, relative (v / H).
+RV_FACE = 0.1
+#: Least drift (in leg lengths) that makes a planted foot step, and the yaw drift (rad).
+DRIFT_MIN = 0.09
+DRIFT_YAW = 0.35
+#: Shortest time a foot stays planted, seconds.
+STANCE_MIN = 0.1
+#: Where a foot lands: this fraction of its stance's travel short of centred under its hip
+#: (it lifts as far past centred plus this), as a heel strike lands nearer than a toe-off leaves.
+LAND_SHIFT = 0.15
+#: The most a planted foot's heel rises (rad, pivoting on the toe) to keep it in reach.
+HEEL_MAX = 0.9
+#: Swing foot clearance at mid-swing, in leg lengths.
+CLEARANCE = 0.08
+#: The pelvis's usual height, the fraction of the legs' reach it holds at most, and the
+#: lowest it goes (fraction of its rest height above the ground) before a foot out of reach lifts.
+CROUCH = 0.98
+REACH = 0.995
+FLOOR = 0.7
+#: Arm swing (rad per leg length of foot separation) and its bound; elbow bend walking and running.
+ARM_SWING = 0.7
+ARM_MAX = 0.8
+ELBOW_WALK = 0.25
+ELBOW_RUN = 1.4
+#: Forward lean of the spine: at rest and per m/s, and at most (rad).
+LEAN_REST = 0.03
+LEAN_SPEED = 0.03
+LEAN_MAX = 0.3
+
+#: The humanoid's joints, parents before children.
+JOINTS = ("hips", "spine", "chest", "neck", "head",
+          "l_shoulder", "l_upper_arm", "l_forearm", "l_hand",
+          "r_shoulder", "r_upper_arm", "r_forearm", "r_hand",
+          "l_thigh", "l_shin", "l_foot", "l_toe",
+          "r_thigh", "r_shin", "r_foot", "r_toe")
+PARENTS = ("", "hips", "spine", "chest", "neck",
+           "chest", "l_shoulder", "l_upper_arm", "l_forearm",
+           "chest", "r_shoulder", "r_upper_arm", "r_forearm",
+           "hips", "l_thigh", "l_shin", "l_foot",
+           "hips", "r_thigh", "r_shin", "r_foot")
+
+#: Rest offsets as fractions of the height (left side; the right mirrors x).
+_OFFSETS = {"hips": (0, 0.56, 0), "spine": (0, 0.06, 0), "chest": (0, 0.12, 0), "neck": (0, 0.12, 0),
+            "head": (0, 0.05, 0), "l_shoulder": (0.02, 0.09, 0), "l_upper_arm": (0.1, 0, 0),
+            "l_forearm": (0, -0.17, 0), "l_hand": (0, -0.15, 0), "l_thigh": (0.055, -0.03, 0),
+            "l_shin": (0, -0.245, 0), "l_foot": (0, -0.245, 0), "l_toe": (0, -0.04, 0.11)}
+
+
+def humanoid(height: float = 1.75) -> Skeleton:
+    """A humanoid skeleton of ``height`` metres, generated in code: root ``hips``, spine,
+    chest, neck, head, shoulders, upper arms, forearms, hands and legs
+    ``hips -> l_thigh -> l_shin -> l_foot -> l_toe`` (and ``r_``). It stands on y = 0 facing
+    +z, left side on +x, arms hanging; each toe is its foot's lowest node, on the ground.
+
+    >>> s = humanoid(1.75)
+    >>> len(s), s.names[0], round(float(s.rest_positions()[s.index("l_toe")][1]), 12)
+    (21, 'hips', 0.0)
+    """
+    if not (math.isfinite(height) and 0.2 <= height <= 5.0):
+        raise ArgumentError("height", f"must be 0.2 to 5 m, got {height!r}")
+    offsets = []
+    for name in JOINTS:
+        x, y, z = _OFFSETS["l_" + name[2:] if name.startswith("r_") else name]
+        offsets.append((-x if name.startswith("r_") else x, y, z))
+    return Skeleton(JOINTS, tuple(JOINTS.index(p) if p else -1 for p in PARENTS), np.array(offsets) * height)
+
+
+Vec = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Rig:
+    """What the walk needs of a humanoid skeleton (see :func:`rig`), in metres."""
+
+    joints: int                      # J
+    index: tuple[int, ...]           # hips, spine, l/r upper arm, l/r forearm, l/r thigh, l/r shin, l/r foot
+    hip: tuple[Vec, Vec]             # each thigh joint's offset from the hips
+    thigh: float
+    shin: float
+    toe: Vec                         # the toe's offset from the ankle (the same both sides)
+    ankle: float                     # ankle height above the ground, foot flat
+    leg: float                       # H: hip joint height above the ground at rest
+    pelvis: float                    # the hips' rest height above the ground
+
+
+def rig(skeleton: Skeleton) -> Rig:
+    """The walk's view of ``skeleton``: one with :func:`humanoid`'s joint names, shins and
+    ankles straight below their parents at rest.
+
+    >>> r = rig(humanoid(2.0))
+    >>> round(r.leg, 12), round(r.thigh, 12), round(r.ankle, 12)
+    (1.06, 0.49, 0.08)
+    """
+    names = ("hips", "spine", "l_upper_arm", "r_upper_arm", "l_forearm", "r_forearm",
+             "l_thigh", "r_thigh", "l_shin", "r_shin", "l_foot", "r_foot")
+    index = tuple(skeleton.index(n) for n in names)
+    for n in ("l_toe", "r_toe"):
+        skeleton.index(n)
+    o = np.asarray(skeleton.offsets, dtype=float)
+    for n in ("l_shin", "r_shin", "l_foot", "r_foot"):
+        x, y, z = o[skeleton.index(n)]
+        if x != 0 or z != 0 or not y < 0:
+            raise ArgumentError("skeleton", f"joint {n!r} must be straight below its parent at rest")
+    if not np.array_equal(o[skeleton.index("l_toe")] * [-1, 1, 1], o[skeleton.index("r_toe")]) or \
+            o[skeleton.index("l_toe"), 1] >= 0:
+        raise ArgumentError("skeleton", "the toes must mirror each other, below the ankles")
+    rest = skeleton.rest_positions()
+    ground = float(rest[skeleton.index("l_toe"), 1])
+    toe = tuple(float(v) for v in o[skeleton.index("l_toe")])
+    return Rig(len(skeleton), index,
+               (tuple(float(v) for v in o[index[6]]), tuple(float(v) for v in o[index[7]])),  # type: ignore[arg-type]
+               float(-o[index[8], 1]), float(-o[index[10], 1]), toe,  # type: ignore[arg-type]
+               float(-toe[1]), float(rest[index[6], 1]) - ground, float(rest[index[0], 1]) - ground)
+
+
+#: The lift tick of a foot that has not stepped yet.
+NEVER = -1000000
+
+
+@dataclass(frozen=True)
+class Foot:
+    """One foot: its ankle's world position were the foot flat, its yaw and the pitch of
+    its heel's rise about the toe (rad); planted since tick ``landed``, or swinging since
+    tick ``lifted`` from ankle ``lift_at`` (heel risen ``lift_pitch``) and ``lift_yaw`` for
+    ``swing`` seconds."""
+
+    ankle: Vec
+    yaw: float
+    pitch: float
+    planted: bool
+    landed: int
+    lifted: int
+    lift_at: Vec
+    lift_yaw: float
+    lift_pitch: float
+    swing: float
+
+
+@dataclass(frozen=True)
+class WalkState:
+    """The walker at one tick.
+
+    Attributes
+    ----------
+    rig : Rig
+    tick : int
+        The tick (0 at :func:`start`); its time is ``tick / RATE``.
+    body : tuple
+        The ground point under the pelvis (x, y, z): the marker's, unless behind it.
+    velocity : tuple
+        The body's smoothed ground velocity (x, z), m/s.
+    heading : float
+        The facing angle (rad); heading 0 faces +z.
+    feet : tuple of Foot
+        Left, right.
+    marker : tuple
+        The marker at this tick.
+    behind_since : int
+        The tick the body fell behind the marker, or -1 when it is on it.
+    behind_speed : float
+        The fastest marker speed (m/s) since then.
+    rotations : ndarray, shape (J, 4)
+        The pose's local rotations, scalar-last.
+    root : ndarray, shape (3,)
+        The hips' world translation.
+    """
+
+    rig: Rig
+    tick: int
+    body: Vec
+    velocity: tuple[float, float]
+    heading: float
+    feet: tuple[Foot, Foot]
+    marker: Vec
+    behind_since: int
+    behind_speed: float
+    rotations: np.ndarray
+    root: np.ndarray
+
+    @property
+    def stance(self) -> tuple[bool, bool]:
+        """Whether the left and the right foot are planted."""
+        return self.feet[0].planted, self.feet[1].planted
+
+
+@dataclass(frozen=True)
+class Walk:
+    """A walk, one row per tick.
+
+    Attributes
+    ----------
+    rotations : ndarray, shape (n, J, 4)
+        Local rotations, scalar-last.
+    root : ndarray, shape (n, 3)
+        The hips' translation in the world.
+    stance : ndarray of bool, shape (n, 2)
+        Left, right foot planted.
+    behind : list of (float, float, float)
+        ``(start s, end s, fastest path speed m/s)`` where the path outran the fastest run.
+    """
+
+    rotations: np.ndarray
+    root: np.ndarray
+    stance: np.ndarray
+    behind: list[tuple[float, float, float]]
+
+
+def _marker(marker: object) -> Vec:
+    m = np.asarray(marker, dtype=float)
+    if m.shape != (3,) or not np.isfinite(m).all():
+        raise ArgumentError("marker", f"must be 3 finite numbers, got {marker!r}")
+    return float(m[0]), float(m[1]), float(m[2])
+
+
+def start(skeleton: Skeleton, marker: object) -> WalkState:
+    """The walker standing still at ``marker`` (x, y, z; y the ground height), facing +z:
+    tick 0.
+
+    >>> s = start(humanoid(), [1.0, 0.0, 2.0])
+    >>> s.stance, s.root.round(4).tolist()
+    ((True, True), [1.0, 0.9628, 2.0])
+    """
+    r = rig(skeleton)
+    m = _marker(marker)
+    feet = tuple(Foot(a, 0.0, 0.0, True, 0, NEVER, a, 0.0, 0.0, 0.0) for a in (
+        (m[0] + r.hip[i][0], m[1] + r.ankle, m[2] + r.hip[i][2]) for i in (0, 1)))
+    state = WalkState(r, 0, m, (0.0, 0.0), 0.0, feet, m, -1, 0.0,  # type: ignore[arg-type]
+                      np.zeros((r.joints, 4)), np.zeros(3))
+    return _posed(state, 0.0)
+
+
+def advance(state: WalkState, marker: object) -> WalkState:
+    """The walker one tick later, the marker there being ``marker`` (x, y, z).
+
+    >>> s = start(humanoid(), [0.0, 0.0, 0.0])
+    >>> for k in range(1, 241):
+    ...     s = advance(s, [0.0, 0.0, 1.2 * k / RATE])
+    >>> round(s.body[2], 6), abs(s.heading) < 1e-9
+    (2.4, True)
+    """
+    m = _marker(marker)
+    r = state.rig
+    tick = state.tick + 1
+    dt = 1.0 / RATE
+    # The body follows the marker on the ground, no faster than the fastest run.
+    bx, bz = state.body[0], state.body[2]
+    dx, dz = m[0] - bx, m[2] - bz
+    gap = math.sqrt(dx * dx + dz * dz)
+    most = RV_FASTEST * r.leg * dt
+    if gap > most:
+        nx, nz = bx + dx * (most / gap), bz + dz * (most / gap)
+    else:
+        nx, nz = m[0], m[2]
+    body = (nx, m[1], nz)
+    px, pz = m[0] - state.marker[0], m[2] - state.marker[2]
+    path_speed = math.sqrt(px * px + pz * pz) * RATE
+    if gap > most:
+        since = state.behind_since if state.behind_since >= 0 else tick
+        fastest = max(state.behind_speed, path_speed) if state.behind_since >= 0 else path_speed
+    else:
+        since, fastest = -1, 0.0
+    # Smoothed velocity, speed and heading.
+    a = dt / SMOOTHING
+    vx = state.velocity[0] + a * ((nx - bx) * RATE - state.velocity[0])
+    vz = state.velocity[1] + a * ((nz - bz) * RATE - state.velocity[1])
+    speed = math.sqrt(vx * vx + vz * vz)
+    heading = state.heading
+    if speed > RV_FACE * r.leg:
+        turn = _wrap(math.atan2(vx, vz) - heading)
+        step = TURN_RATE * dt
+        heading = _wrap(heading + min(max(turn, -step), step))
+    g = gait(speed, r.leg)
+    moved = replace(state, tick=tick, body=body, velocity=(vx, vz), heading=heading, marker=m,
+                    behind_since=since, behind_speed=fastest)
+    feet = _step_feet(moved, g)
+    return _posed(replace(moved, feet=feet), speed)
+
+
+@dataclass(frozen=True)
+class Gait:
+    """The gait at a speed: cycle, stance and swing durations (s), whether it runs, and
+    the drift (m) that makes a planted foot step."""
+
+    cycle: float
+    stance: float
+    swing: float
+    run: bool
+    drift: float
+
+
+def gait(speed: float, leg: float) -> Gait:
+    """Boulic's walking cycle at ``speed`` m/s for legs ``leg`` m long: cycle length
+    ``1.346 sqrt(v / H) H``, so duration ``1.346 sqrt(H / v)`` (held below ``RV_SLOW``), stance
+    ``0.752 cycle - 0.143`` s; above ``RV_RUN`` a run, stance ``RUN_CONTACT H / v``.
+
+    >>> g = gait(1.4, 0.9275)
+    >>> round(g.cycle, 4), round(g.stance, 4), round(g.swing, 4), g.run
+    (1.0956, 0.6809, 0.4147, False)
+    """
+    slow = RV_SLOW * leg
+    v = speed if speed > slow else slow
+    cycle = CYCLE * math.sqrt(leg / v)
+    if speed > RV_RUN * leg:
+        stance = RUN_CONTACT * leg / v
+        run = True
+    else:
+        stance = 0.752 * cycle - 0.143
+        run = False
+    drift = speed * stance
+    least = DRIFT_MIN * leg
+    return Gait(cycle, stance, cycle - stance, run, drift if drift > least else least)
+
+
+def _wrap(angle: float) -> float:
+    """``angle`` brought into [-pi, pi)."""
+    return angle - 2.0 * math.pi * math.floor((angle + math.pi) / (2.0 * math.pi))
+
+
+def _rest_spot(state: WalkState, side: int, ahead: float) -> tuple[float, float]:
+    """Where foot ``side`` would be centred under its hip, the body ``ahead`` s on."""
+    hx, _, hz = state.rig.hip[side]
+    s, c = math.sin(state.heading), math.cos(state.heading)
+    return (state.body[0] + c * hx + s * hz + state.velocity[0] * ahead,
+            state.body[2] - s * hx + c * hz + state.velocity[1] * ahead)
+
+
+def _reach_height(state: WalkState, side: int, ankle: Vec) -> float:
+    """The highest the hips can be with foot ``side``'s ankle at ``ankle`` in reach (-inf
+    if no height reaches it)."""
+    r = state.rig
+    hx, hy, hz = r.hip[side]
+    s, c = math.sin(state.heading), math.cos(state.heading)
+    dx = state.body[0] + c * hx + s * hz - ankle[0]
+    dz = state.body[2] - s * hx + c * hz - ankle[2]
+    reach = REACH * (r.thigh + r.shin)
+    flat = reach * reach - (dx * dx + dz * dz)
+    if flat <= 0.0:
+        return -math.inf
+    return ankle[1] + math.sqrt(flat) - hy
+
+
+def _floor(state: WalkState) -> float:
+    return state.body[1] + FLOOR * state.rig.pelvis
+
+
+def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
+    """The feet one tick on: swings advance (landing when done); a planted foot lifts when
+    out of reach, or when it has drifted past the gait's threshold -- or the other foot
+    will have half a cycle on, this one having drifted further -- and the other foot lets
+    it: planted (walking) and lifted half a cycle ago (walking and running)."""
+    feet = list(state.feet)
+    land = g.stance * (0.5 - LAND_SHIFT)
+    for i in (0, 1):
+        f = feet[i]
+        if not f.planted and (state.tick - f.lifted) / RATE >= f.swing:
+            spot = _rest_spot(state, i, land)
+            feet[i] = replace(f, ankle=(spot[0], state.body[1] + state.rig.ankle, spot[1]), yaw=state.heading,
+                              pitch=0.0, planted=True, landed=state.tick)
+    ratios = [0.0, 0.0]
+    later = [0.0, 0.0]
+    for i in (0, 1):
+        f = feet[i]
+        if f.planted:
+            spot = _rest_spot(state, i, land)
+            ex, ez = f.ankle[0] - spot[0], f.ankle[2] - spot[1]
+            yaw = abs(_wrap(state.heading - f.yaw)) / DRIFT_YAW
+            ratio = math.sqrt(ex * ex + ez * ez) / g.drift
+            ratios[i] = ratio if ratio > yaw else yaw
+            fx, fz = ex - state.velocity[0] * g.cycle / 2.0, ez - state.velocity[1] * g.cycle / 2.0
+            ratio = math.sqrt(fx * fx + fz * fz) / g.drift
+            later[i] = ratio if ratio > yaw else yaw
+    order = (1, 0) if ratios[1] > ratios[0] else (0, 1)
+    for i in order:
+        f, other = feet[i], feet[1 - i]
+        if not f.planted:
+            continue
+        forced = _reach_height(state, i, _ankle(state.rig, f)) < _floor(state)
+        wants = (ratios[i] >= 1.0 or later[1 - i] >= 1.0 and ratios[i] >= ratios[1 - i]) and \
+            (state.tick - f.landed) / RATE >= STANCE_MIN
+        free = (other.planted or g.run) and (state.tick - other.lifted) / RATE >= g.cycle / 2.0
+        if forced or (wants and free):
+            feet[i] = replace(f, planted=False, lifted=state.tick, lift_at=_ankle(state.rig, f), lift_yaw=f.yaw,
+                              lift_pitch=f.pitch, swing=g.swing)
+    for i in (0, 1):
+        f = feet[i]
+        if not f.planted:
+            feet[i] = _swung(state, i, f, g)
+    return feet[0], feet[1]
+
+
+def _ankle(r: Rig, f: Foot) -> Vec:
+    """Where ``f``'s ankle is: a swinging foot's as it is, a planted one's with its heel
+    risen ``f.pitch`` about the toe."""
+    if not f.planted or f.pitch == 0.0:
+        return f.ankle
+    _, ty, tz = r.toe
+    s, c = math.sin(f.pitch), math.cos(f.pitch)
+    up = -ty * c + tz * s
+    back = -tz * c - ty * s
+    return (f.ankle[0] + math.sin(f.yaw) * (tz + back), f.ankle[1] + ty + up, f.ankle[2] + math.cos(f.yaw) * (tz + back))
+
+
+def _heel(r: Rig, f: Foot, hip: Vec) -> float:
+    """How far (rad) planted foot ``f``'s heel must rise, pivoting on the toe, for the hip
+    joint at ``hip`` to reach its ankle: 0 when it reaches it flat or the toe is ahead of
+    the hip, at most ``HEEL_MAX``."""
+    _, ty, tz = r.toe
+    s, c = math.sin(f.yaw), math.cos(f.yaw)
+    toe = (f.ankle[0] + s * tz, f.ankle[1] + ty, f.ankle[2] + c * tz)
+    wx, wy, wz = hip[0] - toe[0], hip[1] - toe[1], hip[2] - toe[2]
+    wf = wx * s + wz * c
+    if wf <= 0.0:
+        return 0.0
+    reach = REACH * (r.thigh + r.shin)
+    rho2 = ty * ty + tz * tz
+    k = (reach * reach - (wx * wx + wy * wy + wz * wz) - rho2) / (2.0 * math.sqrt(rho2))
+    a = math.sqrt(wf * wf + wy * wy)
+    if k >= a:
+        return 0.0
+    turn = math.acos(k / a) if k > -a else math.pi
+    pitch = turn - math.atan2(wy, wf) - math.atan2(-ty, tz)
+    return 0.0 if pitch < 0.0 else HEEL_MAX if pitch > HEEL_MAX else pitch
+
+
+def _swung(state: WalkState, side: int, f: Foot, g: Gait) -> Foot:
+    """The swinging foot's ankle, yaw and pitch this tick: from where it lifted toward
+    where it will land (under its hip, the body's motion to the landing and the stance's
+    landing lead ahead), smoothstepped, raised by the clearance on a parabola, the heel
+    coming down."""
+    gone = (state.tick - f.lifted) / RATE
+    s = gone / f.swing
+    s = 1.0 if s > 1.0 else s
+    left = f.swing - gone
+    left = 0.0 if left < 0.0 else left
+    spot = _rest_spot(state, side, left + g.stance * (0.5 - LAND_SHIFT))
+    e = s * s * (3.0 - 2.0 * s)
+    lx, ly, lz = f.lift_at
+    y = state.body[1] + state.rig.ankle
+    ankle = (lx + (spot[0] - lx) * e, ly + (y - ly) * e + CLEARANCE * state.rig.leg * 4.0 * s * (1.0 - s),
+             lz + (spot[1] - lz) * e)
+    return replace(f, ankle=ankle, yaw=f.lift_yaw + _wrap(state.heading - f.lift_yaw) * e,
+                   pitch=f.lift_pitch * (1.0 - e))
+
+
+def _posed(state: WalkState, speed: float) -> WalkState:
+    """``state`` with the pose of its feet and body: the hips at the body, as high as
+    the feet's reach lets them (at most the crouched rest height, at least the floor),
+    two-bone IK on each leg, the spine leaning with speed, the arms swinging against the
+    legs."""
+    r = state.rig
+    b = state.body
+    s, c = math.sin(state.heading), math.cos(state.heading)
+    top = b[1] + r.pelvis - (1.0 - CROUCH) * (r.thigh + r.shin)
+    y = top
+    feet = list(state.feet)
+    for i in (0, 1):
+        f = feet[i]
+        if f.planted:
+            hx, hy, hz = r.hip[i]
+            feet[i] = replace(f, pitch=_heel(r, f, (b[0] + c * hx + s * hz, top + hy, b[2] - s * hx + c * hz)))
+    low = _floor(state)
+    for i in (0, 1):
+        f = feet[i]
+        h = _reach_height(state, i, _ankle(r, f))
+        h = low if h < low else h
+        if not f.planted:                          # a swing holds the hips down only as it lifts and lands
+            e = (state.tick - f.lifted) / RATE / f.swing
+            e = 1.0 if e > 1.0 else e
+            e = e * e * (3.0 - 2.0 * e)
+            h = top + (h - top) * (1.0 - 4.0 * e * (1.0 - e))
+        y = h if h < y else y
+    q = np.zeros((r.joints, 4))
+    q[:, 3] = 1.0
+    half = 0.5 * state.heading
+    sh, ch = math.sin(half), math.cos(half)
+    q[r.index[0]] = (0.0, sh, 0.0, ch)
+    hips = ((c, 0.0, -s), (0.0, 1.0, 0.0), (s, 0.0, c))     # the hips' frame: its x, y, z axes
+    forward = [0.0, 0.0]
+    for i in (0, 1):
+        f = feet[i]
+        hx, hy, hz = r.hip[i]
+        joint = (b[0] + c * hx + s * hz, y + hy, b[2] - s * hx + c * hz)
+        thigh, shin, foot = _leg(r, joint, _ankle(r, f), f.yaw, f.pitch, state.heading)
+        q[r.index[6 + i]] = _quat(_local(hips, thigh))
+        q[r.index[8 + i]] = _quat(_local(thigh, shin))
+        q[r.index[10 + i]] = _quat(_local(shin, foot))
+        forward[i] = (f.ankle[0] - b[0]) * s + (f.ankle[2] - b[2]) * c
+    lean = LEAN_REST + LEAN_SPEED * speed
+    lean = LEAN_MAX if lean > LEAN_MAX else lean
+    q[r.index[1]] = (math.sin(0.5 * lean), 0.0, 0.0, math.cos(0.5 * lean))
+    run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg)
+    run = 0.0 if run < 0.0 else 1.0 if run > 1.0 else run
+    elbow = ELBOW_WALK + (ELBOW_RUN - ELBOW_WALK) * run
+    for i in (0, 1):
+        swing = ARM_SWING * (forward[1 - i] - forward[i]) / r.leg
+        swing = ARM_MAX if swing > ARM_MAX else -ARM_MAX if swing < -ARM_MAX else swing
+        q[r.index[2 + i]] = (-math.sin(0.5 * swing), 0.0, 0.0, math.cos(0.5 * swing))
+        q[r.index[4 + i]] = (-math.sin(0.5 * elbow), 0.0, 0.0, math.cos(0.5 * elbow))
+    return replace(state, feet=(feet[0], feet[1]), rotations=q, root=np.array([b[0], y, b[2]]))
+
+
+Frame = tuple[Vec, Vec, Vec]
+
+
+def _leg(r: Rig, hip: Vec, ankle: Vec, yaw: float, pitch: float, heading: float) -> tuple[Frame, Frame, Frame]:
+    """Two-bone analytic IK: the world frames (x, y, z axes) of the thigh, the shin and
+    the foot for the hip joint at ``hip`` and the ankle at ``ankle`` (pulled in to the
+    leg's reach), the knee bending toward the foot's and the body's forward, the foot at
+    ``yaw``, its heel risen ``pitch``."""
+    dx, dy, dz = ankle[0] - hip[0], ankle[1] - hip[1], ankle[2] - hip[2]
+    d = math.sqrt(dx * dx + dy * dy + dz * dz)
+    l1, l2 = r.thigh, r.shin
+    longest = (l1 + l2) * (1.0 - 1e-9)
+    shortest = abs(l1 - l2) + 1e-6 * (l1 + l2)
+    if d > 1e-12:
+        ux, uy, uz = dx / d, dy / d, dz / d
+    else:
+        ux, uy, uz = 0.0, -1.0, 0.0
+    d = longest if d > longest else shortest if d < shortest else d
+    # The knee's direction: the foot's forward and the body's, off the hip-ankle line.
+    px, pz = math.sin(yaw) + math.sin(heading), math.cos(yaw) + math.cos(heading)
+    if px * px + pz * pz < 0.01:
+        px, pz = math.sin(heading), math.cos(heading)
+    along = px * ux + pz * uz
+    nx, ny, nz = px - along * ux, -along * uy, pz - along * uz
+    n = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if n < 1e-9:                                  # the leg points along the knee's forward
+        nx, ny, nz, n = 0.0, 1.0, 0.0, 1.0
+    nx, ny, nz = nx / n, ny / n, nz / n
+    c1 = (l1 * l1 + d * d - l2 * l2) / (2.0 * l1 * d)
+    c2 = (l2 * l2 + d * d - l1 * l1) / (2.0 * l2 * d)
+    s1 = math.sqrt(max(0.0, 1.0 - c1 * c1))
+    s2 = math.sqrt(max(0.0, 1.0 - c2 * c2))
+    thigh = _bone((ux * c1 + nx * s1, uy * c1 + ny * s1, uz * c1 + nz * s1),
+                  (nx * c1 - ux * s1, ny * c1 - uy * s1, nz * c1 - uz * s1))
+    shin = _bone((ux * c2 - nx * s2, uy * c2 - ny * s2, uz * c2 - nz * s2),
+                 (nx * c2 + ux * s2, ny * c2 + uy * s2, nz * c2 + uz * s2))
+    s, c = math.sin(yaw), math.cos(yaw)
+    sp, cp = math.sin(pitch), math.cos(pitch)
+    return thigh, shin, ((c, 0.0, -s), (sp * s, cp, sp * c), (cp * s, -sp, cp * c))
+
+
+def _bone(down: Vec, front: Vec) -> Frame:
+    """The frame of a bone along ``down`` (its rest -y) with its rest +z on ``front``."""
+    y = (-down[0], -down[1], -down[2])
+    z = front
+    return (y[1] * z[2] - y[2] * z[1], y[2] * z[0] - y[0] * z[2], y[0] * z[1] - y[1] * z[0]), y, z
+
+
+def _local(parent: Frame, child: Frame) -> Frame:
+    """The child's frame in the parent's: columns ``parent^T child``; returned as the
+    rotation's columns too."""
+    return tuple(tuple(parent[i][0] * child[j][0] + parent[i][1] * child[j][1] + parent[i][2] * child[j][2]
+                       for i in range(3)) for j in range(3))  # type: ignore[return-value]
+
+
+def _quat(m: Frame) -> tuple[float, float, float, float]:
+    """The unit quaternion (x, y, z, w), w >= 0, of the rotation with columns ``m``."""
+    m00, m10, m20 = m[0]
+    m01, m11, m21 = m[1]
+    m02, m12, m22 = m[2]
+    tr = m00 + m11 + m22
+    if tr > 0.0:
+        k = math.sqrt(tr + 1.0) * 2.0
+        w, x, y, z = 0.25 * k, (m21 - m12) / k, (m02 - m20) / k, (m10 - m01) / k
+    elif m00 > m11 and m00 > m22:
+        k = math.sqrt(1.0 + m00 - m11 - m22) * 2.0
+        w, x, y, z = (m21 - m12) / k, 0.25 * k, (m01 + m10) / k, (m02 + m20) / k
+    elif m11 > m22:
+        k = math.sqrt(1.0 + m11 - m00 - m22) * 2.0
+        w, x, y, z = (m02 - m20) / k, (m01 + m10) / k, 0.25 * k, (m12 + m21) / k
+    else:
+        k = math.sqrt(1.0 + m22 - m00 - m11) * 2.0
+        w, x, y, z = (m10 - m01) / k, (m02 + m20) / k, (m12 + m21) / k, 0.25 * k
+    n = math.sqrt(x * x + y * y + z * z + w * w)
+    if w < 0.0:
+        n = -n
+    return x / n, y / n, z / n, w / n
+
+
+def walk(skeleton: Skeleton, markers: object) -> Walk:
+    """The walk of ``skeleton`` following ``markers`` (n, 3): the marker at each tick
+    ``k / RATE`` (its y the ground height).
+
+    >>> path = np.c_[np.zeros(360), np.zeros(360), np.minimum(np.arange(360), 240) * 1.4 / RATE]
+    >>> w = walk(humanoid(), path)
+    >>> w.rotations.shape, w.stance[-1].tolist(), w.behind
+    ((360, 21, 4), [True, True], [])
+    """
+    m = np.asarray(markers, dtype=float)
+    if m.ndim != 2 or m.shape[1] != 3 or len(m) == 0:
+        raise ArgumentError("markers", f"must be (n, 3) with n >= 1, got shape {m.shape}")
+    bad = np.flatnonzero(~np.isfinite(m).all(axis=1))
+    if len(bad):
+        raise ArgumentError("markers", f"marker {bad[0]} is not finite")
+    n = len(m)
+    state = start(skeleton, m[0])
+    rotations = np.empty((n, len(skeleton), 4))
+    root = np.empty((n, 3))
+    stance = np.empty((n, 2), bool)
+    behind: list[tuple[float, float, float]] = []
+    for k in range(n):
+        if k:
+            previous = state
+            state = advance(state, m[k])
+            if previous.behind_since >= 0 and state.behind_since < 0:
+                behind.append((previous.behind_since / RATE, k / RATE, previous.behind_speed))
+        rotations[k], root[k], stance[k] = state.rotations, state.root, state.stance
+    if state.behind_since >= 0:
+        behind.append((state.behind_since / RATE, (n - 1) / RATE, state.behind_speed))
+    return Walk(rotations, root, stance, behind)
