@@ -10,7 +10,7 @@ import * as THREE from 'three';
 import * as ik from './ik.js';
 
 /** The colours of a rig: the body, its joints, the goal (every rig's goal is this green), the tip line. */
-export const RIG_COLOURS = { body: 0xa9bdd8, joint: 0xeef2f7, base: 0x6b778c, goal: 0x3dff8f, line: 0x3dff8f };
+export const RIG_COLOURS = { body: 0x9fb6d6, joint: 0xf2cc8f, base: 0x7d8aa0, goal: 0x3dff8f, line: 0x3dff8f };
 /** Radius of the goal's ball, its ring, and the invisible ball that grabs it (scene units). */
 const GOAL = { ball: 0.06, ring: 0.14, grab: 0.17 };
 const UP = new THREE.Vector3(0, 1, 0);
@@ -34,8 +34,8 @@ export class ChainView {
     this.name = name;
     this.root = new THREE.Group();
     this.root.name = name;
-    this.body = new THREE.MeshStandardMaterial({ color: RIG_COLOURS.body, roughness: 0.5, metalness: 0.1 });
-    this.jointMaterial = new THREE.MeshStandardMaterial({ color: RIG_COLOURS.joint, roughness: 0.4 });
+    this.body = new THREE.MeshStandardMaterial({ color: RIG_COLOURS.body, roughness: 0.6, emissive: 0x1c2533 });
+    this.jointMaterial = new THREE.MeshStandardMaterial({ color: RIG_COLOURS.joint, roughness: 0.5, emissive: 0x2a2214 });
     this.base = new THREE.Mesh(new THREE.CylinderGeometry(0.2, 0.24, 0.05, 32), new THREE.MeshStandardMaterial({ color: RIG_COLOURS.base, roughness: 0.8 }));
     this.base.position.y = 0.025;
     this.base.userData = { object: name, attr: 'position' };
@@ -110,7 +110,7 @@ export class ChainView {
       // a taper from base to tip: joints a little wider than their segments
       const r = 0.07 - (0.035 * i) / n;
       this.joints[i].position.set(p[i * 3], p[i * 3 + 1], p[i * 3 + 2]);
-      this.joints[i].scale.setScalar(r * 1.25);
+      this.joints[i].scale.setScalar(r * 1.35);
       if (i === n) break;
       a.set(p[i * 3], p[i * 3 + 1], p[i * 3 + 2]);
       b.set(p[i * 3 + 3], p[i * 3 + 4], p[i * 3 + 5]);

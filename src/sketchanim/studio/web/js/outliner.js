@@ -11,7 +11,7 @@ import * as THREE from 'three';
 import { el } from './dom.js';
 import { placeInFront } from './placement.js';
 
-const ICONS = { object: '◼', light: '☀', camera: '◉', cue: '♪', chain: '⟟', walker: '☺' };
+const ICONS = { object: '◼', light: '☀', camera: '◉', cue: '♪', chain: '⚯', walker: '☺' };
 /** The room an object fills around its position, by kind (metres, at scale 1): a new object is placed clear of it. */
 const ROOM = { object: 0.75, light: 0.3, camera: 0.3, chain: 0.6, walker: 0.5 };
 /** The attribute that places an object, by kind (else `position`): a walker stands at its goal. */
@@ -56,9 +56,8 @@ export class Outliner {
       return button;
     });
     const head = el('div', { class: 'panel-head' }, 'Scene');
-    const adds = el('span', { class: 'outliner-adds' });
+    const adds = el('div', { class: 'outliner-tools' });
     adds.append(...this.addButtons);
-    head.append(adds);
     this.renameButton = el('button', { class: 'small', 'data-testid': 'object-rename', title: 'Rename the selected object (F2)' }, 'rename');
     this.renameButton.addEventListener('click', () => this.startRename());
     this.duplicateButton = el('button', { class: 'small', 'data-testid': 'object-duplicate', title: 'Duplicate the selected object with its tracks (Shift+D)' }, 'duplicate');
@@ -67,7 +66,7 @@ export class Outliner {
     this.deleteButton.addEventListener('click', () => { if (studio.selected) studio.removeObject(studio.selected); });
     const tools = el('div', { class: 'outliner-tools' });
     tools.append(this.renameButton, this.duplicateButton, this.deleteButton);
-    root.append(head, tools, this.list);
+    root.append(head, adds, tools, this.list);
     /** @type {{name: string, text: string, problem: string} | null} the object being renamed, the text typed, what is wrong with it */
     this.renaming = null;
     /** @type {{from: string, to: string} | null} a rename sent: its object is selected again under the new name */

@@ -58,7 +58,8 @@ const LIVE_MAX = RATE / 2;
  * @property {(goal: Float64Array) => any} first           the state of tick 0
  * @property {(state: any, goal: Float64Array) => any} next the state of the next tick
  * @property {(state: any) => Pose} pose                   a state's pose (not copied)
- * @property {(state: any) => [number, number, number][]} behind  where the goal outran the figure so far (s, s, m/s)
+ * @property {(state: any) => {since: number, speed: number} | null} lag  the tick since which the goal
+ *   outruns the figure and the fastest goal speed since (m/s), or null: it keeps up
  * @property {ReturnType<typeof ik.chainFromSlots>} [chain]        a chain's structure
  * @property {ReturnType<typeof walker.humanoid>} [skeleton]       a walker's
  */
@@ -83,7 +84,7 @@ export function chainMotion(lengths, limits, hinges) {
     chain, joints, next,
     first: (goal) => next({ pose: ik.rest(chain), goal: null }, goal),
     pose: (state) => ({ rotations: state.pose, root: null }),
-    behind: () => [],
+    lag: () => null,
   };
 }
 
@@ -102,7 +103,7 @@ export function walkerMotion(height) {
     first: (goal) => walker.start(skeleton, goal),
     next: (state, goal) => walker.advance(state, goal),
     pose: (state) => ({ rotations: state.rotations, root: state.root }),
-    behind: (state) => state.behind ?? [],
+    lag: (state) => (state.behindSince >= 0 ? { since: state.behindSince, speed: state.behindSpeed } : null),
   };
 }
 
@@ -189,6 +190,8 @@ export class PoseCache {
     this.checkpoints = [];
     /** @type {any} the state of the last tick cached */
     this.state = null;
+    /** @type {[number, number, number][]} the spans the goal outran the figure, ended so far (s, s, m/s; as walk.js `walk`) */
+    this.behind = [];
     this.goal = new Float64Array(3);
   }
 
@@ -207,12 +210,23 @@ export class PoseCache {
     const m = this.motion;
     for (let i = this.count; i <= to; i++) {
       const goal = this.sample(i, this.goal);
+      const lag = i === 0 ? null : m.lag(this.state);
       this.state = i === 0 ? m.first(goal) : m.next(this.state, goal);
+      if (lag && !m.lag(this.state)) this.behind.push([lag.since / RATE, i / RATE, lag.speed]);
       if (i % CHECKPOINT === 0) this.checkpoints.push(structuredClone(this.state));
       const pose = m.pose(this.state);
       this.rotations.push(Float64Array.from(pose.rotations));
       if (pose.root) this.roots.push(Float64Array.from(pose.root));
     }
+  }
+
+  /**
+   * Where the goal outran the figure over the ticks cached (a span still open ends at the last).
+   * @returns {[number, number, number][]}
+   */
+  spans() {
+    const lag = this.count ? this.motion.lag(this.state) : null;
+    return lag ? [...this.behind, [lag.since / RATE, (this.count - 1) / RATE, lag.speed]] : [...this.behind];
   }
 
   /**
@@ -391,17 +405,20 @@ export class Rigs {
   }
 
   /**
-   * Where a walker's goal outran its fastest run, up to `until` seconds (simulated that far).
+   * Where a walker's goal outran its fastest run, over `until` seconds at least: simulated that
+   * far, `most` ticks more at most this call (null: not there yet; call again).
    * @param {string} name
    * @param {number} until
-   * @returns {[number, number, number][]}
+   * @param {number} [most]
+   * @returns {[number, number, number][] | null}
    */
-  behindUntil(name, until) {
+  behindUntil(name, until, most = Infinity) {
     const rig = this.rigs.get(name);
     if (!rig) return [];
     this.refresh(rig);
     if (!rig.cache || !rig.motion) return [];
-    rig.cache.ensure(Math.ceil(Math.max(until, 0) * RATE));
-    return rig.motion.behind(rig.cache.state);
+    const want = Math.ceil(Math.max(until, 0) * RATE);
+    rig.cache.ensure(Math.min(want, rig.cache.count + most - 1));
+    return rig.cache.count > want ? rig.cache.spans() : null;
   }
 }

@@ -45,6 +45,8 @@ const PAD_REST = 0.3;
  * @property {ChainView | WalkerView} [rig]  a chain's or a walker's drawing
  */
 
+/** Ticks of a walker's walk simulated ahead each frame (about 2 ms) until its goal's track is covered. */
+const AHEAD = 24;
 /** The attribute the translate gizmo and the body's drag move, by kind (else `position`). */
 const MOVES = { walker: 'goal' };
 
@@ -134,7 +136,6 @@ export class Viewport {
     studio.signals.on('selection', () => this.showSelection());
     studio.signals.on('frame', () => this.poll());
     studio.signals.on('frame', (now) => this.pose(now));
-    studio.signals.on('tracks', () => this.tellBehind());
     this.bones = new Bones(this);       // after build's 'state' handler: the nodes are there
     this.bind();
     new ResizeObserver(() => this.resize()).observe(container);
@@ -201,7 +202,6 @@ export class Viewport {
     if (!this.aimed) this.aim();
     this.pose(performance.now());
     this.showSelection();
-    this.tellBehind();
   }
 
   /** Look at the box (or the scene's first object) from the front, once. */
@@ -292,20 +292,25 @@ export class Viewport {
       if (rig instanceof ChainView) {
         rig.show(motion?.chain ?? null, pose);
         rig.face(this.camera);
-      } else rig.show(motion?.skeleton ?? null, pose);
+      } else {
+        rig.show(motion?.skeleton ?? null, pose);
+        this.tellBehind(node.name);
+      }
     }
   }
 
-  /** A notice for each walker whose marker outruns its fastest run (once per change of what it says). */
-  tellBehind() {
-    for (const node of this.nodes.values()) {
-      if (node.kind !== 'walker') continue;
-      const curve = this.studio.tracks.get(`${node.name}.goal`);
-      const spans = curve?.kind === 'curve' ? this.rigs.behindUntil(node.name, curve.end + 1) : [];
-      const text = spans.length ? behindText(node.name, spans) : '';
-      if (text && text !== this.told.get(node.name)) this.studio.tell('warning', text, 'walker');
-      this.told.set(node.name, text);
-    }
+  /**
+   * A notice when a walker's marker outruns its fastest run (once per change of what it says):
+   * its walk simulated a second past its goal's track, AHEAD ticks a frame (no hitch after a take).
+   * @param {string} name
+   */
+  tellBehind(name) {
+    const curve = this.studio.tracks.get(`${name}.goal`);
+    const spans = curve?.kind === 'curve' ? this.rigs.behindUntil(name, curve.end + 1, AHEAD) : [];
+    if (!spans) return;
+    const text = spans.length ? behindText(name, spans) : '';
+    if (text && text !== this.told.get(name)) this.studio.tell('warning', text, 'walker');
+    this.told.set(name, text);
   }
 
   /**
