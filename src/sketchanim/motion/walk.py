@@ -21,7 +21,8 @@ quaternions as :mod:`sketchanim.motion.skeleton`'s, ``world = parent * local``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -44,14 +45,23 @@ RUN_CONTACT = 0.8
 #: The velocity's smoothing time constant, seconds.
 SMOOTHING = 0.15
 #: Fastest turn, rad/s.
-TURN_RATE = 2.0
+TURN_RATE = 3.0
+#: While the body turns (its heading or a planted foot's yaw more than ``DRIFT_YAW`` off
+#: the path's) or stands still, the feet step at least at the cadence of this relative speed.
+RV_TURN = 2.0
 #: Slowest speed the body turns to face, relative (v / H).
 RV_FACE = 0.1
 #: Least drift (in leg lengths) that makes a planted foot step, and the yaw drift (rad).
 DRIFT_MIN = 0.09
 DRIFT_YAW = 0.35
+#: The least drift (leg lengths) once the body is still (slower than ``RV_FACE``): the
+#: stop steps that bring the feet under the hips.
+DRIFT_SETTLE = 0.04
 #: Shortest time a foot stays planted, seconds.
 STANCE_MIN = 0.1
+#: A walking foot drifted this far past its threshold lifts as soon as the other foot has
+#: been planted ``STANCE_MIN``, not waiting for half a cycle since the other lifted.
+OVERDUE = 1.1
 #: Where a foot lands: this fraction of its stance's travel short of centred under its hip
 #: (it lifts as far past centred plus this), as a heel strike lands nearer than a toe-off leaves.
 LAND_SHIFT = 0.15
@@ -164,12 +174,11 @@ def rig(skeleton: Skeleton) -> Rig:
 NEVER = -1000000
 
 
-@dataclass(frozen=True)
-class Foot:
+class Foot(NamedTuple):
     """One foot: its ankle's world position were the foot flat, its yaw and the pitch of
     its heel's rise about the toe (rad); planted since tick ``landed``, or swinging since
     tick ``lifted`` from ankle ``lift_at`` (heel risen ``lift_pitch``) and ``lift_yaw`` for
-    ``swing`` seconds."""
+    ``swing`` seconds, the hips then held down to ``lift_height`` by its reach."""
 
     ankle: Vec
     yaw: float
@@ -181,6 +190,7 @@ class Foot:
     lift_yaw: float
     lift_pitch: float
     swing: float
+    lift_height: float
 
 
 @dataclass(frozen=True)
@@ -243,7 +253,8 @@ class Walk:
     stance : ndarray of bool, shape (n, 2)
         Left, right foot planted.
     behind : list of (float, float, float)
-        ``(start s, end s, fastest path speed m/s)`` where the path outran the fastest run.
+        ``(start s, end s, fastest path speed m/s)`` where the path outran the fastest run:
+        the first and the last tick's time the body was behind the marker.
     """
 
     rotations: np.ndarray
@@ -253,10 +264,14 @@ class Walk:
 
 
 def _marker(marker: object) -> Vec:
-    m = np.asarray(marker, dtype=float)
-    if m.shape != (3,) or not np.isfinite(m).all():
+    try:
+        x, y, z = marker  # type: ignore[misc]
+        m = float(x), float(y), float(z)
+    except (TypeError, ValueError):
+        m = (math.nan,)  # type: ignore[assignment]
+    if not all(math.isfinite(v) for v in m):
         raise ArgumentError("marker", f"must be 3 finite numbers, got {marker!r}")
-    return float(m[0]), float(m[1]), float(m[2])
+    return m
 
 
 def start(skeleton: Skeleton, marker: object) -> WalkState:
@@ -269,11 +284,11 @@ def start(skeleton: Skeleton, marker: object) -> WalkState:
     """
     r = rig(skeleton)
     m = _marker(marker)
-    feet = tuple(Foot(a, 0.0, 0.0, True, 0, NEVER, a, 0.0, 0.0, 0.0) for a in (
+    feet = tuple(Foot(a, 0.0, 0.0, True, 0, NEVER, a, 0.0, 0.0, 0.0, 0.0) for a in (
         (m[0] + r.hip[i][0], m[1] + r.ankle, m[2] + r.hip[i][2]) for i in (0, 1)))
     state = WalkState(r, 0, m, (0.0, 0.0), 0.0, feet, m, -1, 0.0,  # type: ignore[arg-type]
                       np.zeros((r.joints, 4)), np.zeros(3))
-    return _posed(state, 0.0)
+    return _posed(state, state.feet, 0.0)
 
 
 def advance(state: WalkState, marker: object) -> WalkState:
@@ -312,15 +327,17 @@ def advance(state: WalkState, marker: object) -> WalkState:
     vz = state.velocity[1] + a * ((nz - bz) * RATE - state.velocity[1])
     speed = math.sqrt(vx * vx + vz * vz)
     heading = state.heading
+    turning = speed <= RV_FACE * r.leg                 # (or still: settling steps are brisk too)
     if speed > RV_FACE * r.leg:
         turn = _wrap(math.atan2(vx, vz) - heading)
         step = TURN_RATE * dt
         heading = _wrap(heading + min(max(turn, -step), step))
-    g = gait(speed, r.leg)
-    moved = replace(state, tick=tick, body=body, velocity=(vx, vz), heading=heading, marker=m,
-                    behind_since=since, behind_speed=fastest)
-    feet = _step_feet(moved, g)
-    return _posed(replace(moved, feet=feet), speed)
+        turning = abs(turn) > DRIFT_YAW
+    for f in state.feet:
+        turning = turning or f.planted and abs(_wrap(heading - f.yaw)) > DRIFT_YAW
+    g = gait(speed, r.leg, RV_TURN * r.leg if turning else 0.0)
+    moved = WalkState(r, tick, body, (vx, vz), heading, state.feet, m, since, fastest, state.rotations, state.root)
+    return _posed(moved, _step_feet(moved, g), speed)
 
 
 @dataclass(frozen=True)
@@ -335,10 +352,12 @@ class Gait:
     drift: float
 
 
-def gait(speed: float, leg: float) -> Gait:
+def gait(speed: float, leg: float, pace: float = 0.0) -> Gait:
     """Boulic's walking cycle at ``speed`` m/s for legs ``leg`` m long: cycle length
-    ``1.346 sqrt(v / H) H``, so duration ``1.346 sqrt(H / v)`` (held below ``RV_SLOW``), stance
-    ``0.752 cycle - 0.143`` s; above ``RV_RUN`` a run, stance ``RUN_CONTACT H / v``.
+    ``1.346 sqrt(v / H) H``, so duration ``1.346 sqrt(H / v)`` (timed as at ``RV_SLOW H``
+    below it, and at ``pace`` m/s below that), stance ``0.752 cycle - 0.143`` s; above
+    ``RV_RUN`` a run, stance ``RUN_CONTACT H / v``. The drift that makes a foot step is the
+    body's travel in a stance (at least ``DRIFT_MIN H``, ``DRIFT_SETTLE H`` when still).
 
     >>> g = gait(1.4, 0.9275)
     >>> round(g.cycle, 4), round(g.stance, 4), round(g.swing, 4), g.run
@@ -346,6 +365,7 @@ def gait(speed: float, leg: float) -> Gait:
     """
     slow = RV_SLOW * leg
     v = speed if speed > slow else slow
+    v = pace if pace > v else v
     cycle = CYCLE * math.sqrt(leg / v)
     if speed > RV_RUN * leg:
         stance = RUN_CONTACT * leg / v
@@ -354,7 +374,7 @@ def gait(speed: float, leg: float) -> Gait:
         stance = 0.752 * cycle - 0.143
         run = False
     drift = speed * stance
-    least = DRIFT_MIN * leg
+    least = (DRIFT_MIN if speed > RV_FACE * leg else DRIFT_SETTLE) * leg
     return Gait(cycle, stance, cycle - stance, run, drift if drift > least else least)
 
 
@@ -394,15 +414,16 @@ def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
     """The feet one tick on: swings advance (landing when done); a planted foot lifts when
     out of reach, or when it has drifted past the gait's threshold -- or the other foot
     will have half a cycle on, this one having drifted further -- and the other foot lets
-    it: planted (walking) and lifted half a cycle ago (walking and running)."""
+    it: planted (walking) and lifted half a cycle ago (walking and running), or planted a
+    moment when this one is overdue."""
     feet = list(state.feet)
     land = g.stance * (0.5 - LAND_SHIFT)
     for i in (0, 1):
         f = feet[i]
         if not f.planted and (state.tick - f.lifted) / RATE >= f.swing:
             spot = _rest_spot(state, i, land)
-            feet[i] = replace(f, ankle=(spot[0], state.body[1] + state.rig.ankle, spot[1]), yaw=state.heading,
-                              pitch=0.0, planted=True, landed=state.tick)
+            feet[i] = f._replace(ankle=(spot[0], state.body[1] + state.rig.ankle, spot[1]), yaw=state.heading,
+                                 pitch=0.0, planted=True, landed=state.tick)
     ratios = [0.0, 0.0]
     later = [0.0, 0.0]
     for i in (0, 1):
@@ -424,10 +445,12 @@ def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
         forced = _reach_height(state, i, _ankle(state.rig, f)) < _floor(state)
         wants = (ratios[i] >= 1.0 or later[1 - i] >= 1.0 and ratios[i] >= ratios[1 - i]) and \
             (state.tick - f.landed) / RATE >= STANCE_MIN
-        free = (other.planted or g.run) and (state.tick - other.lifted) / RATE >= g.cycle / 2.0
+        free = (other.planted or g.run) and (state.tick - other.lifted) / RATE >= g.cycle / 2.0 or \
+            other.planted and ratios[i] >= OVERDUE and (state.tick - other.landed) / RATE >= STANCE_MIN
         if forced or (wants and free):
-            feet[i] = replace(f, planted=False, lifted=state.tick, lift_at=_ankle(state.rig, f), lift_yaw=f.yaw,
-                              lift_pitch=f.pitch, swing=g.swing)
+            ankle = _ankle(state.rig, f)
+            feet[i] = f._replace(planted=False, lifted=state.tick, lift_at=ankle, lift_yaw=f.yaw, lift_pitch=f.pitch,
+                                 swing=g.swing, lift_height=_reach_height(state, i, ankle))
     for i in (0, 1):
         f = feet[i]
         if not f.planted:
@@ -485,12 +508,12 @@ def _swung(state: WalkState, side: int, f: Foot, g: Gait) -> Foot:
     y = state.body[1] + state.rig.ankle
     ankle = (lx + (spot[0] - lx) * e, ly + (y - ly) * e + CLEARANCE * state.rig.leg * 4.0 * s * (1.0 - s),
              lz + (spot[1] - lz) * e)
-    return replace(f, ankle=ankle, yaw=f.lift_yaw + _wrap(state.heading - f.lift_yaw) * e,
-                   pitch=f.lift_pitch * (1.0 - e))
+    return f._replace(ankle=ankle, yaw=f.lift_yaw + _wrap(state.heading - f.lift_yaw) * e,
+                      pitch=f.lift_pitch * (1.0 - e))
 
 
-def _posed(state: WalkState, speed: float) -> WalkState:
-    """``state`` with the pose of its feet and body: the hips at the body, as high as
+def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkState:
+    """``state`` with feet ``placed`` and the pose of its feet and body: the hips at the body, as high as
     the feet's reach lets them (at most the crouched rest height, at least the floor),
     two-bone IK on each leg, the spine leaning with speed, the arms swinging against the
     legs."""
@@ -499,25 +522,32 @@ def _posed(state: WalkState, speed: float) -> WalkState:
     s, c = math.sin(state.heading), math.cos(state.heading)
     top = b[1] + r.pelvis - (1.0 - CROUCH) * (r.thigh + r.shin)
     y = top
-    feet = list(state.feet)
+    feet = list(placed)
     for i in (0, 1):
         f = feet[i]
         if f.planted:
             hx, hy, hz = r.hip[i]
-            feet[i] = replace(f, pitch=_heel(r, f, (b[0] + c * hx + s * hz, top + hy, b[2] - s * hx + c * hz)))
+            feet[i] = f._replace(pitch=_heel(r, f, (b[0] + c * hx + s * hz, top + hy, b[2] - s * hx + c * hz)))
     low = _floor(state)
     for i in (0, 1):
         f = feet[i]
-        h = _reach_height(state, i, _ankle(r, f))
+        if f.planted:
+            h = _reach_height(state, i, _ankle(r, f))
+        else:                          # a swing lets the hips up from where it lifted, then down to where it lands
+            e = 2.0 * (state.tick - f.lifted) / RATE / f.swing
+            if e < 1.0:
+                h = f.lift_height
+                e = e * e * (3.0 - 2.0 * e)
+            else:
+                h = _reach_height(state, i, _ankle(r, f))
+                e = 2.0 - e
+                e = 0.0 if e < 0.0 else e * e * (3.0 - 2.0 * e)
+            h = low if h < low else h
+            h = top if h > top else h
+            h = h + (top - h) * e
         h = low if h < low else h
-        if not f.planted:                          # a swing holds the hips down only as it lifts and lands
-            e = (state.tick - f.lifted) / RATE / f.swing
-            e = 1.0 if e > 1.0 else e
-            e = e * e * (3.0 - 2.0 * e)
-            h = top + (h - top) * (1.0 - 4.0 * e * (1.0 - e))
         y = h if h < y else y
-    q = np.zeros((r.joints, 4))
-    q[:, 3] = 1.0
+    q = [(0.0, 0.0, 0.0, 1.0)] * r.joints
     half = 0.5 * state.heading
     sh, ch = math.sin(half), math.cos(half)
     q[r.index[0]] = (0.0, sh, 0.0, ch)
@@ -543,7 +573,8 @@ def _posed(state: WalkState, speed: float) -> WalkState:
         swing = ARM_MAX if swing > ARM_MAX else -ARM_MAX if swing < -ARM_MAX else swing
         q[r.index[2 + i]] = (-math.sin(0.5 * swing), 0.0, 0.0, math.cos(0.5 * swing))
         q[r.index[4 + i]] = (-math.sin(0.5 * elbow), 0.0, 0.0, math.cos(0.5 * elbow))
-    return replace(state, feet=(feet[0], feet[1]), rotations=q, root=np.array([b[0], y, b[2]]))
+    return WalkState(r, state.tick, b, state.velocity, state.heading, (feet[0], feet[1]), state.marker,
+                     state.behind_since, state.behind_speed, np.array(q), np.array((b[0], y, b[2])))
 
 
 Frame = tuple[Vec, Vec, Vec]
@@ -597,8 +628,9 @@ def _bone(down: Vec, front: Vec) -> Frame:
 def _local(parent: Frame, child: Frame) -> Frame:
     """The child's frame in the parent's: columns ``parent^T child``; returned as the
     rotation's columns too."""
-    return tuple(tuple(parent[i][0] * child[j][0] + parent[i][1] * child[j][1] + parent[i][2] * child[j][2]
-                       for i in range(3)) for j in range(3))  # type: ignore[return-value]
+    (a, b, c), (d, e, f), (g, h, k) = parent
+    return tuple((a * x + b * y + c * z, d * x + e * y + f * z, g * x + h * y + k * z)
+                 for x, y, z in child)  # type: ignore[return-value]
 
 
 def _quat(m: Frame) -> tuple[float, float, float, float]:
@@ -629,10 +661,10 @@ def walk(skeleton: Skeleton, markers: object) -> Walk:
     """The walk of ``skeleton`` following ``markers`` (n, 3): the marker at each tick
     ``k / RATE`` (its y the ground height).
 
-    >>> path = np.c_[np.zeros(360), np.zeros(360), np.minimum(np.arange(360), 240) * 1.4 / RATE]
+    >>> path = np.c_[np.zeros(600), np.zeros(600), np.minimum(np.arange(600), 240) * 1.4 / RATE]
     >>> w = walk(humanoid(), path)
     >>> w.rotations.shape, w.stance[-1].tolist(), w.behind
-    ((360, 21, 4), [True, True], [])
+    ((600, 21, 4), [True, True], [])
     """
     m = np.asarray(markers, dtype=float)
     if m.ndim != 2 or m.shape[1] != 3 or len(m) == 0:
@@ -641,7 +673,8 @@ def walk(skeleton: Skeleton, markers: object) -> Walk:
     if len(bad):
         raise ArgumentError("markers", f"marker {bad[0]} is not finite")
     n = len(m)
-    state = start(skeleton, m[0])
+    rows = m.tolist()
+    state = start(skeleton, rows[0])
     rotations = np.empty((n, len(skeleton), 4))
     root = np.empty((n, 3))
     stance = np.empty((n, 2), bool)
@@ -649,9 +682,9 @@ def walk(skeleton: Skeleton, markers: object) -> Walk:
     for k in range(n):
         if k:
             previous = state
-            state = advance(state, m[k])
+            state = advance(state, rows[k])
             if previous.behind_since >= 0 and state.behind_since < 0:
-                behind.append((previous.behind_since / RATE, k / RATE, previous.behind_speed))
+                behind.append((previous.behind_since / RATE, (k - 1) / RATE, previous.behind_speed))
         rotations[k], root[k], stance[k] = state.rotations, state.root, state.stance
     if state.behind_since >= 0:
         behind.append((state.behind_since / RATE, (n - 1) / RATE, state.behind_speed))

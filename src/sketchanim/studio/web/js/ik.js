@@ -37,12 +37,12 @@ const MAX_TURN = 0.1;
 const EPS = 0.05;
 /** The damping at a zero singular value (in reaches). */
 const DAMPING = 0.05;
-/** The damping of the rest bias's projection (in reaches): near-exact null-space projection. */
-const PROJECTION = 1e-3;
 /** The rest bias's gain per iteration. */
 const BIAS = 0.05;
-/** Goals farther than (1 - BAND) reaches bias the chain toward straight, not the rest bend. */
+/** Goals from 1 to 1 + BAND reaches out turn the rest bias from the rest bend to straight. */
 const BAND = 0.05;
+/** The share of the damping the bias's projection keeps while the goal is in reach. */
+const PROJECTED = 0.01;
 /** Bisection steps pulling a tick back that would move the effector beyond its allowance. */
 const BACKOFF = 12;
 
@@ -67,10 +67,13 @@ const BACKOFF = 12;
  * @property {Float64Array} world   Scratch: world rotations (n * 4).
  * @property {Float64Array} turn    Scratch: each joint's update (n * 3).
  * @property {Float64Array} bias    Scratch: each joint's rest bias (n * 3, world).
- * @property {Float64Array} cols    Scratch: a hinge's Jacobian column, a ball's lever (n * 3).
+ * @property {Float64Array} cols    Scratch: a hinge's Jacobian column, a ball's lever r = E - P (n * 3).
  * @property {Float64Array} a       Scratch: J J^T (3 x 3).
  * @property {Float64Array} v       Scratch: its eigenvectors (columns).
  * @property {Float64Array} back    Scratch: a pose pulled back.
+ * @property {Float64Array} trial   Scratch: a pose updated, before the limits.
+ * @property {Uint8Array} skip      Scratch: the joints an iteration holds at their limit.
+ * @property {Float64Array} local   Scratch: a turn in a parent's frame.
  */
 
 /**
@@ -119,7 +122,7 @@ function prepare(chain) {
     sinLim: new Float64Array(n), restX: new Float64Array(n), restW: new Float64Array(n), reach: 0,
     pos: new Float64Array((n + 1) * 3), world: new Float64Array(n * 4), turn: new Float64Array(n * 3),
     bias: new Float64Array(n * 3), cols: new Float64Array(n * 3), a: new Float64Array(9), v: new Float64Array(9),
-    back: new Float64Array(n * 4),
+    back: new Float64Array(n * 4), trial: new Float64Array(n * 4), skip: new Uint8Array(n), local: new Float64Array(3),
   };
   for (let i = 0; i < n; i++) {
     const limit = chain.limits[i];
@@ -127,14 +130,34 @@ function prepare(chain) {
       throw new Error(`chain: joint ${i} has length ${chain.lengths[i]} and limit ${limit}, need > 0 and (0, pi]`);
     }
     p.hinge[i] = chain.hinges[i] ? 1 : 0;
-    p.cosLim[i] = Math.cos(0.5 * limit);
-    p.sinLim[i] = Math.sin(0.5 * limit);
-    const bend = i === 0 ? 0 : Math.min(CURL / (n - 1), 0.5 * limit);
-    p.restX[i] = Math.sin(0.5 * bend);
-    p.restW[i] = Math.cos(0.5 * bend);
+    [p.cosLim[i], p.sinLim[i]] = halfTurn(limit);
+    // The rest bend as an update turns a joint (below): by 2 atan(bend / 2), nearly bend.
+    const h = 0.5 * (i === 0 ? 0 : Math.min(CURL / (n - 1), 0.5 * limit));
+    const hn = Math.sqrt(h * h + 1);
+    p.restX[i] = h / hn;
+    p.restW[i] = 1 / hn;
     p.reach += chain.lengths[i];
   }
   return p;
+}
+
+/**
+ * cos and sin of half an angle in [0, pi], by their Taylor series to 1e-16 (arithmetic alone,
+ * so that the page and the model, whose libraries' cos may differ in the last bit, agree to
+ * the bit: a chain at a bifurcation, folding toward a goal behind it, would amplify that bit).
+ * @param {number} angle
+ * @returns {[number, number]}
+ */
+function halfTurn(angle) {
+  const x = 0.5 * angle, x2 = x * x;
+  let c = 1, s = x, tc = 1, ts = x;
+  for (let k = 1; k <= 12; k++) {
+    tc = -tc * x2 / ((2 * k - 1) * (2 * k));
+    ts = -ts * x2 / ((2 * k) * (2 * k + 1));
+    c += tc;
+    s += ts;
+  }
+  return [c, s];
 }
 
 /**
@@ -251,77 +274,60 @@ function clampJoint(p, q, i) {
 }
 
 /**
- * One damped least-squares iteration of q toward the target (tx, ty, tz).
+ * The damped least-squares update of every joint not skipped (p.turn: a hinge's angle, a
+ * ball's world rotation vector; skipped joints 0), for the error (dx, dy, dz), with p.cols,
+ * p.bias and p.lever as `iterate` left them. Returns the factor that holds every joint's
+ * turn to MAX_TURN.
  * @param {Prepared} p
- * @param {Float64Array} q  Updated in place.
- * @param {number} tx
- * @param {number} ty
- * @param {number} tz
- * @param {number} keep  How much of the rest bend the bias keeps (1: all, 0: straight).
+ * @param {number} dx
+ * @param {number} dy
+ * @param {number} dz
+ * @param {Uint8Array} skip
+ * @param {number} keep  As `iterate`'s.
+ * @returns {number}
  */
-function iterate(p, q, tx, ty, tz, keep) {
-  const n = p.n, pos = p.pos, world = p.world, bias = p.bias, cols = p.cols, turn = p.turn, a = p.a;
-  const reach = p.reach;
-  forward(p, q);
-  const ex = pos[3 * n], ey = pos[3 * n + 1], ez = pos[3 * n + 2];
-  let dx = tx - ex, dy = ty - ey, dz = tz - ez;
-  const dn = Math.sqrt(dx * dx + dy * dy + dz * dz);
-  if (dn > STEP * reach) {
-    const f = STEP * reach / dn;
-    dx *= f; dy *= f; dz *= f;
-  }
+function dls(p, dx, dy, dz, skip, keep) {
+  const n = p.n, bias = p.bias, cols = p.cols, turn = p.turn, a = p.a, reach = p.reach;
   a.fill(0);
   let jx = 0, jy = 0, jz = 0;          // J z: the rest bias's effector motion
   for (let i = 0; i < n; i++) {
-    const rx = ex - pos[3 * i], ry = ey - pos[3 * i + 1], rz = ez - pos[3 * i + 2];
-    const k = 4 * i;
-    const sign = q[k + 3] < 0 ? -2 : 2;
+    if (skip[i]) continue;
+    const cx = cols[3 * i], cy = cols[3 * i + 1], cz = cols[3 * i + 2];
+    const bx = bias[3 * i], by = bias[3 * i + 1], bz = bias[3 * i + 2];
     if (p.hinge[i]) {
-      const wx = world[k], wy = world[k + 1], wz = world[k + 2], ww = world[k + 3];
-      // The hinge's world axis: the first column of its world rotation.
-      const ax = 1 - 2 * (wy * wy + wz * wz), ay = 2 * (wx * wy + ww * wz), az = 2 * (wx * wz - ww * wy);
-      const cx = ay * rz - az * ry, cy = az * rx - ax * rz, cz = ax * ry - ay * rx;
-      cols[3 * i] = cx; cols[3 * i + 1] = cy; cols[3 * i + 2] = cz;
       a[0] += cx * cx; a[1] += cx * cy; a[2] += cx * cz;
       a[4] += cy * cy; a[5] += cy * cz; a[8] += cz * cz;
-      const z = -BIAS * (sign * q[k] - keep * 2 * p.restX[i]);
-      bias[3 * i] = z;
-      jx += z * cx; jy += z * cy; jz += z * cz;
+      jx += bx * cx; jy += bx * cy; jz += bx * cz;
     } else {
-      cols[3 * i] = rx; cols[3 * i + 1] = ry; cols[3 * i + 2] = rz;
-      // Its three world-axis columns w x r give |r|^2 I - r r^T.
-      const rr = rx * rx + ry * ry + rz * rz;
-      a[0] += rr - rx * rx; a[1] -= rx * ry; a[2] -= rx * rz;
-      a[4] += rr - ry * ry; a[5] -= ry * rz; a[8] += rr - rz * rz;
-      const lx = -BIAS * (sign * q[k] - keep * 2 * p.restX[i]);
-      const ly = -BIAS * (sign * q[k + 1]);
-      const lz = -BIAS * (sign * q[k + 2]);
-      if (i === 0) {
-        bias[0] = lx; bias[1] = ly; bias[2] = lz;
-      } else {
-        rotate(world, k - 4, false, lx, ly, lz, bias, 3 * i);
-      }
-      const bx = bias[3 * i], by = bias[3 * i + 1], bz = bias[3 * i + 2];
-      jx += by * rz - bz * ry; jy += bz * rx - bx * rz; jz += bx * ry - by * rx;
+      // Its three world-axis columns w x r (r = cols) give |r|^2 I - r r^T.
+      const rr = cx * cx + cy * cy + cz * cz;
+      a[0] += rr - cx * cx; a[1] -= cx * cy; a[2] -= cx * cz;
+      a[4] += rr - cy * cy; a[5] -= cy * cz; a[8] += rr - cz * cz;
+      jx += by * cz - bz * cy; jy += bz * cx - bx * cz; jz += bx * cy - by * cx;
     }
   }
   a[3] = a[1]; a[6] = a[2]; a[7] = a[5];
   jacobi(p);
   const v = p.v;
   const eps2 = EPS * reach * EPS * reach, damp2 = DAMPING * reach * DAMPING * reach;
-  const mu2 = PROJECTION * reach * PROJECTION * reach;
+  // The bias's own motion is taken out with less damping (PROJECTED of it) while the goal is
+  // in reach, so that it does not pull a reachable goal's effector off it; with all of it
+  // beyond, so that the bias straightens a chain the error alone barely can (it is singular).
+  const projected = PROJECTED + (1 - PROJECTED) * (1 - keep);
   let yx = 0, yy = 0, yz = 0;
   for (let m = 0; m < 3; m++) {
     const s = Math.max(a[4 * m], 0);
     const lambda2 = s < eps2 ? damp2 * (1 - s / eps2) : 0;
     const ux = v[m], uy = v[3 + m], uz = v[6 + m];
-    const g = (ux * dx + uy * dy + uz * dz) / (s + lambda2) - (ux * jx + uy * jy + uz * jz) / (s + mu2);
+    const g = (ux * dx + uy * dy + uz * dz) / (s + lambda2) - (ux * jx + uy * jy + uz * jz) / (s + projected * lambda2);
     yx += g * ux; yy += g * uy; yz += g * uz;
   }
   let most = 0;
   for (let i = 0; i < n; i++) {
     const cx = cols[3 * i], cy = cols[3 * i + 1], cz = cols[3 * i + 2];
-    if (p.hinge[i]) {
+    if (skip[i]) {
+      turn[3 * i] = 0; turn[3 * i + 1] = 0; turn[3 * i + 2] = 0;
+    } else if (p.hinge[i]) {
       const d = bias[3 * i] + (cx * yx + cy * yy + cz * yz);
       turn[3 * i] = d;
       most = Math.max(most, Math.abs(d));
@@ -334,35 +340,114 @@ function iterate(p, q, tx, ty, tz, keep) {
       most = Math.max(most, Math.sqrt(ox * ox + oy * oy + oz * oz));
     }
   }
-  const scale = most > MAX_TURN ? MAX_TURN / most : 1;
+  return most > MAX_TURN ? MAX_TURN / most : 1;
+}
+
+/**
+ * Joint i of q turned by scale * p.turn (not yet held to its limit) into out[4i..4i+3].
+ * @param {Prepared} p
+ * @param {Float64Array} q
+ * @param {number} i
+ * @param {number} scale
+ * @param {Float64Array} out
+ */
+function turned(p, q, i, scale, out) {
+  const k = 4 * i, turn = p.turn;
+  const x = q[k], y = q[k + 1], z = q[k + 2], w = q[k + 3];
+  if (p.hinge[i]) {
+    const h = 0.5 * scale * turn[3 * i];
+    const hn = Math.sqrt(h * h + 1);
+    const hx = h / hn, hw = 1 / hn;
+    const nx = hx * w + hw * x, nw = hw * w - hx * x;
+    const norm = Math.sqrt(nx * nx + nw * nw);
+    out[k] = nx / norm; out[k + 1] = 0; out[k + 2] = 0; out[k + 3] = nw / norm;
+    return;
+  }
+  // The world turn in the parent's frame, then applied on the left of the local rotation.
+  let ox = scale * turn[3 * i], oy = scale * turn[3 * i + 1], oz = scale * turn[3 * i + 2];
+  if (i > 0) {
+    rotate(p.world, k - 4, true, ox, oy, oz, p.local, 0);
+    ox = p.local[0]; oy = p.local[1]; oz = p.local[2];
+  }
+  const hx0 = 0.5 * ox, hy0 = 0.5 * oy, hz0 = 0.5 * oz;
+  const hn = Math.sqrt(hx0 * hx0 + hy0 * hy0 + hz0 * hz0 + 1);
+  const hx = hx0 / hn, hy = hy0 / hn, hz = hz0 / hn, hw = 1 / hn;
+  const nx = hw * x + hx * w + hy * z - hz * y;
+  const ny = hw * y - hx * z + hy * w + hz * x;
+  const nz = hw * z + hx * y - hy * x + hz * w;
+  const nw = hw * w - hx * x - hy * y - hz * z;
+  const norm = Math.sqrt(nx * nx + ny * ny + nz * nz + nw * nw);
+  out[k] = nx / norm; out[k + 1] = ny / norm; out[k + 2] = nz / norm; out[k + 3] = nw / norm;
+}
+
+/**
+ * One damped least-squares iteration of q (in place) toward the target (tx, ty, tz). A joint
+ * the update would take past its limit is held where it is and the update solved again
+ * without it (once), so the others make up for it rather than pushing it in vain.
+ * @param {Prepared} p
+ * @param {Float64Array} q
+ * @param {number} tx
+ * @param {number} ty
+ * @param {number} tz
+ * @param {number} keep  How much of the rest bend the bias keeps (1: all, 0: straight).
+ */
+function iterate(p, q, tx, ty, tz, keep) {
+  const n = p.n, pos = p.pos, world = p.world, bias = p.bias, cols = p.cols, skip = p.skip, trial = p.trial;
+  forward(p, q);
+  const ex = pos[3 * n], ey = pos[3 * n + 1], ez = pos[3 * n + 2];
+  let dx = tx - ex, dy = ty - ey, dz = tz - ez;
+  const dn = Math.sqrt(dx * dx + dy * dy + dz * dz);
+  if (dn > STEP * p.reach) {
+    const f = STEP * p.reach / dn;
+    dx *= f; dy *= f; dz *= f;
+  }
   for (let i = 0; i < n; i++) {
+    const rx = ex - pos[3 * i], ry = ey - pos[3 * i + 1], rz = ez - pos[3 * i + 2];
     const k = 4 * i;
-    const x = q[k], y = q[k + 1], z = q[k + 2], w = q[k + 3];
+    const sign = q[k + 3] < 0 ? -2 : 2;
+    // The base points the chain: it is not biased upright when the goal is out of reach.
+    const gain = i === 0 ? -BIAS * keep : -BIAS;
+    skip[i] = 0;
     if (p.hinge[i]) {
-      const h = 0.5 * scale * turn[3 * i];
-      const hn = Math.sqrt(h * h + 1);
-      const hx = h / hn, hw = 1 / hn;
-      const nx = hx * w + hw * x, nw = hw * w - hx * x;
-      const norm = Math.sqrt(nx * nx + nw * nw);
-      q[k] = nx / norm; q[k + 1] = 0; q[k + 2] = 0; q[k + 3] = nw / norm;
+      const wx = world[k], wy = world[k + 1], wz = world[k + 2], ww = world[k + 3];
+      // The hinge's world axis: the first column of its world rotation; its column a x r.
+      const ax = 1 - 2 * (wy * wy + wz * wz), ay = 2 * (wx * wy + ww * wz), az = 2 * (wx * wz - ww * wy);
+      cols[3 * i] = ay * rz - az * ry; cols[3 * i + 1] = az * rx - ax * rz; cols[3 * i + 2] = ax * ry - ay * rx;
+      bias[3 * i] = gain * (sign * q[k] - keep * 2 * p.restX[i]);
+      bias[3 * i + 1] = 0; bias[3 * i + 2] = 0;
     } else {
-      // The world turn in the parent's frame, then applied on the left of the local rotation.
-      const ox = scale * turn[3 * i], oy = scale * turn[3 * i + 1], oz = scale * turn[3 * i + 2];
+      cols[3 * i] = rx; cols[3 * i + 1] = ry; cols[3 * i + 2] = rz;
+      const lx = gain * (sign * q[k] - keep * 2 * p.restX[i]);
+      const ly = gain * (sign * q[k + 1]);
+      const lz = gain * (sign * q[k + 2]);
       if (i === 0) {
-        turn[0] = ox; turn[1] = oy; turn[2] = oz;
+        bias[0] = lx; bias[1] = ly; bias[2] = lz;
       } else {
-        rotate(world, k - 4, true, ox, oy, oz, turn, 3 * i);
+        rotate(world, k - 4, false, lx, ly, lz, bias, 3 * i);
       }
-      const hx0 = 0.5 * turn[3 * i], hy0 = 0.5 * turn[3 * i + 1], hz0 = 0.5 * turn[3 * i + 2];
-      const hn = Math.sqrt(hx0 * hx0 + hy0 * hy0 + hz0 * hz0 + 1);
-      const hx = hx0 / hn, hy = hy0 / hn, hz = hz0 / hn, hw = 1 / hn;
-      const nx = hw * x + hx * w + hy * z - hz * y;
-      const ny = hw * y - hx * z + hy * w + hz * x;
-      const nz = hw * z + hx * y - hy * x + hz * w;
-      const nw = hw * w - hx * x - hy * y - hz * z;
-      const norm = Math.sqrt(nx * nx + ny * ny + nz * nz + nw * nw);
-      q[k] = nx / norm; q[k + 1] = ny / norm; q[k + 2] = nz / norm; q[k + 3] = nw / norm;
     }
+  }
+  let scale = dls(p, dx, dy, dz, skip, keep);
+  let held = false;
+  for (let i = 0; i < n; i++) {
+    turned(p, q, i, scale, trial);
+    if (Math.abs(trial[4 * i + 3]) < p.cosLim[i]) {
+      skip[i] = 1;
+      held = true;
+    }
+  }
+  if (held) {
+    scale = dls(p, dx, dy, dz, skip, keep);
+    for (let i = 0; i < n; i++) {
+      if (skip[i]) {
+        for (let c = 0; c < 4; c++) trial[4 * i + c] = q[4 * i + c];
+      } else {
+        turned(p, q, i, scale, trial);
+      }
+    }
+  }
+  for (let i = 0; i < n; i++) {
+    for (let c = 0; c < 4; c++) q[4 * i + c] = trial[4 * i + c];
     clampJoint(p, q, i);
   }
 }
@@ -392,8 +477,16 @@ function advance(p, pose, gx, gy, gz, gx0, gy0, gz0, out) {
     const f = allowance / dn;
     dx *= f; dy *= f; dz *= f;
   }
-  const tx = sx + dx, ty = sy + dy, tz = sz + dz;
-  const far = (Math.sqrt(gx * gx + gy * gy + gz * gz) - (1 - BAND) * reach) / (BAND * reach);
+  let tx = sx + dx, ty = sy + dy, tz = sz + dz;
+  // A target out of reach is brought onto the reach's sphere (no nearer to the effector: the
+  // ball is convex), where the straight chain pointing at it ends: the error the solver sees
+  // is then one it can remove, not one that makes it overshoot straight, over and back.
+  const tn = Math.sqrt(tx * tx + ty * ty + tz * tz);
+  if (tn > reach) {
+    const f = reach / tn;
+    tx *= f; ty *= f; tz *= f;
+  }
+  const far = (Math.sqrt(gx * gx + gy * gy + gz * gz) - reach) / (BAND * reach);
   const keep = 1 - Math.min(Math.max(far, 0), 1);
   for (let k = 0; k < 4 * n; k++) out[k] = pose[k];
   for (let it = 0; it < ITERATIONS; it++) iterate(p, out, tx, ty, tz, keep);

@@ -33,14 +33,20 @@ export const RUN_CONTACT = 0.8;
 /** The velocity's smoothing time constant, seconds. */
 export const SMOOTHING = 0.15;
 /** Fastest turn, rad/s. */
-export const TURN_RATE = 2.0;
+export const TURN_RATE = 3.0;
+/** While the body turns, the feet step at least at the cadence of this relative speed. */
+export const RV_TURN = 2.0;
 /** Slowest speed the body turns to face, relative. */
 export const RV_FACE = 0.1;
 /** Least drift (leg lengths) that makes a planted foot step, and the yaw drift (rad). */
 export const DRIFT_MIN = 0.09;
 export const DRIFT_YAW = 0.35;
+/** The least drift (leg lengths) once the body is still: the stop steps. */
+export const DRIFT_SETTLE = 0.04;
 /** Shortest time a foot stays planted, seconds. */
 export const STANCE_MIN = 0.1;
+/** A walking foot drifted this far past its threshold lifts once the other is planted STANCE_MIN. */
+export const OVERDUE = 1.1;
 /** Where a foot lands: this fraction of its stance's travel short of centred under its hip. */
 export const LAND_SHIFT = 0.15;
 /** The most a planted foot's heel rises (rad, pivoting on the toe). */
@@ -104,7 +110,8 @@ const OFFSETS = {
  */
 /**
  * @typedef {object} Foot  Its ankle were the foot flat, yaw, heel pitch; planted since tick
- *   `landed`, or swinging since tick `lifted` from `liftAt` / `liftYaw` / `liftPitch`.
+ *   `landed`, or swinging since tick `lifted` from `liftAt` / `liftYaw` / `liftPitch`, the
+ *   hips then held down to `liftHeight` by its reach.
  * @property {Vec} ankle
  * @property {number} yaw
  * @property {number} pitch
@@ -115,6 +122,7 @@ const OFFSETS = {
  * @property {number} liftYaw
  * @property {number} liftPitch
  * @property {number} swing
+ * @property {number} liftHeight
  */
 /**
  * @typedef {object} WalkState  The walker at one tick (see walk.py's WalkState).
@@ -242,7 +250,7 @@ export function start(skeleton, marker) {
     /** @type {Vec} */
     const a = [m[0] + r.hip[i][0], m[1] + r.ankle, m[2] + r.hip[i][2]];
     return { ankle: a, yaw: 0.0, pitch: 0.0, planted: true, landed: 0, lifted: NEVER, liftAt: a, liftYaw: 0.0,
-      liftPitch: 0.0, swing: 0.0 };
+      liftPitch: 0.0, swing: 0.0, liftHeight: 0.0 };
   }));
   /** @type {WalkState} */
   const state = { rig: r, tick: 0, body: m, velocity: [0.0, 0.0], heading: 0.0, feet, marker: m, behindSince: -1,
@@ -290,12 +298,15 @@ export function advance(state, marker) {
   const vz = state.velocity[1] + a * ((nz - bz) * RATE - state.velocity[1]);
   const speed = Math.sqrt(vx * vx + vz * vz);
   let heading = state.heading;
+  let turning = speed <= RV_FACE * r.leg;
   if (speed > RV_FACE * r.leg) {
     const turn = wrap(Math.atan2(vx, vz) - heading);
     const step = TURN_RATE * dt;
     heading = wrap(heading + Math.min(Math.max(turn, -step), step));
+    turning = Math.abs(turn) > DRIFT_YAW;
   }
-  const g = gait(speed, r.leg);
+  for (const f of state.feet) turning = turning || (f.planted && Math.abs(wrap(heading - f.yaw)) > DRIFT_YAW);
+  const g = gait(speed, r.leg, turning ? RV_TURN * r.leg : 0.0);
   /** @type {WalkState} */
   const moved = { ...state, tick, body, velocity: [vx, vz], heading, marker: m, behindSince: since, behindSpeed: fastest };
   moved.feet = stepFeet(moved, g);
@@ -303,14 +314,17 @@ export function advance(state, marker) {
 }
 
 /**
- * Boulic's walking cycle at `speed` m/s for legs `leg` m long (as walk.py's gait).
+ * Boulic's walking cycle at `speed` m/s for legs `leg` m long, timed at least as at `pace`
+ * m/s (as walk.py's gait).
  * @param {number} speed
  * @param {number} leg
+ * @param {number} [pace]
  * @returns {Gait}
  */
-export function gait(speed, leg) {
+export function gait(speed, leg, pace = 0.0) {
   const slow = RV_SLOW * leg;
-  const v = speed > slow ? speed : slow;
+  let v = speed > slow ? speed : slow;
+  v = pace > v ? pace : v;
   const cycle = CYCLE * Math.sqrt(leg / v);
   let stance, run;
   if (speed > RV_RUN * leg) {
@@ -321,7 +335,7 @@ export function gait(speed, leg) {
     run = false;
   }
   const drift = speed * stance;
-  const least = DRIFT_MIN * leg;
+  const least = (speed > RV_FACE * leg ? DRIFT_MIN : DRIFT_SETTLE) * leg;
   return { cycle, stance, swing: cycle - stance, run, drift: drift > least ? drift : least };
 }
 
@@ -409,10 +423,12 @@ function stepFeet(state, g) {
     const forced = reachHeight(state, i, ankleOf(state.rig, f)) < floorOf(state);
     const wants = (ratios[i] >= 1.0 || (later[1 - i] >= 1.0 && ratios[i] >= ratios[1 - i])) &&
       (state.tick - f.landed) / RATE >= STANCE_MIN;
-    const free = (other.planted || g.run) && (state.tick - other.lifted) / RATE >= g.cycle / 2.0;
+    const free = ((other.planted || g.run) && (state.tick - other.lifted) / RATE >= g.cycle / 2.0) ||
+      (other.planted && ratios[i] >= OVERDUE && (state.tick - other.landed) / RATE >= STANCE_MIN);
     if (forced || (wants && free)) {
-      feet[i] = { ...f, planted: false, lifted: state.tick, liftAt: ankleOf(state.rig, f), liftYaw: f.yaw,
-        liftPitch: f.pitch, swing: g.swing };
+      const ankle = ankleOf(state.rig, f);
+      feet[i] = { ...f, planted: false, lifted: state.tick, liftAt: ankle, liftYaw: f.yaw, liftPitch: f.pitch,
+        swing: g.swing, liftHeight: reachHeight(state, i, ankle) };
     }
   }
   for (const i of [0, 1]) {
@@ -508,14 +524,24 @@ function posed(state, speed) {
   const low = floorOf(state);
   for (const i of [0, 1]) {
     const f = feet[i];
-    let h = reachHeight(state, i, ankleOf(r, f));
-    h = h < low ? low : h;
-    if (!f.planted) {
-      let e = (state.tick - f.lifted) / RATE / f.swing;
-      e = e > 1.0 ? 1.0 : e;
-      e = e * e * (3.0 - 2.0 * e);
-      h = top + (h - top) * (1.0 - 4.0 * e * (1.0 - e));
+    let h;
+    if (f.planted) {
+      h = reachHeight(state, i, ankleOf(r, f));
+    } else {
+      let e = 2.0 * (state.tick - f.lifted) / RATE / f.swing;
+      if (e < 1.0) {
+        h = f.liftHeight;
+        e = e * e * (3.0 - 2.0 * e);
+      } else {
+        h = reachHeight(state, i, ankleOf(r, f));
+        e = 2.0 - e;
+        e = e < 0.0 ? 0.0 : e * e * (3.0 - 2.0 * e);
+      }
+      h = h < low ? low : h;
+      h = h > top ? top : h;
+      h = h + (top - h) * e;
     }
+    h = h < low ? low : h;
     y = h < y ? h : y;
   }
   const q = new Float64Array(r.joints * 4);
@@ -678,7 +704,7 @@ export function walk(skeleton, markers) {
       const previous = state;
       state = advance(state, markers.slice(k * 3, k * 3 + 3));
       if (previous.behindSince >= 0 && state.behindSince < 0) {
-        behind.push([previous.behindSince / RATE, k / RATE, previous.behindSpeed]);
+        behind.push([previous.behindSince / RATE, (k - 1) / RATE, previous.behindSpeed]);
       }
     }
     rotations.set(state.rotations, k * j * 4);
