@@ -3,7 +3,8 @@ project: added from the outliner with the mouse, their goals dragged with the mo
 mode (a chain's goal handle in the plane facing the view, a walker's ground marker on the
 floor), the takes are ``<name>.goal`` tracks, playback moves the figures, and the page's pose at
 a tick is ik.js's ``solve`` / walk.js's ``walk`` run on the goal curve as the server has it,
-sampled at the ticks here; undo takes the takes away. Screenshots go to /tmp/shots-rigs/."""
+sampled at the ticks here, and the model's (motion/ik.py, motion/walk.py) to 1e-6 rad; undo
+takes the takes away. Screenshots go to /tmp/shots-rigs/."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sketchanim.motion import ik, walk
 from studio_browser import curve, drag, drew_something, held, last_take, project
 
 SHOTS = Path("/tmp/shots-rigs")
@@ -102,6 +104,9 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
                            [chain, goals.tolist()])
     shown = _pose_at_tick(page, chain, k)
     assert np.abs(np.array(shown["rotations"]) - solved).max() < 1e-6
+    v = {a: page.evaluate(f"studio.values.get('{chain}.{a}')") for a in ("lengths", "limits", "hinges")}
+    model = ik.solve(ik.Chain.from_slots(v["lengths"], v["limits"], v["hinges"]), goals)[-1]
+    assert np.abs(np.array(shown["rotations"]) - model.ravel()).max() < 1e-6
     assert np.allclose(shown["goal"], held(goal, np.array([k / RATE]))[0], atol=1e-6)
     k = int(0.6 * (walked["knots"][0] + walked["knots"][-1]) * RATE)
     markers = held(path, np.arange(k + 1) / RATE)
@@ -113,6 +118,9 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
     shown = _pose_at_tick(page, walker, k)
     assert np.abs(np.array(shown["rotations"]) - stepped["rotations"]).max() < 1e-6
     assert np.abs(np.array(shown["root"]) - stepped["root"]).max() < 1e-6
+    model = walk.walk(walk.humanoid(page.evaluate(f"studio.values.get('{walker}.height')[0]")), markers)
+    assert np.abs(np.array(shown["rotations"]) - model.rotations[-1].ravel()).max() < 1e-6
+    assert np.abs(np.array(shown["root"]) - model.root[-1]).max() < 1e-6
     pixels = _shot(page, "played")
     assert pixels.std() > 5 and drew_something(page) > 5
     # undo takes the walker's take away, then the chain's
