@@ -142,12 +142,21 @@ def test_a_chains_body_drags_its_base_and_the_gizmo_moves_a_walkers_goal(_page, 
     page.wait_for_function(f"studio.served.get('{chain}.position')[0] !== {base[0]}")
     assert page.evaluate(f"studio.values.get('{chain}.goal')") == goal, "dragging the body moved the goal"
     assert page.evaluate("studio.selected") == chain
+    # pressing on the walker's body (its head) drags its goal, level on the ground
+    marker = page.evaluate(f"studio.values.get('{walker}.goal')")
+    head = page.evaluate(f"viewport.nodes.get('{walker}').rig.skeleton.names.indexOf('head')")
+    drag(page, page.evaluate(f"viewport.jointScreen('{walker}', {head})"), [(-5 * i, 2 * i) for i in range(1, 16)])
+    page.wait_for_function(f"studio.served.get('{walker}.goal')[0] !== {marker[0]}")
+    moved = page.evaluate(f"studio.served.get('{walker}.goal')")
+    assert moved[1] == marker[1] and np.hypot(moved[0] - marker[0], moved[2] - marker[2]) > 0.1
     # the walker selected, W: the gizmo is on its marker and moves its goal
     page.click(f"[data-testid=outliner] li[data-object={walker}]")
     page.keyboard.press("w")
     assert page.evaluate(f"viewport.transform.object === viewport.nodes.get('{walker}').rig.goal")
     page.keyboard.press("e")
     assert page.evaluate("viewport.transform.object") is None, "a walker has no rotate gizmo"
+    page.keyboard.press("Control+z")
+    page.wait_for_function(f"studio.served.get('{walker}.goal')[0] === {marker[0]}")
     page.keyboard.press("Control+z")
     page.wait_for_function(f"studio.served.get('{chain}.position')[0] === {base[0]}")
     assert drew_something(page) > 5 and not page.errors

@@ -45,6 +45,8 @@ const PAD_REST = 0.3;
  * @property {ChainView | WalkerView} [rig]  a chain's or a walker's drawing
  */
 
+/** The least |y| of the pointer's ray (unit) for a walker's level drag plane (about 3°; a flatter view drags in the view's plane, on the ground). */
+const LEVEL = 0.05;
 /** Ticks of a walker's walk simulated ahead each frame (about 2 ms) until its goal's track is covered. */
 const AHEAD = 24;
 /** The attribute the translate gizmo and the body's drag move, by kind (else `position`). */
@@ -114,7 +116,7 @@ export class Viewport {
     this.raycaster = new THREE.Raycaster();
     this.previewCamera = true;
     this.aimed = false;
-    /** @type {{name: string, path: string, plane: THREE.Plane, offset: THREE.Vector3, x: number, y: number} | null} */
+    /** @type {{name: string, path: string, plane: THREE.Plane, offset: THREE.Vector3, x: number, y: number, ground: number | null} | null} */
     this.drag = null;
     /** @type {{idle: number} | null} the device's hold */
     this.pad = null;
@@ -456,13 +458,13 @@ export class Viewport {
     const node = /** @type {Node} */ (this.nodes.get(name));
     const path = `${name}.${hit.object.userData.attr ?? 'position'}`;
     const at = new THREE.Vector3(...this.studio.values.get(path));
-    // a walker's goal slides on the ground (the marker's height); anything else in the plane facing the view
-    const ground = node.kind === 'walker' ? new THREE.Plane(new THREE.Vector3(0, 1, 0), -at.y) : null;
-    const onGround = ground ? this.raycaster.ray.intersectPlane(ground, new THREE.Vector3()) : null;
-    const grabbed = onGround ?? hit.point;
-    const plane = ground && onGround ? ground
+    // a walker's goal slides on the ground at the marker's height: the grabbed point (on the marker, or the
+    // body) moves level, under the pointer, and the marker with it; anything else in the plane facing the view
+    const level = node.kind === 'walker' && Math.abs(this.raycaster.ray.direction.y) > LEVEL;
+    const plane = level ? new THREE.Plane(new THREE.Vector3(0, 1, 0), -hit.point.y)
       : new THREE.Plane().setFromNormalAndCoplanarPoint(this.camera.getWorldDirection(new THREE.Vector3()), hit.point);
-    this.drag = { name, path, plane, offset: at.sub(grabbed), x: e.clientX, y: e.clientY };
+    this.drag = { name, path, plane, offset: at.clone().sub(hit.point), x: e.clientX, y: e.clientY,
+      ground: node.kind === 'walker' ? at.y : null };
     this.orbit.enabled = false;
     this.renderer.domElement.setPointerCapture(e.pointerId);
     if (this.studio.selected !== name) this.studio.select(name);
@@ -492,7 +494,9 @@ export class Viewport {
     for (const ev of events.length ? events : [e]) {
       const point = this.ray(ev).ray.intersectPlane(this.drag.plane, new THREE.Vector3());
       if (!point) continue;
-      this.studio.setLocal(this.drag.path, point.add(this.drag.offset).toArray());
+      point.add(this.drag.offset);
+      if (this.drag.ground !== null) point.y = this.drag.ground;      // a view too level for the ground plane: still on the ground
+      this.studio.setLocal(this.drag.path, point.toArray());
       this.studio.performer.mark(ev.timeStamp);
     }
   }
