@@ -121,6 +121,14 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
     model = walk.walk(walk.humanoid(page.evaluate(f"studio.values.get('{walker}.height')[0]")), markers)
     assert np.abs(np.array(shown["rotations"]) - model.rotations[-1].ravel()).max() < 1e-6
     assert np.abs(np.array(shown["root"]) - model.root[-1]).max() < 1e-6
+    # a notice names the walker exactly when the model's walk falls behind its marker somewhere
+    end = walked["knots"][-1]
+    behind = walk.walk(walk.humanoid(1.75), held(path, np.arange(int(np.ceil((end + 1) * RATE)) + 1) / RATE)).behind
+    page.wait_for_function(f"viewport.rigs.behindUntil('{walker}', {end + 1}, 0) !== null")
+    page.wait_for_timeout(100)
+    told = [n["text"] for n in page.evaluate("studio.notices") if n["source"] == "walker"]
+    assert bool(told) == bool(behind), (told, behind)
+    assert all(t.startswith(f"{walker} falls behind its marker from") for t in told)
     pixels = _shot(page, "played")
     assert pixels.std() > 5 and drew_something(page) > 5
     # undo takes the walker's take away, then the chain's
@@ -142,6 +150,21 @@ def test_a_chains_body_drags_its_base_and_the_gizmo_moves_a_walkers_goal(_page, 
     page.wait_for_function(f"studio.served.get('{chain}.position')[0] !== {base[0]}")
     assert page.evaluate(f"studio.values.get('{chain}.goal')") == goal, "dragging the body moved the goal"
     assert page.evaluate("studio.selected") == chain
+    # the inspector's joints table: a length of 0 ends the chain there; a new joint in the spare row
+    page.click(f"[data-testid=outliner] li[data-object={chain}]")
+    assert page.locator(f"[data-testid=joints-{chain}] input[type=number][data-testid*=lengths]").count() == 6   # 5 joints and a spare
+    page.fill(f"[data-testid='edit-{chain}.lengths-2']", "0")
+    page.press(f"[data-testid='edit-{chain}.lengths-2']", "Enter")
+    page.wait_for_function(f"viewport.rigReport().find(r => r.name === '{chain}').points.length === 3")
+    assert page.evaluate(f"studio.served.get('{chain}.lengths')") == [0.5, 0.4, 0, 0, 0, 0, 0, 0]
+    page.fill(f"[data-testid='edit-{chain}.lengths-2']", "0.6")
+    page.press(f"[data-testid='edit-{chain}.lengths-2']", "Enter")
+    page.wait_for_function(f"viewport.rigReport().find(r => r.name === '{chain}').points.length === 4")
+    page.click(f"[data-testid='edit-{chain}.hinges-0']")
+    page.wait_for_function(f"studio.served.get('{chain}.hinges')[0] === 1")
+    for _ in range(3):
+        page.click("[data-testid=undo]")
+    page.wait_for_function(f"viewport.rigReport().find(r => r.name === '{chain}').points.length === 6")
     # pressing on the walker's body (its head) drags its goal, level on the ground
     marker = page.evaluate(f"studio.values.get('{walker}.goal')")
     head = page.evaluate(f"viewport.nodes.get('{walker}').rig.skeleton.names.indexOf('head')")

@@ -12,7 +12,7 @@ import * as ik from './ik.js';
 /** The colours of a rig: the body, its joints, the goal (every rig's goal is this green), the tip line. */
 export const RIG_COLOURS = { body: 0x9fb6d6, joint: 0xf2cc8f, base: 0x7d8aa0, goal: 0x3dff8f, line: 0x3dff8f };
 /** Radius of the goal's ball, its ring, and the invisible ball that grabs it (scene units). */
-const GOAL = { ball: 0.06, ring: 0.14, grab: 0.17 };
+const GOAL = { ball: 0.07, ring: 0.16, grab: 0.19 };
 const UP = new THREE.Vector3(0, 1, 0);
 
 /** The goal handle's look, shared by chains and walkers' markers: drawn over the scene. */
@@ -51,7 +51,7 @@ export class ChainView {
     this.goal.name = `${name}.goal`;
     const over = goalMaterial();
     this.ball = new THREE.Mesh(new THREE.SphereGeometry(GOAL.ball, 20, 12), over);
-    this.ring = new THREE.Mesh(new THREE.TorusGeometry(GOAL.ring, 0.012, 8, 48), over);
+    this.ring = new THREE.Mesh(new THREE.TorusGeometry(GOAL.ring, 0.016, 8, 48), over);
     this.grab = new THREE.Mesh(new THREE.SphereGeometry(GOAL.grab, 12, 8), grabMaterial());
     for (const m of [this.ball, this.ring, this.grab]) {
       m.renderOrder = 20;
