@@ -78,6 +78,10 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
     assert np.abs(rows[:, 1]).max() < 1e-9, "the marker left the ground plane"
     assert np.ptp(rows[:, 0]) > 0.3 or np.ptp(rows[:, 2]) > 0.3, "the marker hardly moved"
     page.click("[data-testid=record]")
+    for name in (chain, walker):          # its goal's motion path, the playhead in its take
+        page.evaluate(f"studio.transport.seek(studio.tracks.get('{name}.goal').start)")
+        page.click(f"[data-testid=outliner] li[data-object={name}]")
+        page.wait_for_function(f"viewport.paths.report().some(p => p.path === '{name}.goal')")
     doc = project(studio)
     goal, entry = curve(doc, f"{chain}.goal")
     path, walked = curve(doc, f"{walker}.goal")
@@ -146,7 +150,28 @@ def test_a_chains_body_drags_its_base_and_the_gizmo_moves_a_walkers_goal(_page, 
     chain, walker = _add(page, "chain"), _add(page, "walker")
     base = page.evaluate(f"studio.values.get('{chain}.position')")
     goal = page.evaluate(f"studio.values.get('{chain}.goal')")
-    drag(page, page.evaluate(f"viewport.jointScreen('{chain}', 1)"), [(4 * i, 0) for i in range(1, 16)])
+    # while its goal is held, the chain follows it live: the tip reaches the goal where the hand is
+    start = page.evaluate(f"viewport.goalScreen('{chain}')")
+    page.mouse.move(start["x"], start["y"])
+    page.mouse.down()
+    for i in range(1, 11):
+        page.mouse.move(start["x"] - 3 * i, start["y"] + 2 * i)
+        page.wait_for_timeout(16)
+    page.wait_for_timeout(600)                          # the catch-up settles (2 reaches a second)
+    held_goal = page.evaluate(f"studio.values.get('{chain}.goal')")
+    assert held_goal != goal and page.evaluate(f"studio.performer.holds('{chain}.goal')")
+    tip = _report(page, chain)["points"][-1]
+    assert np.linalg.norm(np.array(tip) - held_goal) < 1e-2, "the chain does not follow its held goal"
+    page.mouse.up()
+    page.wait_for_function(f"studio.served.get('{chain}.goal')[0] !== {goal[0]}")
+    page.click("[data-testid=undo]")
+    page.wait_for_function(f"studio.served.get('{chain}.goal')[0] === {goal[0]}")
+    # (nothing selected: no gizmo over it; the joint farthest on screen from the goal handle and the base)
+    page.keyboard.press("Escape")
+    at = {i: page.evaluate(f"viewport.jointScreen('{chain}', {i})") for i in range(6)}
+    aim = page.evaluate(f"viewport.goalScreen('{chain}')")
+    far = max(range(1, 5), key=lambda i: min(np.hypot(at[i]["x"] - p["x"], at[i]["y"] - p["y"]) for p in (aim, at[0])))
+    drag(page, at[far], [(4 * i, 0) for i in range(1, 16)])
     page.wait_for_function(f"studio.served.get('{chain}.position')[0] !== {base[0]}")
     assert page.evaluate(f"studio.values.get('{chain}.goal')") == goal, "dragging the body moved the goal"
     assert page.evaluate("studio.selected") == chain
