@@ -20,6 +20,23 @@ export function goalMaterial() {
   return new THREE.MeshBasicMaterial({ color: RIG_COLOURS.goal, depthTest: false, depthWrite: false, transparent: true });
 }
 
+/** CSS pixels a goal handle's ring spans at least, however far the view (it stays grabbable). */
+export const HANDLE_PX = 10;
+
+/**
+ * The scale of a goal handle of `radius` scene units so that it spans HANDLE_PX pixels at least,
+ * `pixel` scene units a pixel where it is (1: near enough already).
+ * @param {number} radius
+ * @param {number} pixel
+ *
+ * @example
+ * handleScale(0.16, 0.001);   // 1
+ * handleScale(0.16, 0.032);   // 2
+ */
+export function handleScale(radius, pixel) {
+  return Math.max(1, (HANDLE_PX * pixel) / radius);
+}
+
 /** An invisible mesh material: what the pointer grabs around a thin handle. */
 export function grabMaterial() {
   return new THREE.MeshBasicMaterial({ visible: false });
@@ -136,11 +153,13 @@ export class ChainView {
   }
 
   /**
-   * Each frame: the ring faces the view; hidden with the chain.
+   * Each frame: the ring faces the view, at least HANDLE_PX wide; hidden with the chain.
    * @param {THREE.Camera} camera
+   * @param {number} pixel scene units a pixel spans at the goal
    */
-  face(camera) {
+  face(camera, pixel) {
     this.ring.quaternion.copy(camera.quaternion);
+    this.goal.scale.setScalar(handleScale(GOAL.ring, pixel));
     this.goal.visible = this.root.visible;
     this.line.visible = this.root.visible;
   }

@@ -291,11 +291,13 @@ export class Viewport {
       if (!rig) continue;
       const pose = this.rigs.poseAt(node.name, t, now);
       const motion = this.rigs.rigs.get(node.name)?.motion;
+      const pixel = this.pixelAt(rig.goal.position);
       if (rig instanceof ChainView) {
         rig.show(motion?.chain ?? null, pose);
-        rig.face(this.camera);
+        rig.face(this.camera, pixel);
       } else {
         rig.show(motion?.skeleton ?? null, pose);
+        rig.fit(pixel);
         this.tellBehind(node.name);
       }
     }

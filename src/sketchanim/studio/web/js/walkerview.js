@@ -7,7 +7,7 @@
  * viewport drags it in the ground plane). `behindText` words walk.js's `behind` spans.
  */
 import * as THREE from 'three';
-import { goalMaterial, grabMaterial } from './chainview.js';
+import { goalMaterial, grabMaterial, handleScale } from './chainview.js';
 import * as walker from './walk.js';
 
 /** The figure's colours: bones, joints, head. */
@@ -153,6 +153,14 @@ export class WalkerView {
     const q = pose.rotations;
     const forward = new THREE.Vector3(0, 0, 1).applyQuaternion(new THREE.Quaternion(q[0], q[1], q[2], q[3]));
     if (Math.hypot(forward.x, forward.z) > 1e-6) this.facing.rotation.y = Math.atan2(forward.x, forward.z);
+  }
+
+  /**
+   * Each frame: the marker at least HANDLE_PX wide (chainview.js).
+   * @param {number} pixel scene units a pixel spans at the marker
+   */
+  fit(pixel) {
+    this.goal.scale.setScalar(handleScale(MARKER.outer, pixel));
   }
 
   /** The walker's joints in the world, for tests. */
