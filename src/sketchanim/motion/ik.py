@@ -73,7 +73,7 @@ BIAS = 0.05
 #: Goals from 1 to ``1 + BAND`` reaches out turn the rest bias from the rest bend to straight.
 BAND = 0.05
 #: The share of the damping the bias's projection keeps while the goal is in reach.
-PROJECTED = 0.01
+PROJECTED = 1e-4
 #: Bisection steps pulling a tick back that would move the effector beyond its allowance.
 BACKOFF = 12
 

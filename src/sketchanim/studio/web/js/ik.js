@@ -42,7 +42,7 @@ const BIAS = 0.05;
 /** Goals from 1 to 1 + BAND reaches out turn the rest bias from the rest bend to straight. */
 const BAND = 0.05;
 /** The share of the damping the bias's projection keeps while the goal is in reach. */
-const PROJECTED = 0.01;
+const PROJECTED = 1e-4;
 /** Bisection steps pulling a tick back that would move the effector beyond its allowance. */
 const BACKOFF = 12;
 
