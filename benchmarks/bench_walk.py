@@ -14,6 +14,9 @@ the page pays per frame, and what the walk does on generated paths.
   against Boulic's (``1.346 sqrt(H / v)`` s, ``1.346 sqrt(v / H) H`` m, at the body's speed,
   which is the path's up to the fastest run), the planted toes' speed sampled at 60 Hz over the stance spans (median and largest), the hips' lowest and
   highest, the share of ticks with both feet off the ground, and ``behind``.
+- For scale, motion capture measured the same way (``--data``, default ../shared/data):
+  the BVH walk and dash, the lowest node of each foot taken as planted while within
+  ``--contact`` (2 cm) of its lowest, its speed at the clip's rate.
 
 Medians (and p99 for times) of one run on this machine.
 """
@@ -39,6 +42,7 @@ sys.path.insert(0, str(REPO / "tests"))
 
 from walk_paths import lifts, segments, straight, toe_speeds, world  # noqa: E402
 
+from sketchanim.formats.bvh import read_bvh  # noqa: E402
 from sketchanim.motion.walk import CYCLE, RATE, RV_FASTEST, advance, gait, humanoid, rig, start, walk  # noqa: E402
 
 console = Console(width=max(Console().width, 150))
@@ -113,10 +117,36 @@ def quality_rows() -> list[tuple[str, ...]]:
     return rows
 
 
+def mocap_rows(data: Path, contact: float) -> list[tuple[str, ...]]:
+    """Planted toes in the BVH walk and dash: speed of each foot's lowest node while it
+    is within ``contact`` m of its lowest (frames on either side both in contact)."""
+    rows = []
+    for name in ("bandai1_walk_happy_001.bvh", "bandai1_dash_normal_001.bvh"):
+        path = data / "bvh" / name
+        if not path.exists():
+            continue
+        clip = read_bvh(path)
+        points = clip.world_positions() * (clip.guess_unit_m() or 1.0)
+        speeds = []
+        for side in "LR":
+            nodes = np.array([clip.skeleton.index(n) for n in (f"Foot_{side}", f"Toes_{side}", f"Toes_{side}_End")])
+            height = points[:, nodes, 1]
+            lowest = nodes[height.argmin(axis=1)]
+            down = height.min(axis=1) < height.min() + contact
+            k = np.flatnonzero(down[:-1] & down[1:])
+            speeds.append(np.linalg.norm(points[k + 1, lowest[k]] - points[k, lowest[k]], axis=1) / clip.frame_time)
+        both = np.concatenate(speeds)
+        rows.append((f"{name} (motion capture, {1 / clip.frame_time:.0f} Hz)",
+                     f"{np.median(both) * 100:.1f}", f"{np.percentile(both, 90) * 100:.1f}", f"{len(both)}"))
+    return rows
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--seconds", type=float, default=20.0)
     parser.add_argument("--walkers", type=int, default=10)
+    parser.add_argument("--data", type=Path, default=REPO.parent / "shared" / "data")
+    parser.add_argument("--contact", type=float, default=0.02)
     args = parser.parse_args()
     cases = {"standing": straight(0.0, args.seconds), "walking 1.4 m/s": straight(1.4, args.seconds),
              "running 4 m/s": straight(4.0, args.seconds), "behind, 9.5 m/s": straight(9.5, args.seconds),
@@ -149,6 +179,18 @@ def main() -> None:
                 "hips m", "flight", "behind"):
         table.add_column(col, justify="right")
     for row in quality_rows():
+        table.add_row(*row)
+    console.print(table)
+
+    table = Table(title=f"Planted toes for scale: ours (stance spans, 60 Hz) and motion capture (within "
+                        f"{args.contact * 100:g} cm of the ground)")
+    for col in ("", "cm/s p50", "cm/s p90", "samples"):
+        table.add_column(col, justify="right")
+    w = walk(FIGURE, random_path(args.seconds, 0))
+    ours = np.concatenate(toe_speeds(FIGURE, w))
+    table.add_row("ours, random curves with pauses", f"{np.median(ours) * 100:.2f}",
+                  f"{np.percentile(ours, 90) * 100:.2f}", f"{len(ours)}")
+    for row in mocap_rows(args.data, args.contact):
         table.add_row(*row)
     console.print(table)
 

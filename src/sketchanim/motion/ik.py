@@ -56,6 +56,8 @@ RATE: float = 120.0
 ITERATIONS = 3
 #: Jacobi sweeps over the 3 x 3 ``J J^T`` (4 reach machine precision on 3 x 3).
 SWEEPS = 4
+#: An off-diagonal entry this small against its diagonal ones is not rotated away.
+NEGLIGIBLE = 1e-18
 #: The rest pose's bend (radians), shared by the joints after the base: never straight.
 CURL = 0.2
 #: How fast (reaches per second) the effector may move beyond the goal's own step.
@@ -73,7 +75,7 @@ BIAS = 0.05
 #: Goals from 1 to ``1 + BAND`` reaches out turn the rest bias from the rest bend to straight.
 BAND = 0.05
 #: The share of the damping the bias's projection keeps while the goal is in reach.
-PROJECTED = 0.01
+PROJECTED = 1e-4
 #: Bisection steps pulling a tick back that would move the effector beyond its allowance.
 BACKOFF = 12
 
@@ -273,36 +275,57 @@ def _rotate(q: list[float], k: int, inverse: bool, x: float, y: float, z: float)
             z + 2 * (w * cz + (ux * cy - uy * cx)))
 
 
-_PAIRS = ((0, 1, 2), (0, 2, 1), (1, 2, 0))
+def _givens(aii: float, ajj: float, aij: float) -> tuple[float, float, float]:
+    """The Jacobi rotation's tan, cos and sin that zero ``aij`` between ``aii`` and ``ajj``."""
+    theta = (ajj - aii) / (2 * aij)
+    t = 1 / (abs(theta) + math.sqrt(theta * theta + 1))
+    if theta < 0:
+        t = -t
+    c = 1 / math.sqrt(t * t + 1)
+    return t, c, t * c
 
 
 def _jacobi(a: list[float]) -> list[float]:
     """Eigen-decomposition of the symmetric 3 x 3 ``a`` (row-major, changed in place) by
-    cyclic Jacobi, ``SWEEPS`` sweeps: eigenvalues on its diagonal, eigenvectors the
-    columns of the returned 3 x 3."""
-    v = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+    cyclic Jacobi, ``SWEEPS`` sweeps over the pairs (0, 1), (0, 2), (1, 2): eigenvalues on
+    its diagonal, eigenvectors the columns of the returned 3 x 3. (The page's loop, unrolled:
+    the same operations on each entry.)"""
+    d0, d1, d2, o01, o02, o12 = a[0], a[4], a[8], a[1], a[2], a[5]
+    v00, v01, v02, v10, v11, v12, v20, v21, v22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
     for _ in range(SWEEPS):
-        for i, j, r in _PAIRS:
-            aij = a[3 * i + j]
-            if aij == 0:
-                continue
-            theta = (a[3 * j + j] - a[3 * i + i]) / (2 * aij)
-            t = 1 / (abs(theta) + math.sqrt(theta * theta + 1))
-            if theta < 0:
-                t = -t
-            c = 1 / math.sqrt(t * t + 1)
-            s = t * c
-            a[3 * i + i] -= t * aij
-            a[3 * j + j] += t * aij
-            a[3 * i + j] = a[3 * j + i] = 0.0
-            ari, arj = a[3 * r + i], a[3 * r + j]
-            a[3 * r + i] = a[3 * i + r] = c * ari - s * arj
-            a[3 * r + j] = a[3 * j + r] = s * ari + c * arj
-            for k in range(3):
-                vki, vkj = v[3 * k + i], v[3 * k + j]
-                v[3 * k + i] = c * vki - s * vkj
-                v[3 * k + j] = s * vki + c * vkj
-    return v
+        # Negligible already (the same test in the page): the rotation would change nothing.
+        if not abs(o01) <= NEGLIGIBLE * (abs(d0) + abs(d1)):
+            t, c, s = _givens(d0, d1, o01)
+            d0 -= t * o01
+            d1 += t * o01
+            o01 = 0.0
+            o02, o12 = c * o02 - s * o12, s * o02 + c * o12
+            v00, v01 = c * v00 - s * v01, s * v00 + c * v01
+            v10, v11 = c * v10 - s * v11, s * v10 + c * v11
+            v20, v21 = c * v20 - s * v21, s * v20 + c * v21
+        if not abs(o02) <= NEGLIGIBLE * (abs(d0) + abs(d2)):
+            t, c, s = _givens(d0, d2, o02)
+            d0 -= t * o02
+            d2 += t * o02
+            o02 = 0.0
+            o01, o12 = c * o01 - s * o12, s * o01 + c * o12
+            v00, v02 = c * v00 - s * v02, s * v00 + c * v02
+            v10, v12 = c * v10 - s * v12, s * v10 + c * v12
+            v20, v22 = c * v20 - s * v22, s * v20 + c * v22
+        if not abs(o12) <= NEGLIGIBLE * (abs(d1) + abs(d2)):
+            t, c, s = _givens(d1, d2, o12)
+            d1 -= t * o12
+            d2 += t * o12
+            o12 = 0.0
+            o01, o02 = c * o01 - s * o02, s * o01 + c * o02
+            v01, v02 = c * v01 - s * v02, s * v01 + c * v02
+            v11, v12 = c * v11 - s * v12, s * v11 + c * v12
+            v21, v22 = c * v21 - s * v22, s * v21 + c * v22
+    a[0], a[4], a[8] = d0, d1, d2
+    a[1] = a[3] = o01
+    a[2] = a[6] = o02
+    a[5] = a[7] = o12
+    return [v00, v01, v02, v10, v11, v12, v20, v21, v22]
 
 
 def _clamp(p: _Prepared, q: list[float], i: int) -> None:

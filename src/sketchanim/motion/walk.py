@@ -11,7 +11,8 @@ the animation: the caller samples the marker at ticks ``k / RATE``, :func:`start
 the figure still at the first marker and :func:`advance` steps it one tick, so the pose is
 a pure function of the marker's curve. :func:`walk` is :func:`advance` in a loop. The page
 runs the same algorithm (``studio/web/js/walk.js``), operation for operation, so the two
-agree to 1e-6 rad; docs/walker.md describes the model.
+agree to 1e-6 rad; docs/walker.md describes the model. The figure is
+:mod:`sketchanim.motion.humanoid`'s, the leg IK :mod:`sketchanim.motion.twobone`'s.
 
 Conventions: y up (three.js), the figure faces +z at heading 0 (heading ``a`` faces
 ``(sin a, 0, cos a)``) with its left side on +x; rotations are local, scalar-last unit
@@ -27,7 +28,11 @@ from typing import NamedTuple
 import numpy as np
 
 from sketchanim.errors import ArgumentError
+from sketchanim.motion.humanoid import Rig, humanoid, rig
 from sketchanim.motion.skeleton import Skeleton
+from sketchanim.motion.twobone import Frame, Vec, frame_quaternion, local_frame, two_bone
+
+__all__ = ["RATE", "Gait", "Walk", "WalkState", "advance", "gait", "humanoid", "rig", "start", "walk"]
 
 #: Ticks a second. (The IK helper's motion/ik.py defines the same constant; one will go.)
 RATE = 120.0
@@ -59,8 +64,9 @@ DRIFT_YAW = 0.35
 DRIFT_SETTLE = 0.04
 #: Shortest time a foot stays planted, seconds.
 STANCE_MIN = 0.1
-#: A walking foot drifted this far past its threshold lifts as soon as the other foot has
-#: been planted ``STANCE_MIN``, not waiting for half a cycle since the other lifted.
+#: A foot drifted this far past its threshold lifts as soon as the other foot has been
+#: planted ``STANCE_MIN`` (or, running, lifted that long ago), not waiting for half a
+#: cycle since the other lifted.
 OVERDUE = 1.1
 #: Where a foot lands: this fraction of its stance's travel short of centred under its hip
 #: (it lifts as far past centred plus this), as a heel strike lands nearer than a toe-off leaves.
@@ -74,6 +80,8 @@ CLEARANCE = 0.08
 CROUCH = 0.98
 REACH = 0.995
 FLOOR = 0.7
+#: How far (leg lengths) a run sinks the hips at mid-stance.
+RUN_SINK = 0.05
 #: Arm swing (rad per leg length of foot separation) and its bound; elbow bend walking and running.
 ARM_SWING = 0.7
 ARM_MAX = 0.8
@@ -84,92 +92,6 @@ LEAN_REST = 0.03
 LEAN_SPEED = 0.03
 LEAN_MAX = 0.3
 
-#: The humanoid's joints, parents before children.
-JOINTS = ("hips", "spine", "chest", "neck", "head",
-          "l_shoulder", "l_upper_arm", "l_forearm", "l_hand",
-          "r_shoulder", "r_upper_arm", "r_forearm", "r_hand",
-          "l_thigh", "l_shin", "l_foot", "l_toe",
-          "r_thigh", "r_shin", "r_foot", "r_toe")
-PARENTS = ("", "hips", "spine", "chest", "neck",
-           "chest", "l_shoulder", "l_upper_arm", "l_forearm",
-           "chest", "r_shoulder", "r_upper_arm", "r_forearm",
-           "hips", "l_thigh", "l_shin", "l_foot",
-           "hips", "r_thigh", "r_shin", "r_foot")
-
-#: Rest offsets as fractions of the height (left side; the right mirrors x).
-_OFFSETS = {"hips": (0, 0.56, 0), "spine": (0, 0.06, 0), "chest": (0, 0.12, 0), "neck": (0, 0.12, 0),
-            "head": (0, 0.05, 0), "l_shoulder": (0.02, 0.09, 0), "l_upper_arm": (0.1, 0, 0),
-            "l_forearm": (0, -0.17, 0), "l_hand": (0, -0.15, 0), "l_thigh": (0.055, -0.03, 0),
-            "l_shin": (0, -0.245, 0), "l_foot": (0, -0.245, 0), "l_toe": (0, -0.04, 0.11)}
-
-
-def humanoid(height: float = 1.75) -> Skeleton:
-    """A humanoid skeleton of ``height`` metres, generated in code: root ``hips``, spine,
-    chest, neck, head, shoulders, upper arms, forearms, hands and legs
-    ``hips -> l_thigh -> l_shin -> l_foot -> l_toe`` (and ``r_``). It stands on y = 0 facing
-    +z, left side on +x, arms hanging; each toe is its foot's lowest node, on the ground.
-
-    >>> s = humanoid(1.75)
-    >>> len(s), s.names[0], round(float(s.rest_positions()[s.index("l_toe")][1]), 12)
-    (21, 'hips', 0.0)
-    """
-    if not (math.isfinite(height) and 0.2 <= height <= 5.0):
-        raise ArgumentError("height", f"must be 0.2 to 5 m, got {height!r}")
-    offsets = []
-    for name in JOINTS:
-        x, y, z = _OFFSETS["l_" + name[2:] if name.startswith("r_") else name]
-        offsets.append((-x if name.startswith("r_") else x, y, z))
-    return Skeleton(JOINTS, tuple(JOINTS.index(p) if p else -1 for p in PARENTS), np.array(offsets) * height)
-
-
-Vec = tuple[float, float, float]
-
-
-@dataclass(frozen=True)
-class Rig:
-    """What the walk needs of a humanoid skeleton (see :func:`rig`), in metres."""
-
-    joints: int                      # J
-    index: tuple[int, ...]           # hips, spine, l/r upper arm, l/r forearm, l/r thigh, l/r shin, l/r foot
-    hip: tuple[Vec, Vec]             # each thigh joint's offset from the hips
-    thigh: float
-    shin: float
-    toe: Vec                         # the toe's offset from the ankle (the same both sides)
-    ankle: float                     # ankle height above the ground, foot flat
-    leg: float                       # H: hip joint height above the ground at rest
-    pelvis: float                    # the hips' rest height above the ground
-
-
-def rig(skeleton: Skeleton) -> Rig:
-    """The walk's view of ``skeleton``: one with :func:`humanoid`'s joint names, shins and
-    ankles straight below their parents at rest.
-
-    >>> r = rig(humanoid(2.0))
-    >>> round(r.leg, 12), round(r.thigh, 12), round(r.ankle, 12)
-    (1.06, 0.49, 0.08)
-    """
-    names = ("hips", "spine", "l_upper_arm", "r_upper_arm", "l_forearm", "r_forearm",
-             "l_thigh", "r_thigh", "l_shin", "r_shin", "l_foot", "r_foot")
-    index = tuple(skeleton.index(n) for n in names)
-    for n in ("l_toe", "r_toe"):
-        skeleton.index(n)
-    o = np.asarray(skeleton.offsets, dtype=float)
-    for n in ("l_shin", "r_shin", "l_foot", "r_foot"):
-        x, y, z = o[skeleton.index(n)]
-        if x != 0 or z != 0 or not y < 0:
-            raise ArgumentError("skeleton", f"joint {n!r} must be straight below its parent at rest")
-    if not np.array_equal(o[skeleton.index("l_toe")] * [-1, 1, 1], o[skeleton.index("r_toe")]) or \
-            o[skeleton.index("l_toe"), 1] >= 0:
-        raise ArgumentError("skeleton", "the toes must mirror each other, below the ankles")
-    rest = skeleton.rest_positions()
-    ground = float(rest[skeleton.index("l_toe"), 1])
-    toe = tuple(float(v) for v in o[skeleton.index("l_toe")])
-    return Rig(len(skeleton), index,
-               (tuple(float(v) for v in o[index[6]]), tuple(float(v) for v in o[index[7]])),  # type: ignore[arg-type]
-               float(-o[index[8], 1]), float(-o[index[10], 1]), toe,  # type: ignore[arg-type]
-               float(-toe[1]), float(rest[index[6], 1]) - ground, float(rest[index[0], 1]) - ground)
-
-
 #: The lift tick of a foot that has not stepped yet.
 NEVER = -1000000
 
@@ -177,8 +99,9 @@ NEVER = -1000000
 class Foot(NamedTuple):
     """One foot: its ankle's world position were the foot flat, its yaw and the pitch of
     its heel's rise about the toe (rad); planted since tick ``landed``, or swinging since
-    tick ``lifted`` from ankle ``lift_at`` (heel risen ``lift_pitch``) and ``lift_yaw`` for
-    ``swing`` seconds, the hips then held down to ``lift_height`` by its reach."""
+    tick ``lifted`` from ankle ``lift_at`` (heel risen ``lift_pitch``) and ``lift_yaw``, the
+    hips then held down to ``lift_height`` by its reach, ``progress`` of the swing done (each
+    tick a tick's share of the gait's swing then: a swing quickens as the body does)."""
 
     ankle: Vec
     yaw: float
@@ -189,7 +112,7 @@ class Foot(NamedTuple):
     lift_at: Vec
     lift_yaw: float
     lift_pitch: float
-    swing: float
+    progress: float
     lift_height: float
 
 
@@ -420,10 +343,15 @@ def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
     land = g.stance * (0.5 - LAND_SHIFT)
     for i in (0, 1):
         f = feet[i]
-        if not f.planted and (state.tick - f.lifted) / RATE >= f.swing:
+        if f.planted:
+            continue
+        done = f.progress + 1.0 / (RATE * g.swing)
+        if done >= 1.0:
             spot = _rest_spot(state, i, land)
             feet[i] = f._replace(ankle=(spot[0], state.body[1] + state.rig.ankle, spot[1]), yaw=state.heading,
                                  pitch=0.0, planted=True, landed=state.tick)
+        else:
+            feet[i] = f._replace(progress=done)
     ratios = [0.0, 0.0]
     later = [0.0, 0.0]
     for i in (0, 1):
@@ -446,11 +374,12 @@ def _step_feet(state: WalkState, g: Gait) -> tuple[Foot, Foot]:
         wants = (ratios[i] >= 1.0 or later[1 - i] >= 1.0 and ratios[i] >= ratios[1 - i]) and \
             (state.tick - f.landed) / RATE >= STANCE_MIN
         free = (other.planted or g.run) and (state.tick - other.lifted) / RATE >= g.cycle / 2.0 or \
-            other.planted and ratios[i] >= OVERDUE and (state.tick - other.landed) / RATE >= STANCE_MIN
+            ratios[i] >= OVERDUE and (other.planted and (state.tick - other.landed) / RATE >= STANCE_MIN or
+                                      g.run and (state.tick - other.lifted) / RATE >= STANCE_MIN)
         if forced or (wants and free):
             ankle = _ankle(state.rig, f)
             feet[i] = f._replace(planted=False, lifted=state.tick, lift_at=ankle, lift_yaw=f.yaw, lift_pitch=f.pitch,
-                                 swing=g.swing, lift_height=_reach_height(state, i, ankle))
+                                 progress=0.0, lift_height=_reach_height(state, i, ankle))
     for i in (0, 1):
         f = feet[i]
         if not f.planted:
@@ -497,12 +426,8 @@ def _swung(state: WalkState, side: int, f: Foot, g: Gait) -> Foot:
     where it will land (under its hip, the body's motion to the landing and the stance's
     landing lead ahead), smoothstepped, raised by the clearance on a parabola, the heel
     coming down."""
-    gone = (state.tick - f.lifted) / RATE
-    s = gone / f.swing
-    s = 1.0 if s > 1.0 else s
-    left = f.swing - gone
-    left = 0.0 if left < 0.0 else left
-    spot = _rest_spot(state, side, left + g.stance * (0.5 - LAND_SHIFT))
+    s = f.progress
+    spot = _rest_spot(state, side, (1.0 - s) * g.swing + g.stance * (0.5 - LAND_SHIFT))
     e = s * s * (3.0 - 2.0 * s)
     lx, ly, lz = f.lift_at
     y = state.body[1] + state.rig.ankle
@@ -514,13 +439,23 @@ def _swung(state: WalkState, side: int, f: Foot, g: Gait) -> Foot:
 
 def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkState:
     """``state`` with feet ``placed`` and the pose of its feet and body: the hips at the body, as high as
-    the feet's reach lets them (at most the crouched rest height, at least the floor),
+    the feet's reach lets them (at most the crouched rest height, less a run's sink at
+    mid-stance; at least the floor),
     two-bone IK on each leg, the spine leaning with speed, the arms swinging against the
     legs."""
     r = state.rig
     b = state.body
     s, c = math.sin(state.heading), math.cos(state.heading)
+    run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg)
+    run = 0.0 if run < 0.0 else 1.0 if run > 1.0 else run
     top = b[1] + r.pelvis - (1.0 - CROUCH) * (r.thigh + r.shin)
+    sink = 0.0
+    for f in placed:                           # a run's stance: the hips lowest at its middle
+        if run > 0.0 and f.planted:
+            u = (state.tick - f.landed) / RATE * speed / (RUN_CONTACT * r.leg)
+            u = 4.0 * u * (1.0 - u) if u < 1.0 else 0.0
+            sink = u if u > sink else sink
+    top = top - RUN_SINK * r.leg * run * sink
     y = top
     feet = list(placed)
     for i in (0, 1):
@@ -534,7 +469,7 @@ def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkSta
         if f.planted:
             h = _reach_height(state, i, _ankle(r, f))
         else:                          # a swing lets the hips up from where it lifted, then down to where it lands
-            e = 2.0 * (state.tick - f.lifted) / RATE / f.swing
+            e = 2.0 * f.progress
             if e < 1.0:
                 h = f.lift_height
                 e = e * e * (3.0 - 2.0 * e)
@@ -557,16 +492,18 @@ def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkSta
         f = feet[i]
         hx, hy, hz = r.hip[i]
         joint = (b[0] + c * hx + s * hz, y + hy, b[2] - s * hx + c * hz)
-        thigh, shin, foot = _leg(r, joint, _ankle(r, f), f.yaw, f.pitch, state.heading)
-        q[r.index[6 + i]] = _quat(_local(hips, thigh))
-        q[r.index[8 + i]] = _quat(_local(thigh, shin))
-        q[r.index[10 + i]] = _quat(_local(shin, foot))
+        # The knee bends toward the foot's forward and the body's (the body's alone if opposite).
+        px, pz = math.sin(f.yaw) + s, math.cos(f.yaw) + c
+        if px * px + pz * pz < 0.01:
+            px, pz = s, c
+        thigh, shin = two_bone(joint, _ankle(r, f), r.thigh, r.shin, (px, 0.0, pz))
+        q[r.index[6 + i]] = frame_quaternion(local_frame(hips, thigh))
+        q[r.index[8 + i]] = frame_quaternion(local_frame(thigh, shin))
+        q[r.index[10 + i]] = frame_quaternion(local_frame(shin, _foot(f.yaw, f.pitch)))
         forward[i] = (f.ankle[0] - b[0]) * s + (f.ankle[2] - b[2]) * c
     lean = LEAN_REST + LEAN_SPEED * speed
     lean = LEAN_MAX if lean > LEAN_MAX else lean
     q[r.index[1]] = (math.sin(0.5 * lean), 0.0, 0.0, math.cos(0.5 * lean))
-    run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg)
-    run = 0.0 if run < 0.0 else 1.0 if run > 1.0 else run
     elbow = ELBOW_WALK + (ELBOW_RUN - ELBOW_WALK) * run
     for i in (0, 1):
         swing = ARM_SWING * (forward[1 - i] - forward[i]) / r.leg
@@ -577,84 +514,11 @@ def _posed(state: WalkState, placed: tuple[Foot, Foot], speed: float) -> WalkSta
                      state.behind_since, state.behind_speed, np.array(q), np.array((b[0], y, b[2])))
 
 
-Frame = tuple[Vec, Vec, Vec]
-
-
-def _leg(r: Rig, hip: Vec, ankle: Vec, yaw: float, pitch: float, heading: float) -> tuple[Frame, Frame, Frame]:
-    """Two-bone analytic IK: the world frames (x, y, z axes) of the thigh, the shin and
-    the foot for the hip joint at ``hip`` and the ankle at ``ankle`` (pulled in to the
-    leg's reach), the knee bending toward the foot's and the body's forward, the foot at
-    ``yaw``, its heel risen ``pitch``."""
-    dx, dy, dz = ankle[0] - hip[0], ankle[1] - hip[1], ankle[2] - hip[2]
-    d = math.sqrt(dx * dx + dy * dy + dz * dz)
-    l1, l2 = r.thigh, r.shin
-    longest = (l1 + l2) * (1.0 - 1e-9)
-    shortest = abs(l1 - l2) + 1e-6 * (l1 + l2)
-    if d > 1e-12:
-        ux, uy, uz = dx / d, dy / d, dz / d
-    else:
-        ux, uy, uz = 0.0, -1.0, 0.0
-    d = longest if d > longest else shortest if d < shortest else d
-    # The knee's direction: the foot's forward and the body's, off the hip-ankle line.
-    px, pz = math.sin(yaw) + math.sin(heading), math.cos(yaw) + math.cos(heading)
-    if px * px + pz * pz < 0.01:
-        px, pz = math.sin(heading), math.cos(heading)
-    along = px * ux + pz * uz
-    nx, ny, nz = px - along * ux, -along * uy, pz - along * uz
-    n = math.sqrt(nx * nx + ny * ny + nz * nz)
-    if n < 1e-9:                                  # the leg points along the knee's forward
-        nx, ny, nz, n = 0.0, 1.0, 0.0, 1.0
-    nx, ny, nz = nx / n, ny / n, nz / n
-    c1 = (l1 * l1 + d * d - l2 * l2) / (2.0 * l1 * d)
-    c2 = (l2 * l2 + d * d - l1 * l1) / (2.0 * l2 * d)
-    s1 = math.sqrt(max(0.0, 1.0 - c1 * c1))
-    s2 = math.sqrt(max(0.0, 1.0 - c2 * c2))
-    thigh = _bone((ux * c1 + nx * s1, uy * c1 + ny * s1, uz * c1 + nz * s1),
-                  (nx * c1 - ux * s1, ny * c1 - uy * s1, nz * c1 - uz * s1))
-    shin = _bone((ux * c2 - nx * s2, uy * c2 - ny * s2, uz * c2 - nz * s2),
-                 (nx * c2 + ux * s2, ny * c2 + uy * s2, nz * c2 + uz * s2))
+def _foot(yaw: float, pitch: float) -> Frame:
+    """A foot's world frame: at ``yaw``, its heel risen ``pitch`` (rad)."""
     s, c = math.sin(yaw), math.cos(yaw)
     sp, cp = math.sin(pitch), math.cos(pitch)
-    return thigh, shin, ((c, 0.0, -s), (sp * s, cp, sp * c), (cp * s, -sp, cp * c))
-
-
-def _bone(down: Vec, front: Vec) -> Frame:
-    """The frame of a bone along ``down`` (its rest -y) with its rest +z on ``front``."""
-    y = (-down[0], -down[1], -down[2])
-    z = front
-    return (y[1] * z[2] - y[2] * z[1], y[2] * z[0] - y[0] * z[2], y[0] * z[1] - y[1] * z[0]), y, z
-
-
-def _local(parent: Frame, child: Frame) -> Frame:
-    """The child's frame in the parent's: columns ``parent^T child``; returned as the
-    rotation's columns too."""
-    (a, b, c), (d, e, f), (g, h, k) = parent
-    return tuple((a * x + b * y + c * z, d * x + e * y + f * z, g * x + h * y + k * z)
-                 for x, y, z in child)  # type: ignore[return-value]
-
-
-def _quat(m: Frame) -> tuple[float, float, float, float]:
-    """The unit quaternion (x, y, z, w), w >= 0, of the rotation with columns ``m``."""
-    m00, m10, m20 = m[0]
-    m01, m11, m21 = m[1]
-    m02, m12, m22 = m[2]
-    tr = m00 + m11 + m22
-    if tr > 0.0:
-        k = math.sqrt(tr + 1.0) * 2.0
-        w, x, y, z = 0.25 * k, (m21 - m12) / k, (m02 - m20) / k, (m10 - m01) / k
-    elif m00 > m11 and m00 > m22:
-        k = math.sqrt(1.0 + m00 - m11 - m22) * 2.0
-        w, x, y, z = (m21 - m12) / k, 0.25 * k, (m01 + m10) / k, (m02 + m20) / k
-    elif m11 > m22:
-        k = math.sqrt(1.0 + m11 - m00 - m22) * 2.0
-        w, x, y, z = (m02 - m20) / k, (m01 + m10) / k, 0.25 * k, (m12 + m21) / k
-    else:
-        k = math.sqrt(1.0 + m22 - m00 - m11) * 2.0
-        w, x, y, z = (m10 - m01) / k, (m02 + m20) / k, (m12 + m21) / k, 0.25 * k
-    n = math.sqrt(x * x + y * y + z * z + w * w)
-    if w < 0.0:
-        n = -n
-    return x / n, y / n, z / n, w / n
+    return (c, 0.0, -s), (sp * s, cp, sp * c), (cp * s, -sp, cp * c)
 
 
 def walk(skeleton: Skeleton, markers: object) -> Walk:

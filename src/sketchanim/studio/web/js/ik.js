@@ -25,6 +25,8 @@ export const RATE = 120;
 const ITERATIONS = 3;
 /** Jacobi sweeps over the 3 x 3 J J^T (4 reach machine precision on 3 x 3). */
 const SWEEPS = 4;
+/** An off-diagonal entry this small against its diagonal ones is not rotated away. */
+const NEGLIGIBLE = 1e-18;
 /** The rest pose's bend (radians) shared by the joints after the base: never straight. */
 const CURL = 0.2;
 /** How fast (reaches per second) the effector may move beyond the goal's own step. */
@@ -42,7 +44,7 @@ const BIAS = 0.05;
 /** Goals from 1 to 1 + BAND reaches out turn the rest bias from the rest bend to straight. */
 const BAND = 0.05;
 /** The share of the damping the bias's projection keeps while the goal is in reach. */
-const PROJECTED = 0.01;
+const PROJECTED = 1e-4;
 /** Bisection steps pulling a tick back that would move the effector beyond its allowance. */
 const BACKOFF = 12;
 
@@ -235,7 +237,8 @@ function jacobi(p) {
     for (let pair = 0; pair < 3; pair++) {
       const i = pair === 2 ? 1 : 0, j = pair === 0 ? 1 : 2, r = 3 - i - j;
       const aij = a[3 * i + j];
-      if (aij === 0) continue;
+      // Negligible already (the same test in the model): the rotation would change nothing.
+      if (Math.abs(aij) <= NEGLIGIBLE * (Math.abs(a[3 * i + i]) + Math.abs(a[3 * j + j]))) continue;
       const theta = (a[3 * j + j] - a[3 * i + i]) / (2 * aij);
       let t = 1 / (Math.abs(theta) + Math.sqrt(theta * theta + 1));
       if (theta < 0) t = -t;

@@ -7,7 +7,8 @@
  * path, its step length and cadence following the path's speed (Boulic's relative cycle
  * length 1.346 sqrt(v / H)), its feet planted during stance and stepping when a foot drifts
  * past a threshold, one leg at a time, running above the walk-run speed, falling behind
- * the marker beyond the fastest run. docs/walker.md describes the model.
+ * the marker beyond the fastest run. docs/walker.md describes the model. The figure is
+ * humanoid.js's (re-exported here), the leg IK twobone.js's.
  *
  * A deterministic simulation at RATE ticks a second from the start of the animation:
  * `start` stands the figure at the first marker (tick 0), `advance` steps it one tick, so
@@ -16,6 +17,16 @@
  * the left side on +x; rotations local, scalar-last quaternions, world = parent * local,
  * a joint's local transform T(offset) R(rotation).
  */
+
+import { humanoid, rig } from './humanoid.js';
+import { twoBone, localFrame, frameQuaternion } from './twobone.js';
+
+export { humanoid, rig };
+
+/** @typedef {import('./humanoid.js').Vec} Vec */
+/** @typedef {import('./humanoid.js').Skeleton} Skeleton */
+/** @typedef {import('./humanoid.js').Rig} Rig */
+/** @typedef {import('./twobone.js').Frame} Frame */
 
 /** Ticks a second. (The IK module will define the same constant; one will go.) */
 export const RATE = 120.0;
@@ -45,7 +56,7 @@ export const DRIFT_YAW = 0.35;
 export const DRIFT_SETTLE = 0.04;
 /** Shortest time a foot stays planted, seconds. */
 export const STANCE_MIN = 0.1;
-/** A walking foot drifted this far past its threshold lifts once the other is planted STANCE_MIN. */
+/** A foot drifted this far past its threshold lifts once the other is planted (running: lifted) STANCE_MIN. */
 export const OVERDUE = 1.1;
 /** Where a foot lands: this fraction of its stance's travel short of centred under its hip. */
 export const LAND_SHIFT = 0.15;
@@ -57,6 +68,8 @@ export const CLEARANCE = 0.08;
 export const CROUCH = 0.98;
 export const REACH = 0.995;
 export const FLOOR = 0.7;
+/** How far (leg lengths) a run sinks the hips at mid-stance. */
+export const RUN_SINK = 0.05;
 /** Arm swing (rad per leg length of foot separation), its bound, elbow bends. */
 export const ARM_SWING = 0.7;
 export const ARM_MAX = 0.8;
@@ -69,49 +82,10 @@ export const LEAN_MAX = 0.3;
 /** The lift tick of a foot that has not stepped yet. */
 export const NEVER = -1000000;
 
-/** The humanoid's joints, parents before children. */
-export const JOINTS = ['hips', 'spine', 'chest', 'neck', 'head',
-  'l_shoulder', 'l_upper_arm', 'l_forearm', 'l_hand',
-  'r_shoulder', 'r_upper_arm', 'r_forearm', 'r_hand',
-  'l_thigh', 'l_shin', 'l_foot', 'l_toe',
-  'r_thigh', 'r_shin', 'r_foot', 'r_toe'];
-const PARENTS = ['', 'hips', 'spine', 'chest', 'neck',
-  'chest', 'l_shoulder', 'l_upper_arm', 'l_forearm',
-  'chest', 'r_shoulder', 'r_upper_arm', 'r_forearm',
-  'hips', 'l_thigh', 'l_shin', 'l_foot',
-  'hips', 'r_thigh', 'r_shin', 'r_foot'];
-/** @type {Record<string, Vec>} rest offsets as fractions of the height (left side) */
-const OFFSETS = {
-  hips: [0, 0.56, 0], spine: [0, 0.06, 0], chest: [0, 0.12, 0], neck: [0, 0.12, 0],
-  head: [0, 0.05, 0], l_shoulder: [0.02, 0.09, 0], l_upper_arm: [0.1, 0, 0],
-  l_forearm: [0, -0.17, 0], l_hand: [0, -0.15, 0], l_thigh: [0.055, -0.03, 0],
-  l_shin: [0, -0.245, 0], l_foot: [0, -0.245, 0], l_toe: [0, -0.04, 0.11],
-};
-
-/** @typedef {[number, number, number]} Vec */
-/** @typedef {[Vec, Vec, Vec]} Frame  a rotation's columns (its x, y, z axes) */
-/**
- * @typedef {object} Skeleton
- * @property {string[]} names
- * @property {number[]} parents   -1 for the root
- * @property {Vec[]} offsets      each joint's rest translation from its parent, [x, y, z]
- */
-/**
- * @typedef {object} Rig  What the walk needs of a humanoid skeleton, metres.
- * @property {number} joints
- * @property {number[]} index  hips, spine, l/r upper arm, l/r forearm, l/r thigh, l/r shin, l/r foot
- * @property {[Vec, Vec]} hip  each thigh joint's offset from the hips
- * @property {number} thigh
- * @property {number} shin
- * @property {Vec} toe         the toe's offset from the ankle
- * @property {number} ankle    ankle height above the ground, foot flat
- * @property {number} leg      H: hip joint height above the ground at rest
- * @property {number} pelvis   the hips' rest height above the ground
- */
 /**
  * @typedef {object} Foot  Its ankle were the foot flat, yaw, heel pitch; planted since tick
  *   `landed`, or swinging since tick `lifted` from `liftAt` / `liftYaw` / `liftPitch`, the
- *   hips then held down to `liftHeight` by its reach.
+ *   hips then held down to `liftHeight` by its reach, `progress` of the swing done.
  * @property {Vec} ankle
  * @property {number} yaw
  * @property {number} pitch
@@ -121,7 +95,7 @@ const OFFSETS = {
  * @property {Vec} liftAt
  * @property {number} liftYaw
  * @property {number} liftPitch
- * @property {number} swing
+ * @property {number} progress
  * @property {number} liftHeight
  */
 /**
@@ -156,77 +130,6 @@ const OFFSETS = {
  */
 
 /**
- * A humanoid of `height` metres (as walk.py's humanoid): offsets are [x, y, z] per joint.
- * @param {number} [height]
- * @returns {Skeleton}
- *
- * @example
- * humanoid(1.75).names.length;   // 21
- */
-export function humanoid(height = 1.75) {
-  if (!(Number.isFinite(height) && height >= 0.2 && height <= 5.0)) throw new Error(`height: must be 0.2 to 5 m, got ${height}`);
-  const offsets = JOINTS.map((name) => {
-    const right = name.startsWith('r_');
-    const [x, y, z] = OFFSETS[right ? `l_${name.slice(2)}` : name];
-    return /** @type {Vec} */ ([(right ? -x : x) * height, y * height, z * height]);
-  });
-  return { names: [...JOINTS], parents: PARENTS.map((p) => (p ? JOINTS.indexOf(p) : -1)), offsets };
-}
-
-/**
- * @param {Skeleton} skeleton
- * @param {string} name
- */
-function indexOf(skeleton, name) {
-  const i = skeleton.names.indexOf(name);
-  if (i < 0) throw new Error(`joint: no joint named '${name}'`);
-  return i;
-}
-
-/**
- * The walk's view of `skeleton` (humanoid's joint names, shins and ankles straight down).
- * @param {Skeleton} skeleton
- * @returns {Rig}
- */
-export function rig(skeleton) {
-  const names = ['hips', 'spine', 'l_upper_arm', 'r_upper_arm', 'l_forearm', 'r_forearm',
-    'l_thigh', 'r_thigh', 'l_shin', 'r_shin', 'l_foot', 'r_foot'];
-  const index = names.map((n) => indexOf(skeleton, n));
-  const o = skeleton.offsets;
-  for (const n of ['l_shin', 'r_shin', 'l_foot', 'r_foot']) {
-    const [x, y, z] = o[indexOf(skeleton, n)];
-    if (x !== 0 || z !== 0 || !(y < 0)) throw new Error(`skeleton: joint '${n}' must be straight below its parent at rest`);
-  }
-  const lt = o[indexOf(skeleton, 'l_toe')], rt = o[indexOf(skeleton, 'r_toe')];
-  if (-lt[0] !== rt[0] || lt[1] !== rt[1] || lt[2] !== rt[2] || lt[1] >= 0) {
-    throw new Error('skeleton: the toes must mirror each other, below the ankles');
-  }
-  const rest = restPositions(skeleton);
-  const ground = rest[indexOf(skeleton, 'l_toe')][1];
-  return {
-    joints: skeleton.names.length, index,
-    hip: [[...o[index[6]]], [...o[index[7]]]],
-    thigh: -o[index[8]][1], shin: -o[index[10]][1], toe: [...lt],
-    ankle: -lt[1], leg: rest[index[6]][1] - ground, pelvis: rest[index[0]][1] - ground,
-  };
-}
-
-/**
- * World positions with every rotation the identity.
- * @param {Skeleton} skeleton
- * @returns {Vec[]}
- */
-function restPositions(skeleton) {
-  /** @type {Vec[]} */
-  const out = [];
-  skeleton.parents.forEach((p, j) => {
-    const o = skeleton.offsets[j];
-    out.push(p >= 0 ? [o[0] + out[p][0], o[1] + out[p][1], o[2] + out[p][2]] : [o[0] + 0.0, o[1] + 0.0, o[2] + 0.0]);
-  });
-  return out;
-}
-
-/**
  * @param {ArrayLike<number>} marker
  * @returns {Vec}
  */
@@ -250,7 +153,7 @@ export function start(skeleton, marker) {
     /** @type {Vec} */
     const a = [m[0] + r.hip[i][0], m[1] + r.ankle, m[2] + r.hip[i][2]];
     return { ankle: a, yaw: 0.0, pitch: 0.0, planted: true, landed: 0, lifted: NEVER, liftAt: a, liftYaw: 0.0,
-      liftPitch: 0.0, swing: 0.0, liftHeight: 0.0 };
+      liftPitch: 0.0, progress: 0.0, liftHeight: 0.0 };
   }));
   /** @type {WalkState} */
   const state = { rig: r, tick: 0, body: m, velocity: [0.0, 0.0], heading: 0.0, feet, marker: m, behindSince: -1,
@@ -395,10 +298,14 @@ function stepFeet(state, g) {
   const land = g.stance * (0.5 - LAND_SHIFT);
   for (const i of [0, 1]) {
     const f = feet[i];
-    if (!f.planted && (state.tick - f.lifted) / RATE >= f.swing) {
+    if (f.planted) continue;
+    const done = f.progress + 1.0 / (RATE * g.swing);
+    if (done >= 1.0) {
       const spot = restSpot(state, i, land);
       feet[i] = { ...f, ankle: [spot[0], state.body[1] + state.rig.ankle, spot[1]], yaw: state.heading, pitch: 0.0,
         planted: true, landed: state.tick };
+    } else {
+      feet[i] = { ...f, progress: done };
     }
   }
   const ratios = [0.0, 0.0];
@@ -424,11 +331,12 @@ function stepFeet(state, g) {
     const wants = (ratios[i] >= 1.0 || (later[1 - i] >= 1.0 && ratios[i] >= ratios[1 - i])) &&
       (state.tick - f.landed) / RATE >= STANCE_MIN;
     const free = ((other.planted || g.run) && (state.tick - other.lifted) / RATE >= g.cycle / 2.0) ||
-      (other.planted && ratios[i] >= OVERDUE && (state.tick - other.landed) / RATE >= STANCE_MIN);
+      (ratios[i] >= OVERDUE && ((other.planted && (state.tick - other.landed) / RATE >= STANCE_MIN) ||
+        (g.run && (state.tick - other.lifted) / RATE >= STANCE_MIN)));
     if (forced || (wants && free)) {
       const ankle = ankleOf(state.rig, f);
       feet[i] = { ...f, planted: false, lifted: state.tick, liftAt: ankle, liftYaw: f.yaw, liftPitch: f.pitch,
-        swing: g.swing, liftHeight: reachHeight(state, i, ankle) };
+        progress: 0.0, liftHeight: reachHeight(state, i, ankle) };
     }
   }
   for (const i of [0, 1]) {
@@ -485,12 +393,8 @@ function heel(r, f, hip) {
  * @returns {Foot}
  */
 function swung(state, side, f, g) {
-  const gone = (state.tick - f.lifted) / RATE;
-  let s = gone / f.swing;
-  s = s > 1.0 ? 1.0 : s;
-  let left = f.swing - gone;
-  left = left < 0.0 ? 0.0 : left;
-  const spot = restSpot(state, side, left + g.stance * (0.5 - LAND_SHIFT));
+  const s = f.progress;
+  const spot = restSpot(state, side, (1.0 - s) * g.swing + g.stance * (0.5 - LAND_SHIFT));
   const e = s * s * (3.0 - 2.0 * s);
   const [lx, ly, lz] = f.liftAt;
   const y = state.body[1] + state.rig.ankle;
@@ -511,7 +415,18 @@ function posed(state, speed) {
   const r = state.rig;
   const b = state.body;
   const s = Math.sin(state.heading), c = Math.cos(state.heading);
-  const top = b[1] + r.pelvis - (1.0 - CROUCH) * (r.thigh + r.shin);
+  let run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg);
+  run = run < 0.0 ? 0.0 : run > 1.0 ? 1.0 : run;
+  let top = b[1] + r.pelvis - (1.0 - CROUCH) * (r.thigh + r.shin);
+  let sink = 0.0;
+  for (const f of state.feet) {
+    if (run > 0.0 && f.planted) {
+      let u = (state.tick - f.landed) / RATE * speed / (RUN_CONTACT * r.leg);
+      u = u < 1.0 ? 4.0 * u * (1.0 - u) : 0.0;
+      sink = u > sink ? u : sink;
+    }
+  }
+  top = top - RUN_SINK * r.leg * run * sink;
   let y = top;
   const feet = [...state.feet];
   for (const i of [0, 1]) {
@@ -528,7 +443,7 @@ function posed(state, speed) {
     if (f.planted) {
       h = reachHeight(state, i, ankleOf(r, f));
     } else {
-      let e = 2.0 * (state.tick - f.lifted) / RATE / f.swing;
+      let e = 2.0 * f.progress;
       if (e < 1.0) {
         h = f.liftHeight;
         e = e * e * (3.0 - 2.0 * e);
@@ -558,17 +473,21 @@ function posed(state, speed) {
     const [hx, hy, hz] = r.hip[i];
     /** @type {Vec} */
     const joint = [b[0] + c * hx + s * hz, y + hy, b[2] - s * hx + c * hz];
-    const [thigh, shin, foot] = leg(r, joint, ankleOf(r, f), f.yaw, f.pitch, state.heading);
-    put(r.index[6 + i], quat(local(hips, thigh)));
-    put(r.index[8 + i], quat(local(thigh, shin)));
-    put(r.index[10 + i], quat(local(shin, foot)));
+    // The knee bends toward the foot's forward and the body's (the body's alone if opposite).
+    let px = Math.sin(f.yaw) + s, pz = Math.cos(f.yaw) + c;
+    if (px * px + pz * pz < 0.01) {
+      px = s;
+      pz = c;
+    }
+    const [thigh, shin] = twoBone(joint, ankleOf(r, f), r.thigh, r.shin, [px, 0.0, pz]);
+    put(r.index[6 + i], frameQuaternion(localFrame(hips, thigh)));
+    put(r.index[8 + i], frameQuaternion(localFrame(thigh, shin)));
+    put(r.index[10 + i], frameQuaternion(localFrame(shin, footFrame(f.yaw, f.pitch))));
     forward[i] = (f.ankle[0] - b[0]) * s + (f.ankle[2] - b[2]) * c;
   }
   let lean = LEAN_REST + LEAN_SPEED * speed;
   lean = lean > LEAN_MAX ? LEAN_MAX : lean;
   put(r.index[1], [Math.sin(0.5 * lean), 0.0, 0.0, Math.cos(0.5 * lean)]);
-  let run = (speed - 0.8 * RV_RUN * r.leg) / (0.4 * RV_RUN * r.leg);
-  run = run < 0.0 ? 0.0 : run > 1.0 ? 1.0 : run;
   const elbow = ELBOW_WALK + (ELBOW_RUN - ELBOW_WALK) * run;
   for (const i of [0, 1]) {
     let swing = ARM_SWING * (forward[1 - i] - forward[i]) / r.leg;
@@ -581,106 +500,15 @@ function posed(state, speed) {
 }
 
 /**
- * Two-bone analytic IK: the world frames of the thigh, the shin and the foot (as walk.py's _leg).
- * @param {Rig} r
- * @param {Vec} hip
- * @param {Vec} ankle
+ * A foot's world frame: at `yaw`, its heel risen `pitch` (rad).
  * @param {number} yaw
  * @param {number} pitch
- * @param {number} heading
- * @returns {[Frame, Frame, Frame]}
+ * @returns {Frame}
  */
-function leg(r, hip, ankle, yaw, pitch, heading) {
-  const dx = ankle[0] - hip[0], dy = ankle[1] - hip[1], dz = ankle[2] - hip[2];
-  let d = Math.sqrt(dx * dx + dy * dy + dz * dz);
-  const l1 = r.thigh, l2 = r.shin;
-  const longest = (l1 + l2) * (1.0 - 1e-9);
-  const shortest = Math.abs(l1 - l2) + 1e-6 * (l1 + l2);
-  let ux, uy, uz;
-  if (d > 1e-12) {
-    ux = dx / d; uy = dy / d; uz = dz / d;
-  } else {
-    ux = 0.0; uy = -1.0; uz = 0.0;
-  }
-  d = d > longest ? longest : d < shortest ? shortest : d;
-  let px = Math.sin(yaw) + Math.sin(heading), pz = Math.cos(yaw) + Math.cos(heading);
-  if (px * px + pz * pz < 0.01) {
-    px = Math.sin(heading);
-    pz = Math.cos(heading);
-  }
-  const along = px * ux + pz * uz;
-  let nx = px - along * ux, ny = -along * uy, nz = pz - along * uz;
-  let n = Math.sqrt(nx * nx + ny * ny + nz * nz);
-  if (n < 1e-9) {
-    nx = 0.0; ny = 1.0; nz = 0.0; n = 1.0;
-  }
-  nx = nx / n; ny = ny / n; nz = nz / n;
-  const c1 = (l1 * l1 + d * d - l2 * l2) / (2.0 * l1 * d);
-  const c2 = (l2 * l2 + d * d - l1 * l1) / (2.0 * l2 * d);
-  const s1 = Math.sqrt(Math.max(0.0, 1.0 - c1 * c1));
-  const s2 = Math.sqrt(Math.max(0.0, 1.0 - c2 * c2));
-  const thigh = bone([ux * c1 + nx * s1, uy * c1 + ny * s1, uz * c1 + nz * s1],
-    [nx * c1 - ux * s1, ny * c1 - uy * s1, nz * c1 - uz * s1]);
-  const shin = bone([ux * c2 - nx * s2, uy * c2 - ny * s2, uz * c2 - nz * s2],
-    [nx * c2 + ux * s2, ny * c2 + uy * s2, nz * c2 + uz * s2]);
+function footFrame(yaw, pitch) {
   const s = Math.sin(yaw), c = Math.cos(yaw);
   const sp = Math.sin(pitch), cp = Math.cos(pitch);
-  return [thigh, shin, [[c, 0.0, -s], [sp * s, cp, sp * c], [cp * s, -sp, cp * c]]];
-}
-
-/**
- * The frame of a bone along `down` (its rest -y) with its rest +z on `front`.
- * @param {Vec} down
- * @param {Vec} front
- * @returns {Frame}
- */
-function bone(down, front) {
-  /** @type {Vec} */
-  const y = [-down[0], -down[1], -down[2]];
-  const z = front;
-  return [[y[1] * z[2] - y[2] * z[1], y[2] * z[0] - y[0] * z[2], y[0] * z[1] - y[1] * z[0]], y, z];
-}
-
-/**
- * The child's frame in the parent's: columns parent^T child.
- * @param {Frame} parent
- * @param {Frame} child
- * @returns {Frame}
- */
-function local(parent, child) {
-  /** @param {number} j @returns {Vec} */
-  const col = (j) => /** @type {Vec} */ ([0, 1, 2].map((i) => parent[i][0] * child[j][0] + parent[i][1] * child[j][1] +
-    parent[i][2] * child[j][2]));
-  return [col(0), col(1), col(2)];
-}
-
-/**
- * The unit quaternion [x, y, z, w], w >= 0, of the rotation with columns `m`.
- * @param {Frame} m
- * @returns {number[]}
- */
-function quat(m) {
-  const [m00, m10, m20] = m[0];
-  const [m01, m11, m21] = m[1];
-  const [m02, m12, m22] = m[2];
-  const tr = m00 + m11 + m22;
-  let w, x, y, z, k;
-  if (tr > 0.0) {
-    k = Math.sqrt(tr + 1.0) * 2.0;
-    w = 0.25 * k; x = (m21 - m12) / k; y = (m02 - m20) / k; z = (m10 - m01) / k;
-  } else if (m00 > m11 && m00 > m22) {
-    k = Math.sqrt(1.0 + m00 - m11 - m22) * 2.0;
-    w = (m21 - m12) / k; x = 0.25 * k; y = (m01 + m10) / k; z = (m02 + m20) / k;
-  } else if (m11 > m22) {
-    k = Math.sqrt(1.0 + m11 - m00 - m22) * 2.0;
-    w = (m02 - m20) / k; x = (m01 + m10) / k; y = 0.25 * k; z = (m12 + m21) / k;
-  } else {
-    k = Math.sqrt(1.0 + m22 - m00 - m11) * 2.0;
-    w = (m10 - m01) / k; x = (m02 + m20) / k; y = (m12 + m21) / k; z = 0.25 * k;
-  }
-  let n = Math.sqrt(x * x + y * y + z * z + w * w);
-  if (w < 0.0) n = -n;
-  return [x / n, y / n, z / n, w / n];
+  return [[c, 0.0, -s], [sp * s, cp, sp * c], [cp * s, -sp, cp * c]];
 }
 
 /**

@@ -1,0 +1,30 @@
+// @ts-check
+// The page's chain IK timed in node for benchmarks/bench_ik.py: reads a JSON file of cases
+// ({chains: [{lengths, limits, hinges}], goals: [...] ticks * 3, repeats}) and prints, for each
+// chain, the seconds of every repeat of `solve` over the goals and of as many `step` calls (the
+// page's live path, which prepares the chain each call), after one warm-up run of each.
+import { readFileSync } from 'node:fs';
+import { performance } from 'node:perf_hooks';
+import { solve, step, rest } from '../src/sketchanim/studio/web/js/ik.js';
+
+const spec = JSON.parse(readFileSync(process.argv[2], 'utf8'));
+const goals = Float64Array.from(spec.goals);
+const ticks = goals.length / 3;
+const out = spec.chains.map((/** @type {import('../src/sketchanim/studio/web/js/ik.js').Chain} */ chain) => {
+  const solves = [], steps = [];
+  for (let r = 0; r <= spec.repeats; r++) {
+    let clock = performance.now();
+    solve(chain, goals);
+    const solved = (performance.now() - clock) / 1e3;
+    let pose = rest(chain);
+    clock = performance.now();
+    for (let k = 0; k < ticks; k++) {
+      const b = k === 0 ? 0 : 3 * (k - 1);
+      pose = step(chain, pose, goals.subarray(3 * k, 3 * k + 3), goals.subarray(b, b + 3));
+    }
+    const stepped = (performance.now() - clock) / 1e3;
+    if (r > 0) { solves.push(solved); steps.push(stepped); }
+  }
+  return { solve: solves, step: steps };
+});
+process.stdout.write(JSON.stringify(out));
