@@ -212,7 +212,7 @@ export class PoseCache {
       const goal = this.sample(i, this.goal);
       const lag = i === 0 ? null : m.lag(this.state);
       this.state = i === 0 ? m.first(goal) : m.next(this.state, goal);
-      if (lag && !m.lag(this.state)) this.behind.push([lag.since / RATE, i / RATE, lag.speed]);
+      if (lag && !m.lag(this.state)) this.behind.push([lag.since / RATE, (i - 1) / RATE, lag.speed]);   // to the last tick behind
       if (i % CHECKPOINT === 0) this.checkpoints.push(structuredClone(this.state));
       const pose = m.pose(this.state);
       this.rotations.push(Float64Array.from(pose.rotations));
