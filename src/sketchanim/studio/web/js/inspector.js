@@ -21,6 +21,8 @@ const RANGES = { intensity: [0, 5, 0.01], fov: [10, 120, 0.1] };
 const LABELS = { position: 'x y z', goal: 'x y z', scale: 'x y z', orientation: 'x° y° z°' };
 /** A chain's structure attributes (anim/scene.py KINDS["chain"]), shown as one joints table. */
 const JOINTS = ['lengths', 'limits', 'hinges'];
+/** The fewest joints a chain has (anim/scene.py CHAIN_SLOTS' leading positive lengths: 2 to 8). */
+const MIN_JOINTS = 2;
 
 /**
  * How many joints a chain's `lengths` use: its leading slots of positive length.
@@ -157,7 +159,7 @@ export class Inspector {
 
   /**
    * A chain's joints, a row each (length, limit, hinge), and an empty row to add one: an edit
-   * is one undoable step of the attribute it changes.
+   * is one undoable step of the attribute it changes (a length of 0 on the first two joints is refused: a chain has two at least).
    * @param {string} name
    */
   joints(name) {
@@ -184,6 +186,12 @@ export class Inspector {
         const x = Number(length.value);
         if (length.value.trim() === '' && spare) return;
         if (!Number.isFinite(x)) return;
+        if (x <= 0 && i < MIN_JOINTS) {                 // ik.js chainFromSlots: 2 joints at least
+          length.setCustomValidity(`a chain has ${MIN_JOINTS} joints at least`);
+          length.reportValidity();
+          return;
+        }
+        length.setCustomValidity('');
         s.set(lengths, withLength(s.values.get(lengths), i, x), `set ${lengths}`);
       });
       limit.addEventListener('change', () => {

@@ -54,7 +54,6 @@ const LIVE_MAX = RATE / 2;
 /**
  * One rig kind's tick-by-tick simulation.
  * @typedef {object} Motion
- * @property {number} joints
  * @property {(goal: Float64Array) => any} first           the state of tick 0
  * @property {(state: any, goal: Float64Array) => any} next the state of the next tick
  * @property {(state: any) => Pose} pose                   a state's pose (not copied)
@@ -73,15 +72,14 @@ const LIVE_MAX = RATE / 2;
  *
  * @example
  * const m = chainMotion([0.5, 0.5, 0, 0, 0, 0, 0, 0], Array(8).fill(150), Array(8).fill(0));
- * m.joints;   // 2
+ * m.chain.lengths.length;   // 2
  */
 export function chainMotion(lengths, limits, hinges) {
   const chain = ik.chainFromSlots(lengths, limits, hinges);
-  const joints = chain.lengths.length;
   /** @param {{pose: Float64Array, goal: Float64Array | null}} state @param {Float64Array} goal */
   const next = (state, goal) => ({ pose: ik.step(chain, state.pose, goal, state.goal ?? undefined), goal: Float64Array.from(goal) });
   return {
-    chain, joints, next,
+    chain, next,
     first: (goal) => next({ pose: ik.rest(chain), goal: null }, goal),
     pose: (state) => ({ rotations: state.pose, root: null }),
     lag: () => null,
@@ -94,12 +92,12 @@ export function chainMotion(lengths, limits, hinges) {
  * @returns {Motion & {skeleton: ReturnType<typeof walker.humanoid>}}
  *
  * @example
- * walkerMotion(1.75).joints === walker.humanoid(1.75).names.length;   // true
+ * walkerMotion(1.75).skeleton.names[0];   // 'hips'
  */
 export function walkerMotion(height) {
   const skeleton = walker.humanoid(height);
   return {
-    skeleton, joints: skeleton.names.length,
+    skeleton,
     first: (goal) => walker.start(skeleton, goal),
     next: (state, goal) => walker.advance(state, goal),
     pose: (state) => ({ rotations: state.rotations, root: state.root }),

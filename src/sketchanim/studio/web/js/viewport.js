@@ -131,7 +131,7 @@ export class Viewport {
       valueOf: (path) => studio.values.get(path),
       live: (path) => studio.performer.holds(path) || !!studio.remoteTake?.paths.includes(path),
     });
-    /** @type {Map<string, string>} the `behind` notice told last, by walker (told again only when it changes) */
+    /** @type {Map<string, string>} the notice told last, by walker (its `behind`) or rig structure (told again only when it changes) */
     this.told = new Map();
     studio.addSink((path, value) => this.apply(path, value));
     studio.signals.on('state', () => this.build());
@@ -290,7 +290,9 @@ export class Viewport {
       const rig = node.rig;
       if (!rig) continue;
       const pose = this.rigs.poseAt(node.name, t, now);
-      const motion = this.rigs.rigs.get(node.name)?.motion;
+      const state = this.rigs.rigs.get(node.name);
+      const motion = state?.motion;
+      this.tellOnce(`${node.name}#structure`, state?.error ? `${node.name} is drawn without its joints: ${state.error}` : '', node.kind);
       const pixel = this.pixelAt(rig.goal.position);
       if (rig instanceof ChainView) {
         rig.show(motion?.chain ?? null, pose);
@@ -312,9 +314,18 @@ export class Viewport {
     const curve = this.studio.tracks.get(`${name}.goal`);
     const spans = curve?.kind === 'curve' ? this.rigs.behindUntil(name, curve.end + 1, AHEAD) : [];
     if (!spans) return;
-    const text = spans.length ? behindText(name, spans) : '';
-    if (text && text !== this.told.get(name)) this.studio.tell('warning', text, 'walker');
-    this.told.set(name, text);
+    this.tellOnce(name, spans.length ? behindText(name, spans) : '', 'walker');
+  }
+
+  /**
+   * A warning notice of `text` under `key`, unless it is what was told there last ('': nothing to tell).
+   * @param {string} key
+   * @param {string} text
+   * @param {string} source
+   */
+  tellOnce(key, text, source) {
+    if (text && text !== this.told.get(key)) this.studio.tell('warning', text, source);
+    this.told.set(key, text);
   }
 
   /**
