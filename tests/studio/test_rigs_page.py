@@ -82,6 +82,7 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
         page.evaluate(f"studio.transport.seek(studio.tracks.get('{name}.goal').start)")
         page.click(f"[data-testid=outliner] li[data-object={name}]")
         page.wait_for_function(f"viewport.paths.report().some(p => p.path === '{name}.goal')")
+        assert page.evaluate("curveEditor.shownPaths()") == [f"{name}.goal"], "the curve view does not show the goal"
     doc = project(studio)
     goal, entry = curve(doc, f"{chain}.goal")
     path, walked = curve(doc, f"{walker}.goal")

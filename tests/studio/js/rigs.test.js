@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import * as ik from '../../../src/sketchanim/studio/web/js/ik.js';
 import * as walk from '../../../src/sketchanim/studio/web/js/walk.js';
 import { valuesAt } from '../../../src/sketchanim/studio/web/js/evaluate.js';
-import { RATE, Rigs, SETTLE, chainMotion, goalSampler, slerp } from '../../../src/sketchanim/studio/web/js/rigs.js';
+import { RATE, Rigs, SETTLE, chainMotion, changedFrom, goalSampler, slerp } from '../../../src/sketchanim/studio/web/js/rigs.js';
 
 const LENGTHS = [0.5, 0.4, 0.3, 0.25, 0.2, 0, 0, 0];
 const LIMITS = Array(8).fill(150);
@@ -201,4 +201,44 @@ test('a marker faster than the fastest run: the spans behind are walk.walk\'s', 
   assert.ok(walked.behind.length >= 1, 'the dash did not outrun the walker');
   assert.deepEqual(spans, walked.behind);
   assert.ok(spans[0][0] > 0.5 && spans[0][0] < 1.7 && spans[0][2] > 11, JSON.stringify(spans));
+});
+
+test('a later control point moved: the ticks before it are kept, the rest solved again, as a fresh solve', () => {
+  const page = pageOf(chainValues(), { 'arm.goal': GOAL });
+  const { rigs } = page;
+  rigs.keep([{ name: 'arm', kind: 'chain' }]);
+  rigs.poseAt('arm', 1.9, 0);
+  const before = /** @type {any} */ (rigs.rigs.get('arm')).cache;
+  const moved = { ...GOAL, coef: GOAL.coef.map((r, i) => (i === 4 ? [r[0], r[1] + 0.4, r[2]] : r)) };   // acts from 0.7 s
+  assert.equal(changedFrom(GOAL, moved), 0.7);
+  page.curves['arm.goal'] = moved;
+  const at = /** @type {any} */ (rigs.poseAt('arm', 1.9, 0));
+  const after = /** @type {any} */ (rigs.rigs.get('arm')).cache;
+  assert.notEqual(after, before);
+  assert.equal(after.rotations[RATE / 2], before.rotations[RATE / 2], 'a tick before the change was solved again');
+  assert.notEqual(after.rotations[RATE], before.rotations[RATE]);
+  const n = Math.round(1.9 * RATE) + 1;
+  const chain = ik.chainFromSlots(LENGTHS, LIMITS, HINGES);
+  const solved = ik.solve(chain, sampled(moved, n, [0.2, 0, -0.1]));
+  const J = chain.lengths.length * 4;
+  assert.ok(maxDiff(at.rotations, solved.subarray((n - 1) * J, n * J)) <= 1e-12);
+  for (const k of [0, 59, 83, 84, 120, 200]) assert.ok(maxDiff(after.rotations[k], solved.subarray(k * J, (k + 1) * J)) <= 1e-12, `tick ${k}`);
+  assert.equal(changedFrom(GOAL, { ...GOAL, coef: GOAL.coef.map((r, i) => (i === 1 ? [9, 9, 9] : r)) }), -Infinity);  // acts from the start
+  assert.equal(changedFrom(GOAL, GOAL), Infinity);
+});
+
+test('a walker\'s kept ticks keep its behind spans; the walk goes on as walk.walk', () => {
+  const dash = { path: 'bob.goal', order: 2, knots: [0, 0, 0.5, 1.7, 4, 4], coef: [[0, 0, 0], [0, 0, 0], [14, 0, 0], [14, 0, 2]] };
+  const page = pageOf({ 'bob.goal': [0, 0, 0], 'bob.height': [1.75] }, { 'bob.goal': dash });
+  const { rigs } = page;
+  rigs.keep([{ name: 'bob', kind: 'walker' }]);
+  rigs.behindUntil('bob', 5);
+  const moved = { ...dash, coef: [...dash.coef.slice(0, 3), [12, 0, -2]] };                 // acts from 1.7 s
+  page.curves['bob.goal'] = moved;
+  const spans = rigs.behindUntil('bob', 5);
+  const cache = /** @type {any} */ (rigs.rigs.get('bob')).cache;
+  const walked = walk.walk(walk.humanoid(1.75), sampled(moved, cache.count));
+  assert.deepEqual(spans, walked.behind);
+  const J = walk.humanoid(1.75).names.length * 4;
+  for (const k of [0, 200, 203, 204, 400, cache.count - 1]) assert.ok(maxDiff(cache.rotations[k], walked.rotations.subarray(k * J, (k + 1) * J)) <= 1e-12, `tick ${k}`);
 });

@@ -5,7 +5,8 @@
  * walker's ground marker in the world) sampled at the ticks k / RATE from 0 as the player plays
  * it (evaluate.js), solved tick by tick (ik.js `step`, walk.js `start` / `advance`), each tick's
  * pose cached per object, the cache extended forward lazily as playback passes its end and thrown
- * away when the goal's curve, the base's or the rig's structure attributes change. The pose at a
+ * away when the goal's curve, the base's or the rig's structure attributes change (but for the
+ * ticks before a curve's first changed control point acts: `changedFrom`). The pose at a
  * time is its two neighbouring ticks' poses, slerped per joint (and the walker's root lerped).
  *
  * A rig whose goal and base have no curve holds its goal for all time: it is shown as the tick
@@ -28,8 +29,8 @@ export const RATE = ik.RATE;
 export const SETTLE = 2 * RATE;
 /** Ticks the cache grows by at least when playback passes its end (a quarter second). */
 const CHUNK = RATE / 4;
-/** Ticks between the states kept to resume a simulation from (a live grab starting mid-way). */
-const CHECKPOINT = RATE;
+/** Ticks between the states kept to resume a simulation from (a live grab starting mid-way, a curve changed from a time on). */
+const CHECKPOINT = RATE / 4;
 /** The most ticks a live figure steps in one frame (a stalled page catches up no further). */
 const LIVE_MAX = RATE / 2;
 
@@ -170,6 +171,30 @@ export function goalSampler(goal, base) {
 }
 
 /**
+ * The earliest time at which curve (or value) `b` may differ from `a`: Infinity for the same
+ * one; for two curves of the same order and knots, the first knot past the curve's start where
+ * the first control point that differs starts acting (before it both evaluate alike: point i of
+ * an order-k curve acts on (knots[i], knots[i + k]), and evaluation holds the start's value
+ * before it); else -Infinity (anything may differ).
+ * @param {Curve | number[] | null} a
+ * @param {Curve | number[] | null} b
+ * @returns {number}
+ *
+ * @example
+ * const c = {path: 'a.goal', order: 2, knots: [0, 0, 1, 2, 2], coef: [[0, 0, 0], [1, 0, 0], [2, 0, 0]]};
+ * changedFrom(c, {...c, coef: [[0, 0, 0], [1, 0, 0], [3, 0, 0]]});   // 1
+ * changedFrom(c, {...c, coef: [[9, 0, 0], [1, 0, 0], [2, 0, 0]]});   // -Infinity
+ */
+export function changedFrom(a, b) {
+  if (a === b) return Infinity;
+  if (!a || !b || Array.isArray(a) || Array.isArray(b) || a.order !== b.order || a.knots.length !== b.knots.length
+    || a.coef.length !== b.coef.length || a.knots.some((t, i) => t !== b.knots[i])) return -Infinity;
+  const i = a.coef.findIndex((row, r) => row.length !== b.coef[r].length || row.some((x, c) => x !== b.coef[r][c]));
+  if (i < 0) return Infinity;
+  return a.knots[i] > a.knots[a.order - 1] ? a.knots[i] : -Infinity;
+}
+
+/**
  * The cached ticks of one rig's simulation, grown on demand.
  */
 export class PoseCache {
@@ -216,6 +241,24 @@ export class PoseCache {
       this.rotations.push(Float64Array.from(pose.rotations));
       if (pose.root) this.roots.push(Float64Array.from(pose.root));
     }
+  }
+
+  /**
+   * Take over the ticks of `old` (the same motion, on goals equal up to tick `last`) up to the
+   * checkpoint at or before `last`: the simulation goes on from that checkpoint's state.
+   * @param {PoseCache} old
+   * @param {number} last
+   */
+  adopt(old, last) {
+    const c = Math.floor(Math.min(last, old.count - 1) / CHECKPOINT);
+    if (c < 0 || !old.checkpoints.length) return;
+    const k = c * CHECKPOINT;
+    this.rotations = old.rotations.slice(0, k + 1);
+    this.roots = old.roots.slice(0, k + 1);
+    this.checkpoints = old.checkpoints.slice(0, c + 1);
+    this.state = structuredClone(old.checkpoints[c]);
+    // spans that ended (a tick not behind) by tick k; one still open there is in the state
+    this.behind = old.behind.filter((span) => Math.round(span[1] * RATE) + 1 <= k);
   }
 
   /**
@@ -285,6 +328,7 @@ export class PoseCache {
  * @property {PoseCache | null} cache
  * @property {Live | null} live
  * @property {boolean} still   no curve drives it: the pose of tick SETTLE at every time
+ * @property {(Curve | number[] | null)[]} sources  its goal and base (curves or values) the cache was made from
  */
 
 /** The structure attributes of each kind (a change of one makes a new simulation). */
@@ -309,7 +353,7 @@ export class Rigs {
       names.add(o.name);
       const rig = this.rigs.get(o.name);
       if (!rig || rig.kind !== o.kind) {
-        this.rigs.set(o.name, { name: o.name, kind: o.kind, key: [], motion: null, error: '', cache: null, live: null, still: false });
+        this.rigs.set(o.name, { name: o.name, kind: o.kind, key: [], motion: null, error: '', cache: null, live: null, still: false, sources: [null, null] });
       }
     }
     for (const name of this.rigs.keys()) if (!names.has(name)) this.rigs.delete(name);
@@ -337,18 +381,28 @@ export class Rigs {
     const key = [...structure.map((v) => JSON.stringify(v)), Array.isArray(goal) ? JSON.stringify(goal) : goal,
       Array.isArray(base) ? JSON.stringify(base) : base];
     if (key.length === rig.key.length && key.every((k, i) => k === rig.key[i])) return;
+    const n = structure.length;
+    const same = rig.motion && rig.cache && key.slice(0, n).every((k, i) => k === rig.key[i]);
+    // a curve changed from some time on (a control point moved): the ticks before it are kept
+    const from = same ? Math.min(changedFrom(rig.sources[0], goal), changedFrom(rig.sources[1], base)) : -Infinity;
+    const old = rig.cache;
     rig.key = key;
+    rig.sources = [goal, base];
     rig.cache = null;
-    rig.motion = null;
-    rig.error = '';
-    try {
-      rig.motion = rig.kind === 'chain' ? chainMotion(structure[0], structure[1], structure[2]) : walkerMotion(structure[0][0]);
-    } catch (e) {
-      rig.error = e instanceof Error ? e.message : String(e);
-      return;
+    if (!same) {
+      rig.motion = null;
+      rig.error = '';
+      try {
+        rig.motion = rig.kind === 'chain' ? chainMotion(structure[0], structure[1], structure[2]) : walkerMotion(structure[0][0]);
+      } catch (e) {
+        rig.error = e instanceof Error ? e.message : String(e);
+        return;
+      }
     }
+    const motion = /** @type {Motion} */ (rig.motion);
     rig.still = Array.isArray(goal) && (base === null || Array.isArray(base));
-    rig.cache = new PoseCache(rig.motion, goalSampler(goal, base));
+    rig.cache = new PoseCache(motion, goalSampler(goal, base));
+    if (old && from > 0) rig.cache.adopt(old, Math.ceil(from * RATE) - 1);
   }
 
   /**
