@@ -83,6 +83,13 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
         page.click(f"[data-testid=outliner] li[data-object={name}]")
         page.wait_for_function(f"viewport.paths.report().some(p => p.path === '{name}.goal')")
         assert page.evaluate("curveEditor.shownPaths()") == [f"{name}.goal"], "the curve view does not show the goal"
+        page.evaluate(f"studio.transport.seek(studio.tracks.get('{name}.goal').start + 0.5)")
+        page.keyboard.press("o")                        # onion skin: ghosts of the figure either side
+        page.wait_for_function(f"viewport.onion.report().filter(g => g.name === '{name}').length >= 4")
+        sides = {g["side"] for g in page.evaluate("viewport.onion.report()")}
+        assert sides == {"before", "after"}
+        _shot(page, f"onion-{name}")
+        page.keyboard.press("o")
     doc = project(studio)
     goal, entry = curve(doc, f"{chain}.goal")
     path, walked = curve(doc, f"{walker}.goal")
@@ -182,7 +189,7 @@ def test_a_chains_body_drags_its_base_and_the_gizmo_moves_a_walkers_goal(_page, 
     page.fill(f"[data-testid='edit-{chain}.lengths-2']", "0")
     page.press(f"[data-testid='edit-{chain}.lengths-2']", "Enter")
     page.wait_for_function(f"viewport.rigReport().find(r => r.name === '{chain}').points.length === 3")
-    assert page.evaluate(f"studio.served.get('{chain}.lengths')") == [0.5, 0.4, 0, 0, 0, 0, 0, 0]
+    page.wait_for_function(f"studio.served.get('{chain}.lengths').join() === '0.5,0.4,0,0,0,0,0,0'")
     page.fill(f"[data-testid='edit-{chain}.lengths-2']", "0.6")
     page.press(f"[data-testid='edit-{chain}.lengths-2']", "Enter")
     page.wait_for_function(f"viewport.rigReport().find(r => r.name === '{chain}').points.length === 4")

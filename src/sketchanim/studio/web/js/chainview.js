@@ -164,6 +164,22 @@ export class ChainView {
     this.line.visible = this.root.visible;
   }
 
+  /**
+   * The segments of `chain` in `pose` standing at `base` (world), end to end (an onion skin ghost).
+   * @param {ReturnType<typeof ik.chainFromSlots>} chain
+   * @param {import('./rigs.js').Pose} pose
+   * @param {ArrayLike<number>} base
+   * @returns {number[]} pairs of points, xyz each
+   */
+  static segments(chain, pose, base) {
+    const p = ik.points(chain, pose.rotations);
+    const out = [];
+    for (let i = 0; i < chain.lengths.length; i++) {
+      for (const j of [i, i + 1]) out.push(p[j * 3] + base[0], p[j * 3 + 1] + base[1], p[j * 3 + 2] + base[2]);
+    }
+    return out;
+  }
+
   /** The chain's joints in the world (base, joints, tip), for tests. */
   world() {
     const o = this.root.position;

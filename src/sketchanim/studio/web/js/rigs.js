@@ -406,6 +406,20 @@ export class Rigs {
   }
 
   /**
+   * The pose rig `name` plays at time `t` (its curves', whether or not it is performed live now:
+   * what onion skin ghosts show), or null.
+   * @param {string} name
+   * @param {number} t
+   * @returns {Pose | null}
+   */
+  playedAt(name, t) {
+    const rig = this.rigs.get(name);
+    if (!rig) return null;
+    if (!rig.live) this.refresh(rig);
+    return rig.cache ? rig.cache.at(rig.still ? SETTLE / RATE : t) : null;
+  }
+
+  /**
    * The live goal of a rig now (its frame), from the values shown.
    * @param {Rig} rig
    */

@@ -531,13 +531,14 @@ export class Viewport {
   }
 
   /**
-   * The page coordinates of an object's centre (for tests and tools).
+   * The page coordinates of an object's centre (a chain's base, a walker's marker; for tests and tools).
    * @param {string} name
    * @returns {{x: number, y: number} | null}
    */
   screenOf(name) {
     const node = this.nodes.get(name);
-    return node ? this.pageOf(node.root.getWorldPosition(new THREE.Vector3())) : null;
+    const at = node?.rig && node.kind === 'walker' ? node.rig.goal : node?.root;      // a walker is where its marker is
+    return at ? this.pageOf(at.getWorldPosition(new THREE.Vector3())) : null;
   }
 
   /**

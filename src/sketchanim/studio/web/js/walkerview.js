@@ -163,6 +163,18 @@ export class WalkerView {
     this.goal.scale.setScalar(handleScale(MARKER.outer, pixel));
   }
 
+  /**
+   * The bones of `skeleton` in `pose`, end to end (an onion skin ghost).
+   * @param {Skeleton} skeleton
+   * @param {import('./rigs.js').Pose} pose
+   * @returns {number[]} pairs of points, xyz each
+   */
+  static segments(skeleton, pose) {
+    const p = walker.worldPoints(skeleton, pose.rotations, /** @type {Float64Array} */ (pose.root));
+    return skeleton.parents.flatMap((parent, j) => (parent < 0 ? []
+      : [p[parent * 3], p[parent * 3 + 1], p[parent * 3 + 2], p[j * 3], p[j * 3 + 1], p[j * 3 + 2]]));
+  }
+
   /** The walker's joints in the world, for tests. */
   world() {
     const p = this.points;
