@@ -9,8 +9,8 @@
  * (chainview.js, walkerview.js) are drawn in the pose rigs.js derives from their goal: pressing
  * on a chain's goal handle drags `<name>.goal`, on its body its base (`<name>.position`); a
  * walker's marker and body both drag its goal, in the ground plane (the marker's height); the
- * translate gizmo moves a chain's base and a walker's goal (rigs have no rotate or scale). A hold tells the performer what its input resolves (a pixel
- * at the grabbed point's depth, the gizmo's degrees or scale per pixel, the stick's step)
+ * translate gizmo moves a chain's base and a walker's goal (rigs have no rotate or scale).
+ * A hold tells the performer what its input resolves (a pixel at the grabbed point's depth, the gizmo's degrees or scale per pixel, the stick's step)
  * and marks every pointer event that moved it (coalesced events included) with its time.
  */
 import * as THREE from 'three';
