@@ -10,8 +10,8 @@
  * on a chain's goal handle drags `<name>.goal`, on its body its base (`<name>.position`); a
  * walker's marker and body both drag its goal, in the ground plane (the marker's height); the
  * translate gizmo moves a chain's base and a walker's goal (rigs have no rotate or scale).
- * A hold tells the performer what its input resolves (a pixel at the grabbed point's depth, the gizmo's degrees or scale per pixel, the stick's step)
- * and marks every pointer event that moved it (coalesced events included) with its time.
+ * A hold tells the performer what its input resolves (a pixel at the grabbed point's depth,
+ * the gizmo's degrees or scale per pixel, the stick's step) and marks every pointer event that moved it (coalesced events included) with its time.
  */
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
