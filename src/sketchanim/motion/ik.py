@@ -14,28 +14,33 @@ curve and continuous in time. A tick is :data:`ITERATIONS` iterations of damped 
 squares on the 3 x m position Jacobian (Maciejewski 1990, the paper's [26]):
 
 - the tick's target is the goal, but at most the goal's own step plus :data:`CATCH_UP`
-  reaches per second from the effector; the effector never moves farther in a tick (a
-  tick that would, from the solver's second-order motion, is pulled back by bisection);
+  reaches per second from the effector, and no farther out than the reach; the effector
+  never moves farther in a tick (a tick that would, from the solver's second-order motion,
+  is pulled back toward its start by bisection);
 - the error is clamped to :data:`STEP` reaches per iteration (Buss);
 - the 3 x 3 ``J J^T`` is diagonalised by cyclic Jacobi; each singular direction whose
-  singular value is below ``EPS`` reaches is damped by ``DAMPING^2 (1 - (s / EPS)^2)``
-  (Nakamura and Hanafusa's schedule, direction by direction, so a chain that cannot move
-  one way at all, a planar one, is still undamped in the others);
+  singular value ``s`` is below ``EPS`` reaches is damped by ``DAMPING^2 (1 - (s / EPS)^2)``
+  (Nakamura and Hanafusa's schedule, direction by direction, so that a chain that cannot
+  move one way at all, a planar one, is still undamped in the others);
 - a bias ``z = -BIAS * (coordinates - rest coordinates)`` in the null space: ``dq = z +
-  J^T y``, ``y`` the damped solution for the error minus the (barely damped, ``PROJECTION``)
-  solution for ``J z``, so the redundant freedom relaxes toward rest while reachable goals
-  are still reached exactly; a goal beyond ``1 - BAND`` of the reach biases toward straight;
+  J^T y``, ``y`` the damped solution for the error minus the solution for ``J z`` (damped
+  by only ``PROJECTED`` of it while the goal is in reach, so reachable goals are reached
+  exactly while the redundant freedom relaxes toward rest); from 1 to ``1 + BAND`` reaches
+  out the bias turns to straight, with the full damping, and the base's bias fades out, so
+  a goal out of reach gets a straight chain pointing at it;
 - every joint turns at most :data:`MAX_TURN` per iteration (the whole update scaled);
-- the limits are clamped after every update (the rotation angle brought back about its axis).
+- a joint the update would take past its limit is held and the update solved again without
+  it (once); then every limit is clamped (the rotation angle brought back about its axis).
 
 The straight pose is singular along the chain (a goal straight below the tip cannot be
 reached from it by the Jacobian alone): the rest pose is slightly bent (:data:`CURL` in all,
 shared by the joints after the base), and the bias toward that bend is not cancelled along a
 singular direction, so a straight chain bends again as soon as its goal comes back in.
 
-The page runs the same algorithm (``studio/web/js/ik.js``), operation for operation, so both
-agree to 1e-6 rad (tests/motion/test_ik.py). Plain floats: for 8 joints they are faster than
-numpy's small-array calls (benchmarks/bench_ik.py).
+The page runs the same algorithm (``studio/web/js/ik.js``), operation for operation, with
+no library trigonometry, so both agree to the bit (tests/motion/test_ik.py checks 1e-6 rad).
+Plain floats: for 8 joints they are faster than numpy's small-array calls
+(benchmarks/bench_ik.py). docs/rigs.md describes the model.
 """
 
 from __future__ import annotations
@@ -54,7 +59,7 @@ RATE: float = 120.0
 
 #: Iterations of damped least squares per tick.
 ITERATIONS = 3
-#: Jacobi sweeps over the 3 x 3 ``J J^T`` (4 reach machine precision on 3 x 3).
+#: Jacobi sweeps over the 3 x 3 ``J J^T`` (4 are machine precision for a 3 x 3).
 SWEEPS = 4
 #: An off-diagonal entry this small against its diagonal ones is not rotated away.
 NEGLIGIBLE = 1e-18
@@ -226,7 +231,7 @@ def _prepare(chain: Chain) -> _Prepared:
 
 def rest(chain: Chain) -> np.ndarray:
     """The start pose, shape (J, 4): a slight bend about x at each joint after the base
-    (``CURL`` radians in all, at most half a joint's limit), so that the chain is never
+    (about ``CURL`` radians in all, at most half a joint's limit), so that the chain is never
     straight at rest, where the Jacobian is singular along it; the rest bias relaxes to it.
 
     Examples

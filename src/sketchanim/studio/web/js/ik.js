@@ -1,9 +1,9 @@
 // @ts-check
 /**
  * Articulated-chain inverse kinematics in the page: a port of motion/ik.py, operation for
- * operation (the same floating-point operations in the same order), so the page's pose of a
- * chain agrees with the model's to 1e-6 rad (tests/motion/test_ik.py runs both on random
- * chains and goal paths).
+ * operation (the same floating-point operations in the same order, no library trigonometry),
+ * so the page's pose of a chain agrees with the model's to the bit (tests/motion/test_ik.py
+ * runs both on random chains and goal paths and asks for 1e-6 rad).
  *
  * A chain's frame: its base at the origin; at rest (every local rotation identity) it points
  * straight up +y; joint i sits at the start of segment i, its segment along its local +y;
@@ -13,9 +13,9 @@
  * The pose is simulated at RATE ticks per second from the start pose (`rest`): each tick
  * (`step`) runs damped least squares on the 3 x m position Jacobian, the damping of each
  * singular direction from its singular value (Maciejewski), with a bias toward the rest pose
- * in the null space, the limits clamped after every update, the error clamped per iteration
- * (Buss) and the tick's target at most the goal's own step plus a catch-up speed from the
- * effector (docs/rigs.md says why each, and what is promised).
+ * in the null space, joints held at their limits and the limits clamped after every update,
+ * the error clamped per iteration (Buss) and the tick's target at most the goal's own step
+ * plus a catch-up speed from the effector (docs/rigs.md says why each, and what is promised).
  */
 
 /** Ticks per second of every derived pose. */
@@ -23,7 +23,7 @@ export const RATE = 120;
 
 /** Iterations of damped least squares per tick. */
 const ITERATIONS = 3;
-/** Jacobi sweeps over the 3 x 3 J J^T (4 reach machine precision on 3 x 3). */
+/** Jacobi sweeps over the 3 x 3 J J^T (4 are machine precision for a 3 x 3). */
 const SWEEPS = 4;
 /** An off-diagonal entry this small against its diagonal ones is not rotated away. */
 const NEGLIGIBLE = 1e-18;
@@ -163,7 +163,7 @@ function halfTurn(angle) {
 }
 
 /**
- * The start pose: a slight bend about x at each joint after the base (0.2 rad in all, at most
+ * The start pose: a slight bend about x at each joint after the base (about 0.2 rad in all, at most
  * half a joint's limit), so that the chain is never straight at rest, where the Jacobian is
  * singular along the chain; the rest bias relaxes toward it.
  * @param {Chain} chain
