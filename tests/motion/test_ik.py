@@ -179,6 +179,17 @@ def test_singular_goals_on_the_chain_axis_are_reached() -> None:
     check_ticks(chain, goals, solved)
 
 
+def test_a_limit_near_pi_is_not_jumped_across() -> None:
+    """A hinge limited to 3.125 rad folded past pi by an update is brought back on the side it
+    came from, not to the far side of its limit (a turn of more than the bound; found by
+    hypothesis)."""
+    chain = ik.Chain((1.0, 0.5, 0.5, 0.75, 1.0, 0.5, 0.75), (1.0, 3.125, 1.0, 1.0, 1.0, 1.0, 2.0),
+                     (True, True, False, False, False, False, False))
+    t = np.arange(240) * TICK
+    goals = np.c_[np.full_like(t, 4.375), np.zeros_like(t), 5 * np.sin(2 * math.pi * t + 1)]
+    check_ticks(chain, goals, ik.solve(chain, goals))
+
+
 def test_solve_is_step_after_step() -> None:
     chain = ik.Chain((0.6, 0.5, 0.4), (2.0, 1.0, 2.5), (False, True, False))
     goals = np.c_[np.linspace(0.2, 1.5, 50), np.linspace(1.0, -0.5, 50), np.zeros(50)]
