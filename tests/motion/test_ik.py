@@ -97,7 +97,8 @@ def paths(draw: st.DrawFn, chain: ik.Chain, ticks: int = 240) -> np.ndarray:
 def turn_angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The rotation angle from each quaternion of ``a`` to ``b`` (sign-free)."""
     dot = np.abs(np.sum(a * b, axis=-1))
-    cross = np.linalg.norm(a[..., 3:] * b[..., :3] - b[..., 3:] * a[..., :3] - np.cross(a[..., :3], b[..., :3]), axis=-1)
+    vector = a[..., 3:] * b[..., :3] - b[..., 3:] * a[..., :3] - np.cross(a[..., :3], b[..., :3])
+    cross = np.linalg.norm(vector, axis=-1)
     return 2 * np.arctan2(cross, dot)
 
 

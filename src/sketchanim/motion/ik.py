@@ -613,7 +613,7 @@ def step(chain: Chain, pose: ArrayLike, goal: ArrayLike, previous: ArrayLike | N
     ----------
     chain : Chain
     pose : array_like, shape (J, 4)
-        Local rotations, scalar-last, within the limits (normalised, either sign).
+        Local rotations, scalar-last, within the limits (either sign; normalised here).
     goal : array_like, shape (3,)
         The goal in the chain's base frame (world goal minus the base's position).
     previous : array_like, shape (3,), optional
@@ -622,8 +622,9 @@ def step(chain: Chain, pose: ArrayLike, goal: ArrayLike, previous: ArrayLike | N
     Returns
     -------
     numpy.ndarray, shape (J, 4)
-        Unit quaternions with ``w >= 0``. The effector has moved at most ``|goal - previous| + CATCH_UP * reach / RATE``;
-        each joint has turned at most ``ITERATIONS * MAX_TURN``; the limits hold.
+        Unit quaternions with ``w >= 0``. The effector has moved at most
+        ``|goal - previous| + CATCH_UP * reach / RATE``; each joint has turned at most
+        ``ITERATIONS * MAX_TURN``; the limits hold.
 
     Examples
     --------
