@@ -9,6 +9,8 @@ that leaves the reach and comes back. Per tick, the median over ``--repeats`` ru
 - Python ``motion.ik.solve`` (plain floats) and ``motion.ik.step`` called tick by tick
   (numpy arrays in and out, as a caller holding poses would);
 - node ``ik.js`` ``solve`` and ``step`` (benchmarks/bench_ik.mjs, after a warm-up run);
+- for ``solve``, the process's CPU time per tick as well as the wall clock's: on a machine
+  shared with other work the wall clock counts the time others had the core.
 
 and why plain floats: one pose's forward kinematics by the numpy-vectorised ``points``
 against the plain-float loop the solver runs, and one ``numpy.linalg.eigh`` of a 3 x 3
@@ -48,24 +50,26 @@ def goal_path(seconds: float) -> np.ndarray:
     return np.c_[1.2 * np.sin(1.1 * t), 1.0 + 0.9 * np.sin(0.7 * t + 1.0), 1.1 * np.cos(1.3 * t)]
 
 
-def python_times(chain: ik.Chain, goals: np.ndarray, repeats: int) -> tuple[float, float]:
-    """Median seconds per tick of ``solve`` and of ``step`` called tick by tick."""
-    solves, steps = [], []
+def python_times(chain: ik.Chain, goals: np.ndarray, repeats: int) -> tuple[float, float, float]:
+    """Median seconds per tick of ``solve`` (wall clock, CPU) and of ``step`` tick by tick."""
+    solves, cpus, steps = [], [], []
     for _ in range(repeats):
-        clock = time.perf_counter()
+        cpu, clock = time.process_time(), time.perf_counter()
         ik.solve(chain, goals)
         solves.append(time.perf_counter() - clock)
+        cpus.append(time.process_time() - cpu)
         pose, previous = ik.rest(chain), None
         clock = time.perf_counter()
         for goal in goals:
             pose = ik.step(chain, pose, goal, previous)
             previous = goal
         steps.append(time.perf_counter() - clock)
-    return float(np.median(solves)) / len(goals), float(np.median(steps)) / len(goals)
+    return tuple(float(np.median(x)) / len(goals) for x in (solves, cpus, steps))
 
 
-def node_times(chains: list[ik.Chain], goals: np.ndarray, repeats: int) -> list[tuple[float, float]] | None:
-    """Median seconds per tick of ik.js ``solve`` and ``step`` for each chain (None: no node)."""
+def node_times(chains: list[ik.Chain], goals: np.ndarray, repeats: int) -> list[tuple[float, ...]] | None:
+    """Median seconds per tick of ik.js ``solve`` (wall clock, CPU) and ``step`` for each chain
+    (None: no node)."""
     node = shutil.which("node")
     if node is None:
         return None
@@ -76,7 +80,7 @@ def node_times(chains: list[ik.Chain], goals: np.ndarray, repeats: int) -> list[
         path.write_text(json.dumps(spec))
         run = subprocess.run([node, str(REPO / "benchmarks/bench_ik.mjs"), str(path)], capture_output=True,
                              text=True, check=True)
-    return [(float(np.median(r["solve"])) / len(goals), float(np.median(r["step"])) / len(goals))
+    return [tuple(float(np.median(r[key])) / len(goals) for key in ("solve", "cpu", "step"))
             for r in json.loads(run.stdout)]
 
 
@@ -101,11 +105,12 @@ def main() -> None:
     nodes = node_times(chains, goals, args.repeats)
     table = Table(title=f"chain IK, ms per tick (median of {args.repeats} runs over {len(goals)} ticks, "
                         f"{ik.ITERATIONS} iterations a tick)")
-    for column in ("joints", "Python solve", "Python step", "node solve", "node step"):
+    for column in ("joints", "Python solve", "Python solve CPU", "Python step", "node solve", "node solve CPU",
+                   "node step"):
         table.add_column(column, justify="right")
     for i, chain in enumerate(chains):
         py = python_times(chain, goals, args.repeats)
-        js = nodes[i] if nodes else (float("nan"), float("nan"))
+        js = nodes[i] if nodes else (float("nan"),) * 3
         table.add_row(str(len(chain.lengths)), *(f"{s * 1e3:.4f}" for s in (*py, *js)))
     console.print(table)
     if nodes is None:
@@ -116,7 +121,7 @@ def main() -> None:
     flat = pose.ravel().tolist()
     p = ik._prepare(chain)
     pos, world = [0.0] * (3 * p.n + 3), [0.0] * (4 * p.n)
-    tips = ik.points(chain, pose)[:, :]
+    tips = ik.points(chain, pose)
     a = tips.T @ tips                                        # a symmetric 3 x 3 as J J^T is
     small = Table(title="why plain floats: one call at 8 joints, microseconds (median)")
     small.add_column("operation")

@@ -97,7 +97,8 @@ def paths(draw: st.DrawFn, chain: ik.Chain, ticks: int = 240) -> np.ndarray:
 def turn_angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The rotation angle from each quaternion of ``a`` to ``b`` (sign-free)."""
     dot = np.abs(np.sum(a * b, axis=-1))
-    cross = np.linalg.norm(a[..., 3:] * b[..., :3] - b[..., 3:] * a[..., :3] - np.cross(a[..., :3], b[..., :3]), axis=-1)
+    vector = a[..., 3:] * b[..., :3] - b[..., 3:] * a[..., :3] - np.cross(a[..., :3], b[..., :3])
+    cross = np.linalg.norm(vector, axis=-1)
     return 2 * np.arctan2(cross, dot)
 
 
@@ -177,6 +178,17 @@ def test_singular_goals_on_the_chain_axis_are_reached() -> None:
     for end in (719, 1079):
         assert np.linalg.norm(tips[end] - goals[end]) < 1e-6
     check_ticks(chain, goals, solved)
+
+
+def test_a_limit_near_pi_is_not_jumped_across() -> None:
+    """A hinge limited to 3.125 rad folded past pi by an update is brought back on the side it
+    came from, not to the far side of its limit (a turn of more than the bound; found by
+    hypothesis)."""
+    chain = ik.Chain((1.0, 0.5, 0.5, 0.75, 1.0, 0.5, 0.75), (1.0, 3.125, 1.0, 1.0, 1.0, 1.0, 2.0),
+                     (True, True, False, False, False, False, False))
+    t = np.arange(240) * TICK
+    goals = np.c_[np.full_like(t, 4.375), np.zeros_like(t), 5 * np.sin(2 * math.pi * t + 1)]
+    check_ticks(chain, goals, ik.solve(chain, goals))
 
 
 def test_solve_is_step_after_step() -> None:

@@ -245,22 +245,23 @@ def random_paths(draw: st.DrawFn) -> np.ndarray:
 
 
 @settings(max_examples=25, deadline=None)
-@given(random_paths())
-def test_random_paths(path: np.ndarray) -> None:
-    """Any smooth path with pauses at 0 to 8 m/s: no NaN, unit quaternions, planted toes
-    within the slide bound, legs within reach, the body on the marker except where
-    ``behind`` says the path outran the fastest run, the hips above the ground."""
-    w = walk(FIGURE, path)
+@given(random_paths(), st.sampled_from([1.2, 1.75, 2.0]))
+def test_random_paths(path: np.ndarray, height: float) -> None:
+    """Any smooth path with pauses at 0 to 8 m/s, any figure: no NaN, unit quaternions,
+    planted toes within the slide bound, legs within reach, the body on the marker except
+    where ``behind`` says the path outran the fastest run, the hips above the ground."""
+    figure = humanoid(height)
+    w = walk(figure, path)
     assert np.isfinite(w.rotations).all() and np.isfinite(w.root).all()
     assert np.allclose(np.linalg.norm(w.rotations, axis=-1), 1.0)
-    points = assert_planted(FIGURE, w)
+    assert_planted(figure, w)
     k = np.arange(len(path))
     behind = np.zeros(len(path), bool)
     for begin, end, _ in w.behind:
         behind |= (k >= round(begin * RATE)) & (k <= round(end * RATE))
     gap = np.linalg.norm(w.root[:, [0, 2]] - path[:, [0, 2]], axis=1)
     assert gap[~behind].max(initial=0.0) <= 1e-9
-    assert (w.root[:, 1] >= path[:, 1] + 0.6 * LEG).all()
+    assert (w.root[:, 1] >= path[:, 1] + 0.6 * rig(figure).leg).all()
 
 
 def _page_walk(path: np.ndarray, height: float, tmp_path: Path) -> dict:

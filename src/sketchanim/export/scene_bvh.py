@@ -1,6 +1,7 @@
 """A scene's skeletons as BVH: the joint objects an imported clip made, each naming its
 parent joint in its :data:`~sketchanim.anim.scene.BONE_PARENT` attribute, written back as
-a hierarchy with local rotations.
+a hierarchy with local rotations; and its chains and walkers, their derived pose sampled
+at the frame rate.
 
 The scene keeps each joint's world motion (:mod:`sketchanim.mocap.scene_clip`); a BVH
 keeps a root's world translation and every joint's rotation in its parent's frame, over
@@ -19,13 +20,12 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from sketchanim.anim.attributes import POSITION
+from sketchanim.anim.rigs import played, rig_clip, rigs, ticks
 from sketchanim.anim.scene import BONE_PARENT, Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError
-from sketchanim.motion.skeleton import Clip, Skeleton
+from sketchanim.motion.skeleton import JOINT_CHANNELS, ROOT_CHANNELS, Clip, Skeleton
 
-ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation", "Yrotation")
-JOINT_CHANNELS = ("Zrotation", "Xrotation", "Yrotation")
 
 
 class NoSkeleton(ArgumentError):
@@ -63,19 +63,12 @@ def skeletons(scene: Scene) -> list[list[str]]:
     return out
 
 
-def _world(scene: Scene, tracks: dict[str, Track], path: str, times: np.ndarray) -> np.ndarray:
-    """``path``'s values at ``times`` as the player plays them (its scene value without a track)."""
-    track = tracks.get(path)
-    if isinstance(track, ContinuousTrack):
-        return track.evaluate(times)
-    return np.tile(np.asarray(scene.get(path), dtype=float), (len(times), 1))
-
-
 def skeleton_clip(scene: Scene, tracks: dict[str, Track], fps: float) -> Clip:
-    """The scene's skeletons (:func:`skeletons`; several are several roots) as one
-    :class:`Clip` at ``fps`` frames a second over their tracks' span (metres; each root's
-    world translation, every joint's local rotation); :class:`ArgumentError` if the scene
-    has none.
+    """The scene's skeletons (:func:`skeletons`; several are several roots) and rigs (a
+    chain's or walker's derived pose, :func:`~sketchanim.anim.rigs.rig_clip`, its joints
+    named ``<object>.<joint>``) as one :class:`Clip` at ``fps`` frames a second over
+    their span (metres; each root's world translation, every joint's local rotation);
+    :class:`NoSkeleton` if the scene has neither.
 
     >>> from scipy.interpolate import BSpline
     >>> from sketchanim.anim.attributes import POSITION, AttributeType
@@ -85,25 +78,45 @@ def skeleton_clip(scene: Scene, tracks: dict[str, Track], fps: float) -> Clip:
     >>> knee = BSpline(walk.t, walk.c - [0, 0.5, 0], 1)
     >>> clip = skeleton_clip(scene, {"hips.position": ContinuousTrack("hips.position", POSITION, walk, 0.005),
     ...                              "knee.position": ContinuousTrack("knee.position", POSITION, knee, 0.005)}, 4)
-    >>> len(clip.times), clip.translations[-1, 0].tolist(), clip.skeleton.offsets[1].tolist()
+    >>> len(clip.times), clip.translations[4, 0].tolist(), clip.skeleton.offsets[1].tolist()
     (5, [1.0, 1.0, 0.0], [0.0, -0.5, 0.0])
+    >>> _ = scene.add("arm", "chain")
+    >>> skeleton_clip(scene, {}, 4).skeleton.names[2:4]
+    ('arm.j1', 'arm.j2')
     """
     if not (np.isfinite(fps) and fps > 0):
         raise ArgumentError("fps", f"must be > 0, got {fps!r}")
     found = skeletons(scene)
-    if not found:
-        raise NoSkeleton("format", "the scene has no skeleton to write as BVH (import a clip: its joints make one)")
+    rigged = rigs(scene)
+    if not found and not rigged:
+        raise NoSkeleton("format", "the scene has no skeleton to write as BVH (import a clip: its joints make one; "
+                                   "or add a chain or a walker)")
     joints = [name for skeleton in found for name in skeleton]
-    roots = {skeleton[0] for skeleton in found}
     spans = [(t.start, t.end) for name in joints for a in ("position", "orientation")
              if isinstance(t := tracks.get(f"{name}.{a}"), ContinuousTrack)]
+    if rigged:
+        spans.append((0.0, float(ticks(tracks)[-1])))
     start = min((a for a, _ in spans), default=0.0)
     end = max((b for _, b in spans), default=0.0)
     times = start + np.arange(int(np.ceil((end - start) * fps - 1e-9)) + 1) / fps
+    clips = [_joint_clip(scene, tracks, found, times)] if found else []
+    for name in rigged:
+        clip = rig_clip(scene, tracks, name, times)
+        named = Skeleton(tuple(f"{name}.{j}" for j in clip.skeleton.names), clip.skeleton.parents,
+                         clip.skeleton.offsets)
+        clips.append(Clip(named, times, clip.rotations, clip.translations, clip.rotating, clip.translating,
+                          clip.channels, unit_m=1.0))
+    return _joined(clips)
+
+
+def _joint_clip(scene: Scene, tracks: dict[str, Track], found: list[list[str]], times: np.ndarray) -> Clip:
+    """The joint objects of the skeletons ``found`` as a clip at ``times``."""
+    joints = [name for skeleton in found for name in skeleton]
+    roots = {skeleton[0] for skeleton in found}
     index = {name: i for i, name in enumerate(joints)}
     parents = tuple(-1 if name in roots else index[str(scene.get(f"{name}.{BONE_PARENT}"))] for name in joints)
-    positions = np.stack([_world(scene, tracks, f"{name}.position", times) for name in joints], axis=1)
-    turns = [Rotation.from_quat(_world(scene, tracks, f"{name}.orientation", times)) for name in joints]
+    positions = np.stack([played(scene, tracks, f"{name}.position", times) for name in joints], axis=1)
+    turns = [Rotation.from_quat(played(scene, tracks, f"{name}.orientation", times)) for name in joints]
     rotations = np.empty((len(times), len(joints), 4))
     translations = np.empty((len(times), len(joints), 3))
     for i, up in enumerate(parents):
@@ -121,6 +134,22 @@ def skeleton_clip(scene: Scene, tracks: dict[str, Track], fps: float) -> Clip:
     channels = tuple(ROOT_CHANNELS if m else JOINT_CHANNELS for m in moving)
     return Clip(Skeleton(tuple(joints), parents, offsets), times, rotations, translations,
                 np.ones(len(joints), bool), moving, channels, unit_m=1.0)
+
+
+def _joined(clips: list[Clip]) -> Clip:
+    """Clips at the same times as one, their skeletons side by side (each its own roots)."""
+    if len(clips) == 1:
+        return clips[0]
+    names, parents, first = [], [], 0
+    for clip in clips:
+        names += clip.skeleton.names
+        parents += [p + first if p >= 0 else -1 for p in clip.skeleton.parents]
+        first += len(clip.skeleton)
+    skeleton = Skeleton(tuple(names), tuple(parents), np.concatenate([c.skeleton.offsets for c in clips]))
+    return Clip(skeleton, clips[0].times, np.concatenate([c.rotations for c in clips], axis=1),
+                np.concatenate([c.translations for c in clips], axis=1),
+                np.concatenate([c.rotating for c in clips]), np.concatenate([c.translating for c in clips]),
+                tuple(ch for c in clips for ch in c.channels), unit_m=1.0)
 
 
 def _tol(tracks: dict[str, Track], path: str) -> float:

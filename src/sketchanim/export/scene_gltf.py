@@ -7,6 +7,11 @@ looks down its local -Z with +Y up and ``fov`` is its vertical field of view in 
 a light is a KHR_lights_punctual spot light shining down its local -Z. Plain objects carry
 a small octahedron so a viewer shows them.
 
+A chain or walker is baked (:mod:`~sketchanim.export.rig_bake`): a group node named for
+it, its joints under it with their curves within its goal's tolerance in the world, a
+skinned bone mesh, and its goal as a node of its own, ``<object>.goal``, with the goal's
+track.
+
 Core glTF animates only translation, rotation and scale. The other tracks (colour,
 intensity, field of view, visibility, events, custom attributes) are not written; their
 values at the scene's current state are, where glTF has a place for them, and
@@ -28,14 +33,17 @@ add its rounding (about 1e-6 of the values' size) to the curve's error.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pygltflib as gl
 from scipy.interpolate import BSpline
 
 from sketchanim.anim.layers import reduce_samples
-from sketchanim.anim.scene import Scene
+from sketchanim.anim.scene import RIGS, Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track, held_values
 from sketchanim.errors import ArgumentError
+from sketchanim.export.rig_bake import bake, rig_nodes
 from sketchanim.float32 import position_budget, rotation_budget
 from sketchanim.formats.gltf import Node, octahedron
 from sketchanim.formats.gltf_frames import FRAME_SHARE, KEYS, allowance, frame_times
@@ -57,6 +65,11 @@ ZNEAR = 0.01
 
 #: Cone of exported spot lights, radians (KHR_lights_punctual's default outer angle).
 SPOT_OUTER = np.pi / 4
+
+
+#: The attributes whose tracks a scene file writes: an object's transform; a rig's goal
+#: (its own node) and base (baked into its joints).
+_WRITTEN = {False: set(GLTF_PATHS), True: {"goal", "position"}}
 
 
 def rotation_keys(track: ContinuousTrack) -> BSpline:
@@ -182,8 +195,21 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
     """
     if keys not in KEYS:
         raise ArgumentError("keys", f"one of {', '.join(KEYS)}, got {keys!r}")
-    nodes, cameras, lights, meshes = [], [], [], []
+    nodes, cameras, lights, meshes, skins, rigged = [], [], [], [], [], []
+    octahedron_at = None
     for obj in scene.objects.values():
+        if obj.kind in RIGS:
+            made = rig_nodes(bake(scene, tracks, obj.name), len(nodes), rate)
+            made.nodes[-1].mesh, made.nodes[-1].skin = len(meshes), len(skins)
+            nodes += made.nodes
+            meshes.append(made.mesh)
+            skins.append(made.skin)
+            rigged += made.tracks
+            nodes.append(Node(f"{obj.name}.goal", translation=_rest(scene, obj.name, "goal")))
+            goal = tracks.get(f"{obj.name}.goal")
+            if isinstance(goal, ContinuousTrack):
+                rigged.append(export_track(replace(goal, path=f"{obj.name}.goal.position"), rate))
+            continue
         if "position" not in obj.attributes:          # a cue object: events, no place in space (left out)
             continue
         node = Node(obj.name, translation=_rest(scene, obj.name, "position"),
@@ -199,19 +225,22 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
                            "intensity": float(scene.get(f"{obj.name}.intensity")[0]) if on else 0.0,
                            "spot": {"outerConeAngle": SPOT_OUTER}})
         else:
-            if not meshes:
+            if octahedron_at is None:
+                octahedron_at = len(meshes)
                 meshes.append(octahedron("object", OBJECT_RADIUS))
-            node.mesh = 0
+            node.mesh = octahedron_at
         nodes.append(node)
     skipped = left_out(scene, tracks)
-    written = [export_track(track, rate) for path, track in sorted(tracks.items()) if path not in skipped]
-    return tracks_glb(nodes, written, name=name, keys=keys, meshes=meshes, cameras=cameras, lights=lights), skipped
+    written = [export_track(track, rate) for path, track in sorted(tracks.items())
+               if path not in skipped and scene.objects[path.split(".")[0]].kind not in RIGS]
+    return tracks_glb(nodes, written + rigged, name=name, keys=keys, meshes=meshes, skins=skins, cameras=cameras,
+                      lights=lights), skipped
 
 
 def left_out(scene: Scene, tracks: dict[str, Track]) -> list[str]:
     """The paths of the tracks a scene file leaves out, sorted: all but the position,
     orientation and scale tracks of the scene's objects (what glTF and USD transforms
-    animate).
+    animate), and a rig's goal and base (its pose is baked from them).
 
     >>> from sketchanim.anim.attributes import BOOL
     >>> from sketchanim.anim.tracks import DiscreteTrack
@@ -220,8 +249,8 @@ def left_out(scene: Scene, tracks: dict[str, Track]) -> list[str]:
     ['box.visible']
     """
     return sorted(path for path, track in tracks.items()
-                  if not isinstance(track, ContinuousTrack) or path.split(".")[1] not in GLTF_PATHS
-                  or path.split(".")[0] not in scene.objects)
+                  if not isinstance(track, ContinuousTrack) or path.split(".")[0] not in scene.objects
+                  or path.split(".")[1] not in _WRITTEN[scene.objects[path.split(".")[0]].kind in RIGS])
 
 
 def export_track(track: ContinuousTrack, rate: float | None = None) -> ExportTrack:

@@ -1,6 +1,9 @@
 """A scene of the animation model as USD (needs the optional ``usd-core``): one Xform
 prim per object at the stage's root, its position, orientation and scale as translate,
-orient and scale ops (written by :func:`~sketchanim.formats.usd.write_usd_xforms`).
+orient and scale ops (written by :func:`~sketchanim.formats.usd.write_usd_xforms`). A
+chain or walker is a prim with its joints nested under it, each its parent's child, their
+derived pose (:func:`~sketchanim.anim.rigs.rig_clip`) as samples at the solver's ticks,
+and its goal, ``goal``, beside them.
 
 USD transforms have no B-spline form, so each track is written as time samples of its
 curve, in double precision, where the track was sampled
@@ -19,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from sketchanim.anim.scene import Scene
+from sketchanim.anim.rigs import rig_clip
+from sketchanim.anim.scene import RIGS, Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.export.scene_gltf import left_out, track_times
 from sketchanim.formats.usd import OpValues, XformSamples, write_usd_xforms
@@ -52,6 +56,22 @@ def _op(scene: Scene, tracks: dict[str, Track], path: str) -> OpValues:
     return None, np.asarray(scene.get(path), dtype=float)
 
 
+def _rig_xforms(scene: Scene, tracks: dict[str, Track], name: str, prim: str) -> list[XformSamples]:
+    """A rig as nested Xforms: ``/prim`` (at the origin), its joints under it (each under
+    its parent, its pose at the solver's ticks) and ``/prim/goal``."""
+    clip = rig_clip(scene, tracks, name)
+    sk = clip.skeleton
+    paths: list[str] = []
+    out = [XformSamples(prim)]
+    for j, (joint, up) in enumerate(zip(sk.names, sk.parents)):
+        paths.append(f"{paths[up] if up >= 0 else prim}/{joint}")
+        moves = (clip.times, clip.translations[:, j]) if clip.translating[j] else (None, sk.offsets[j])
+        turns = (clip.times, clip.rotations[:, j]) if clip.rotating[j] else None
+        out.append(XformSamples(paths[j], translate=moves, orient=turns))
+    out.append(XformSamples(f"{prim}/goal", translate=_op(scene, tracks, f"{name}.goal")))
+    return out
+
+
 def scene_usd(path: str | os.PathLike[str], scene: Scene, tracks: dict[str, Track], rate: float) -> list[str]:
     """Write the scene to ``path`` (.usd, .usda, .usdc) atomically, time codes at
     ``rate`` per second (the project's frame rate); the paths of the tracks left out
@@ -73,6 +93,9 @@ def scene_usd(path: str | os.PathLike[str], scene: Scene, tracks: dict[str, Trac
     taken: set[str] = set()
     xforms = []
     for obj in scene.objects.values():
+        if obj.kind in RIGS:
+            xforms += _rig_xforms(scene, tracks, obj.name, _prim_name(obj.name, taken))
+            continue
         if "position" not in obj.attributes:          # a cue object: events, no place in space (left out)
             continue
         ops = {USD_OPS[a]: _op(scene, tracks, f"{obj.name}.{a}") for a in USD_OPS if a in obj.attributes}

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from sketchanim.motion.skeleton import Clip, Skeleton
+from sketchanim.motion.skeleton import JOINT_CHANNELS, ROOT_CHANNELS, Clip, Skeleton
 from sketchanim.errors import FileFormatError
 from sketchanim.formats.csvio import text_lines
 from sketchanim.atomic import write_atomic
@@ -26,9 +26,6 @@ from sketchanim.motion import euler_angles
 ROTATIONS = ("Xrotation", "Yrotation", "Zrotation")
 POSITIONS = ("Xposition", "Yposition", "Zposition")
 
-#: Channel layout written for joints whose source gave none (a clip from ASF/AMC).
-ROOT_LAYOUT = ("Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation", "Yrotation")
-JOINT_LAYOUT = ("Zrotation", "Xrotation", "Yrotation")
 
 
 class _Tokens:
@@ -258,7 +255,7 @@ def _layout(clip: Clip, i: int) -> tuple[str, ...]:
     if (sum(c in ROTATIONS for c in names) == 3 * bool(clip.rotating[i])
             and sum(c in POSITIONS for c in names) == 3 * bool(clip.translating[i])):
         return names
-    return ROOT_LAYOUT if clip.translating[i] else JOINT_LAYOUT
+    return ROOT_CHANNELS if clip.translating[i] else JOINT_CHANNELS
 
 
 def _frames(clip: Clip, layouts: list[tuple[str, ...]], order: list[int]) -> np.ndarray:

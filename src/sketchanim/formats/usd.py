@@ -115,9 +115,9 @@ OpValues = tuple[np.ndarray | None, np.ndarray]
 
 @dataclass(frozen=True)
 class XformSamples:
-    """One Xform prim at the stage's root, ``/name``: its translate, orient (unit
-    quaternions x, y, z, w) and scale ops, each time samples or a constant
-    (:data:`OpValues`), or absent (None)."""
+    """One Xform prim, ``/name`` (a path, ``a/b``, nests it under an earlier prim): its
+    translate, orient (unit quaternions x, y, z, w) and scale ops, each time samples or a
+    constant (:data:`OpValues`), or absent (None)."""
 
     name: str
     translate: OpValues | None = None
@@ -127,7 +127,7 @@ class XformSamples:
 
 def write_usd_xforms(path: str | os.PathLike[str], rate: float, xforms: list[XformSamples],
                      unit_m: float | None = 1.0) -> Path:
-    """Write Xform prims at the stage's root as USD (.usda, .usd, .usdc), atomically,
+    """Write Xform prims (:class:`XformSamples`) as USD (.usda, .usd, .usdc), atomically,
     in double precision: each op's samples at time code ``t * rate``
     (``timeCodesPerSecond`` is ``rate``), applied translate, orient, scale (as glTF's
     T R S); the stage spans every sample. The first prim is the default one.

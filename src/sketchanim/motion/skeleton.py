@@ -27,6 +27,12 @@ FIGURE_HEIGHT_M = (0.9, 2.6)
 UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048, "cmu": 0.0254 / 0.45}
 
 
+#: BVH channel layouts: a joint that turns (Z, X, Y, as BVH files most often hold it), and
+#: a root that also moves; what clips made without a source layout carry.
+JOINT_CHANNELS = ("Zrotation", "Xrotation", "Yrotation")
+ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition") + JOINT_CHANNELS
+
+
 @dataclass(frozen=True)
 class Skeleton:
     """Joints in a hierarchy.
@@ -167,7 +173,7 @@ class Clip:
         t = np.asarray(times, dtype=float)
         j = len(skeleton)
         return cls(skeleton, t, *skeleton.rest_pose(len(t)), np.ones(j, bool), np.zeros(j, bool),
-                   (("Zrotation", "Xrotation", "Yrotation"),) * j)
+                   (JOINT_CHANNELS,) * j)
 
     @property
     def frame_time(self) -> float:

@@ -6,7 +6,8 @@ leg length, relative cycle length ``RLc = 1.346 sqrt(RV)``), its feet planted du
 stance and stepping when a foot drifts past a threshold, one leg at a time (running, with
 a flight phase, above the walk-run speed).
 
-The model is a deterministic simulation at :data:`RATE` ticks a second from the start of
+The model is a deterministic simulation at :data:`RATE` ticks a second (the IK's, shared by
+every derived pose: :data:`sketchanim.motion.ik.RATE`) from the start of
 the animation: the caller samples the marker at ticks ``k / RATE``, :func:`start` stands
 the figure still at the first marker and :func:`advance` steps it one tick, so the pose is
 a pure function of the marker's curve. :func:`walk` is :func:`advance` in a loop. The page
@@ -29,13 +30,11 @@ import numpy as np
 
 from sketchanim.errors import ArgumentError
 from sketchanim.motion.humanoid import Rig, humanoid, rig
+from sketchanim.motion.ik import RATE
 from sketchanim.motion.skeleton import Skeleton
 from sketchanim.motion.twobone import Frame, Vec, frame_quaternion, local_frame, two_bone
 
 __all__ = ["RATE", "Gait", "Walk", "WalkState", "advance", "gait", "humanoid", "rig", "start", "walk"]
-
-#: Ticks a second. (The IK helper's motion/ik.py defines the same constant; one will go.)
-RATE = 120.0
 
 #: Boulic's relative cycle length per square root of relative velocity.
 CYCLE = 1.346

@@ -21,6 +21,7 @@ from urllib.parse import quote
 import numpy as np
 from pydantic import BaseModel
 
+from sketchanim.anim.rigs import rigs
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError
@@ -150,7 +151,7 @@ def disposition(name: str) -> str:
 
 def choices(project: Path, scene: Scene, tracks: dict[str, Track]) -> ExportChoices:
     """Every format the dialog offers for this scene (BVH where it has a skeleton: an
-    imported clip's joints), with what each client plays.
+    imported clip's joints, a chain, a walker), with what each client plays.
 
     >>> scene = Scene(); _ = scene.add("box")
     >>> c = choices(Path("show.sketchanim"), scene, {}).choices
@@ -160,12 +161,14 @@ def choices(project: Path, scene: Scene, tracks: dict[str, Track]) -> ExportChoi
     tol = within(tracks, scene)
     skipped = left_out(scene, tracks)
     joints = {name for skeleton in skeletons(scene) for name in skeleton}
-    outside = sorted(p for p in tracks if p.split(".")[0] not in joints or p.split(".")[1] not in ("position", "orientation"))
+    rigged = set(rigs(scene))
+    outside = sorted(p for p in tracks if not (p.split(".")[0] in joints and p.split(".")[1] in ("position", "orientation")
+                                              or p.split(".")[0] in rigged and p.split(".")[1] in ("position", "goal")))
     return ExportChoices(choices=[
         ExportChoice(format=name, title=fmt.title, file=file_name(project, fmt),
                      clients=[ClientPlay(client=c, plays=tol if plays == "tol" else plays) for c, plays in fmt.clients],
                      left_out=[] if name == "json" else outside if name == "bvh" else skipped)
-        for name, fmt in FORMATS.items() if name != "bvh" or joints])
+        for name, fmt in FORMATS.items() if name != "bvh" or joints or rigged])
 
 
 def build(name: str, project: Path, scene: Scene, tracks: dict[str, Track], fps: float,

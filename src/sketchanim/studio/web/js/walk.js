@@ -10,7 +10,7 @@
  * the marker beyond the fastest run. docs/walker.md describes the model. The figure is
  * humanoid.js's (re-exported here), the leg IK twobone.js's.
  *
- * A deterministic simulation at RATE ticks a second from the start of the animation:
+ * A deterministic simulation at RATE ticks a second (ik.js's, re-exported) from the start of the animation:
  * `start` stands the figure at the first marker (tick 0), `advance` steps it one tick, so
  * the pose is a pure function of the marker's curve; `walk` is `advance` in a loop. Pure:
  * no three.js. Conventions: y up, heading 0 faces +z (heading a faces (sin a, 0, cos a)),
@@ -19,17 +19,15 @@
  */
 
 import { humanoid, rig } from './humanoid.js';
+import { RATE } from './ik.js';
 import { twoBone, localFrame, frameQuaternion } from './twobone.js';
 
-export { humanoid, rig };
+export { humanoid, rig, RATE };
 
 /** @typedef {import('./humanoid.js').Vec} Vec */
 /** @typedef {import('./humanoid.js').Skeleton} Skeleton */
 /** @typedef {import('./humanoid.js').Rig} Rig */
 /** @typedef {import('./twobone.js').Frame} Frame */
-
-/** Ticks a second. (The IK module will define the same constant; one will go.) */
-export const RATE = 120.0;
 
 /** Boulic's relative cycle length per square root of relative velocity. */
 export const CYCLE = 1.346;
