@@ -19,6 +19,13 @@ from studio_browser import curve, drag, drew_something, held, last_take, project
 SHOTS = Path("/tmp/shots-rigs")
 #: Ticks per second of every derived pose (ik.js / walk.js RATE).
 RATE = 120
+#: Ticks the solver runs on the goal at time 0 before it (anim/rigs.py LEAD).
+LEAD = 2 * RATE
+
+
+def _led(k: int) -> np.ndarray:
+    """The times a goal is sampled at for ticks 0..k, as anim/rigs.py does: LEAD ticks at 0, then the ticks."""
+    return np.r_[np.zeros(LEAD), np.arange(k + 1) / RATE]
 
 
 def _shot(page, name: str) -> np.ndarray:  # noqa: ANN001
@@ -108,7 +115,7 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
         assert np.abs(a - b).max() > 1e-3, f"{name} did not move in playback"
     # the page's pose on a tick is the solver's on the goal curve sampled here
     k = int(0.5 * (entry["knots"][0] + entry["knots"][-1]) * RATE)
-    goals = held(goal, np.arange(k + 1) / RATE) - base
+    goals = held(goal, _led(k)) - base
     solved = page.evaluate("""async ([name, goals]) => { const ik = await import('/js/ik.js');
         const o = studio.objectOf(name); const v = (a) => studio.values.get(`${name}.${a}`);
         const chain = ik.chainFromSlots(v('lengths'), v('limits'), v('hinges'));
@@ -121,7 +128,7 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
     assert np.abs(np.array(shown["rotations"]) - model.ravel()).max() < 1e-6
     assert np.allclose(shown["goal"], held(goal, np.array([k / RATE]))[0], atol=1e-6)
     k = int(0.6 * (walked["knots"][0] + walked["knots"][-1]) * RATE)
-    markers = held(path, np.arange(k + 1) / RATE)
+    markers = held(path, _led(k))
     stepped = page.evaluate("""async ([name, markers]) => { const w = await import('/js/walk.js');
         const sk = w.humanoid(studio.values.get(`${name}.height`)[0]);
         const out = w.walk(sk, Float64Array.from(markers.flat())); const J = 4 * sk.names.length;
@@ -135,7 +142,7 @@ def test_add_chain_and_walker_record_their_goals_play_and_undo(_page, studio: st
     assert np.abs(np.array(shown["root"]) - model.root[-1]).max() < 1e-6
     # a notice names the walker exactly when the model's walk falls behind its marker somewhere
     end = walked["knots"][-1]
-    behind = walk.walk(walk.humanoid(1.75), held(path, np.arange(int(np.ceil((end + 1) * RATE)) + 1) / RATE)).behind
+    behind = walk.walk(walk.humanoid(1.75), held(path, _led(int(np.ceil((end + 1) * RATE))))).behind
     page.wait_for_function(f"viewport.rigs.behindUntil('{walker}', {end + 1}, 0) !== null")
     page.wait_for_timeout(100)
     told = [n["text"] for n in page.evaluate("studio.notices") if n["source"] == "walker"]

@@ -9,8 +9,9 @@
  * ticks before a curve's first changed control point acts: `changedFrom`). The pose at a
  * time is its two neighbouring ticks' poses, slerped per joint (and the walker's root lerped).
  *
- * A rig whose goal and base have no curve holds its goal for all time: it is shown as the tick
- * SETTLE of that constant goal (where the figure comes to rest holding it), at every time.
+ * As the model has it (anim/rigs.py LEAD), the solver first runs LEAD ticks on the goal of tick 0,
+ * from the rest pose, so that at time 0 the figure has come to rest on its goal (a chain holds
+ * it, a walker stands).
  *
  * While the goal (or a chain's base) is performed live -- held by this page's performer or
  * recorded by another page -- the figure steps from the state shown last toward the live goal at
@@ -25,8 +26,8 @@ import * as walker from './walk.js';
 
 /** Ticks per second of every derived pose (ik.js RATE; walk.js steps at the same rate). */
 export const RATE = ik.RATE;
-/** Ticks a constant goal is held before its pose is shown (2 s: the figure has come to rest). */
-export const SETTLE = 2 * RATE;
+/** Ticks solved on the goal's first value before time 0, from the rest pose (anim/rigs.py LEAD). */
+export const LEAD = 2 * RATE;
 /** Ticks the cache grows by at least when playback passes its end (a quarter second). */
 const CHUNK = RATE / 4;
 /** Ticks between the states kept to resume a simulation from (a live grab starting mid-way, a curve changed from a time on). */
@@ -201,26 +202,28 @@ export class PoseCache {
   /**
    * @param {Motion} motion
    * @param {(k: number, out: Float64Array) => Float64Array} sample the goal at tick k
+   * @param {number} [lead] ticks solved on the goal of tick 0 before tick 0 (LEAD)
    */
-  constructor(motion, sample) {
+  constructor(motion, sample, lead = 0) {
     this.motion = motion;
     this.sample = sample;
-    /** @type {Float64Array[]} each tick's rotations */
+    this.lead = lead;
+    /** @type {Float64Array[]} each step's rotations (step j: tick j - lead) */
     this.rotations = [];
-    /** @type {Float64Array[]} each tick's root (a walker's) */
+    /** @type {Float64Array[]} each step's root (a walker's) */
     this.roots = [];
-    /** @type {any[]} the state of ticks 0, CHECKPOINT, 2 CHECKPOINT, ... (copies) */
+    /** @type {any[]} the state of steps 0, CHECKPOINT, 2 CHECKPOINT, ... (copies) */
     this.checkpoints = [];
-    /** @type {any} the state of the last tick cached */
+    /** @type {any} the state of the last step cached */
     this.state = null;
     /** @type {[number, number, number][]} the spans the goal outran the figure, ended so far (s, s, m/s; as walk.js `walk`) */
     this.behind = [];
     this.goal = new Float64Array(3);
   }
 
-  /** Ticks cached. */
+  /** Ticks cached, from tick 0. */
   get count() {
-    return this.rotations.length;
+    return Math.max(this.rotations.length - this.lead, 0);
   }
 
   /**
@@ -228,15 +231,17 @@ export class PoseCache {
    * @param {number} k
    */
   ensure(k) {
-    if (k < this.count) return;
-    const to = Math.max(k, this.count + CHUNK - 1);
+    const want = this.lead + k;
+    const from = this.rotations.length;
+    if (want < from) return;
+    const to = Math.max(want, from + CHUNK - 1);
     const m = this.motion;
-    for (let i = this.count; i <= to; i++) {
-      const goal = this.sample(i, this.goal);
-      const lag = i === 0 ? null : m.lag(this.state);
-      this.state = i === 0 ? m.first(goal) : m.next(this.state, goal);
-      if (lag && !m.lag(this.state)) this.behind.push([lag.since / RATE, (i - 1) / RATE, lag.speed]);   // to the last tick behind
-      if (i % CHECKPOINT === 0) this.checkpoints.push(structuredClone(this.state));
+    for (let j = from; j <= to; j++) {
+      const goal = this.sample(Math.max(j - this.lead, 0), this.goal);
+      const lag = j === 0 ? null : m.lag(this.state);
+      this.state = j === 0 ? m.first(goal) : m.next(this.state, goal);
+      if (lag && !m.lag(this.state)) this.behind.push([(lag.since - this.lead) / RATE, (j - 1 - this.lead) / RATE, lag.speed]);   // to the last tick behind
+      if (j % CHECKPOINT === 0) this.checkpoints.push(structuredClone(this.state));
       const pose = m.pose(this.state);
       this.rotations.push(Float64Array.from(pose.rotations));
       if (pose.root) this.roots.push(Float64Array.from(pose.root));
@@ -244,21 +249,21 @@ export class PoseCache {
   }
 
   /**
-   * Take over the ticks of `old` (the same motion, on goals equal up to tick `last`) up to the
-   * checkpoint at or before `last`: the simulation goes on from that checkpoint's state.
+   * Take over the steps of `old` (the same motion and lead, on goals equal up to tick `last`) up
+   * to the checkpoint at or before it: the simulation goes on from that checkpoint's state.
    * @param {PoseCache} old
    * @param {number} last
    */
   adopt(old, last) {
-    const c = Math.floor(Math.min(last, old.count - 1) / CHECKPOINT);
+    const c = Math.floor(Math.min(this.lead + last, old.rotations.length - 1) / CHECKPOINT);
     if (c < 0 || !old.checkpoints.length) return;
-    const k = c * CHECKPOINT;
-    this.rotations = old.rotations.slice(0, k + 1);
-    this.roots = old.roots.slice(0, k + 1);
+    const j = c * CHECKPOINT;
+    this.rotations = old.rotations.slice(0, j + 1);
+    this.roots = old.roots.slice(0, j + 1);
     this.checkpoints = old.checkpoints.slice(0, c + 1);
     this.state = structuredClone(old.checkpoints[c]);
-    // spans that ended (a tick not behind) by tick k; one still open there is in the state
-    this.behind = old.behind.filter((span) => Math.round(span[1] * RATE) + 1 <= k);
+    // spans that ended (a step not behind) by step j; one still open there is in the state
+    this.behind = old.behind.filter((span) => Math.round(span[1] * RATE) + this.lead + 1 <= j);
   }
 
   /**
@@ -266,8 +271,9 @@ export class PoseCache {
    * @returns {[number, number, number][]}
    */
   spans() {
-    const lag = this.count ? this.motion.lag(this.state) : null;
-    return lag ? [...this.behind, [lag.since / RATE, (this.count - 1) / RATE, lag.speed]] : [...this.behind];
+    const lag = this.rotations.length ? this.motion.lag(this.state) : null;
+    return lag ? [...this.behind, [(lag.since - this.lead) / RATE, (this.rotations.length - 1 - this.lead) / RATE, lag.speed]]
+      : [...this.behind];
   }
 
   /**
@@ -276,10 +282,11 @@ export class PoseCache {
    */
   stateAt(k) {
     this.ensure(k);
-    const c = Math.floor(k / CHECKPOINT);
+    const j = this.lead + k;
+    const c = Math.floor(j / CHECKPOINT);
     let state = structuredClone(this.checkpoints[c]);
     const goal = new Float64Array(3);
-    for (let i = c * CHECKPOINT + 1; i <= k; i++) state = this.motion.next(state, this.sample(i, goal));
+    for (let i = c * CHECKPOINT + 1; i <= j; i++) state = this.motion.next(state, this.sample(Math.max(i - this.lead, 0), goal));
     return state;
   }
 
@@ -293,14 +300,15 @@ export class PoseCache {
     const k = Math.floor(x);
     const f = x - k;
     this.ensure(k + 1);
-    const a = this.rotations[k];
-    const b = this.rotations[k + 1];
+    const j = this.lead + k;
+    const a = this.rotations[j];
+    const b = this.rotations[j + 1];
     const rotations = new Float64Array(a.length);
     for (let o = 0; o < a.length; o += 4) slerp(a, o, b, o, f, rotations, o);
     let root = null;
     if (this.roots.length) {
-      const ra = this.roots[k];
-      const rb = this.roots[k + 1];
+      const ra = this.roots[j];
+      const rb = this.roots[j + 1];
       root = new Float64Array(3);
       for (let c = 0; c < 3; c++) root[c] = ra[c] + (rb[c] - ra[c]) * f;
     }
@@ -327,7 +335,6 @@ export class PoseCache {
  * @property {string} error
  * @property {PoseCache | null} cache
  * @property {Live | null} live
- * @property {boolean} still   no curve drives it: the pose of tick SETTLE at every time
  * @property {(Curve | number[] | null)[]} sources  its goal and base (curves or values) the cache was made from
  */
 
@@ -353,7 +360,7 @@ export class Rigs {
       names.add(o.name);
       const rig = this.rigs.get(o.name);
       if (!rig || rig.kind !== o.kind) {
-        this.rigs.set(o.name, { name: o.name, kind: o.kind, key: [], motion: null, error: '', cache: null, live: null, still: false, sources: [null, null] });
+        this.rigs.set(o.name, { name: o.name, kind: o.kind, key: [], motion: null, error: '', cache: null, live: null, sources: [null, null] });
       }
     }
     for (const name of this.rigs.keys()) if (!names.has(name)) this.rigs.delete(name);
@@ -400,8 +407,7 @@ export class Rigs {
       }
     }
     const motion = /** @type {Motion} */ (rig.motion);
-    rig.still = Array.isArray(goal) && (base === null || Array.isArray(base));
-    rig.cache = new PoseCache(motion, goalSampler(goal, base));
+    rig.cache = new PoseCache(motion, goalSampler(goal, base), LEAD);
     if (old && from > 0) rig.cache.adopt(old, Math.ceil(from * RATE) - 1);
   }
 
@@ -416,7 +422,7 @@ export class Rigs {
     const rig = this.rigs.get(name);
     if (!rig) return null;
     if (!rig.live) this.refresh(rig);
-    return rig.cache ? rig.cache.at(rig.still ? SETTLE / RATE : t) : null;
+    return rig.cache ? rig.cache.at(t) : null;
   }
 
   /**
@@ -444,14 +450,13 @@ export class Rigs {
     const live = this.paths(rig).some((p) => this.scene.live(p));
     if (!live || !rig.live) this.refresh(rig);           // a live goal's moving value makes no new cache
     if (!rig.cache || !rig.motion) return null;
-    const time = rig.still ? SETTLE / RATE : t;
     if (!live) {
       rig.live = null;
-      return rig.cache.at(time);
+      return rig.cache.at(t);
     }
     const goal = this.liveGoal(rig);
     if (!rig.live) {
-      const k = Math.floor(Math.max(time, 0) * RATE);
+      const k = Math.floor(Math.max(t, 0) * RATE);
       rig.live = { state: rig.cache.stateAt(k), goal: rig.cache.sample(k, new Float64Array(3)), stamp: now, ticks: 0 };
     }
     const figure = rig.live;
