@@ -139,6 +139,17 @@ def test_goals_out_of_reach_point_a_straight_chain_at_them(data: st.DataObject) 
     assert off < 1e-3, f"points {off} rad off the goal"
 
 
+def test_a_base_swung_near_its_limit_keeps_no_twist() -> None:
+    """A goal 2.9 rad from up, the base's limit 3.0: the swing there must not leave the base
+    twisted about its segment (its angle then more than pointing needs, held at the limit,
+    and the chain bent to make up; found by hypothesis)."""
+    chain = ik.Chain((0.75, 1.0, 0.5, 0.5), (3.0, 0.875, 0.875, 2.0), (False,) * 4)
+    goal = np.array([math.sin(2.9), math.cos(2.9), 0.0]) * 2 * sum(chain.lengths)
+    solved = ik.solve(chain, np.tile(goal, (480, 1)))
+    assert turn_angles(solved[-1, 1:], np.array([0.0, 0, 0, 1])).max() < 1e-3
+    assert abs(turn_angles(solved[-1, 0], np.array([0.0, 0, 0, 1])) - 2.9) < 1e-3
+
+
 def check_ticks(chain: ik.Chain, goals: np.ndarray, solved: np.ndarray) -> None:
     """The bounds every tick keeps, from the rest pose."""
     assert np.isfinite(solved).all()

@@ -484,7 +484,16 @@ def _iterate(p: _Prepared, q: list[float], pos: list[float], world: list[float],
             lx = gain * (2 * q[k] - keep * 2 * rest_x[i])
             ly = gain * (2 * q[k + 1])
             lz = gain * (2 * q[k + 2])
-            bias[j], bias[j + 1], bias[j + 2] = (lx, ly, lz) if i == 0 else _rotate(world, k - 4, False, lx, ly, lz)
+            if i == 0:
+                # Out of reach, a ball base keeps the bias on its twist about its own segment
+                # (which does not move a straight chain's effector), so no twist from the swing
+                # there stays to make its rotation angle larger than pointing needs.
+                l0 = p.lengths[0]
+                ax, ay, az = pos[3] / l0, pos[4] / l0, pos[5] / l0
+                twist = -BIAS * (1 - keep) * (2 * q[0] * ax + 2 * q[1] * ay + 2 * q[2] * az)
+                bias[0], bias[1], bias[2] = lx + twist * ax, ly + twist * ay, lz + twist * az
+            else:
+                bias[j], bias[j + 1], bias[j + 2] = _rotate(world, k - 4, False, lx, ly, lz)
     skip = [False] * n
     turn = [0.0] * (3 * n)
     trial = [0.0] * (4 * n)

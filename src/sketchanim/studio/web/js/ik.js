@@ -425,7 +425,13 @@ function iterate(p, q, tx, ty, tz, keep) {
       const ly = gain * (2 * q[k + 1]);
       const lz = gain * (2 * q[k + 2]);
       if (i === 0) {
-        bias[0] = lx; bias[1] = ly; bias[2] = lz;
+        // Out of reach, a ball base keeps the bias on its twist about its own segment (which
+        // does not move a straight chain's effector), so no twist from the swing there stays
+        // to make its rotation angle larger than pointing needs, up against its limit.
+        const l0 = p.lengths[0];
+        const ax = pos[3] / l0, ay = pos[4] / l0, az = pos[5] / l0;
+        const twist = -BIAS * (1 - keep) * (2 * q[0] * ax + 2 * q[1] * ay + 2 * q[2] * az);
+        bias[0] = lx + twist * ax; bias[1] = ly + twist * ay; bias[2] = lz + twist * az;
       } else {
         rotate(world, k - 4, false, lx, ly, lz, bias, 3 * i);
       }
