@@ -14,28 +14,33 @@ curve and continuous in time. A tick is :data:`ITERATIONS` iterations of damped 
 squares on the 3 x m position Jacobian (Maciejewski 1990, the paper's [26]):
 
 - the tick's target is the goal, but at most the goal's own step plus :data:`CATCH_UP`
-  reaches per second from the effector; the effector never moves farther in a tick (a
-  tick that would, from the solver's second-order motion, is pulled back by bisection);
+  reaches per second from the effector, and no farther out than the reach; the effector
+  never moves farther in a tick (a tick that would, from the solver's second-order motion,
+  is pulled back toward its start by bisection);
 - the error is clamped to :data:`STEP` reaches per iteration (Buss);
 - the 3 x 3 ``J J^T`` is diagonalised by cyclic Jacobi; each singular direction whose
-  singular value is below ``EPS`` reaches is damped by ``DAMPING^2 (1 - (s / EPS)^2)``
-  (Nakamura and Hanafusa's schedule, direction by direction, so a chain that cannot move
-  one way at all, a planar one, is still undamped in the others);
+  singular value ``s`` is below ``EPS`` reaches is damped by ``DAMPING^2 (1 - (s / EPS)^2)``
+  (Nakamura and Hanafusa's schedule, direction by direction, so that a chain that cannot
+  move one way at all, a planar one, is still undamped in the others);
 - a bias ``z = -BIAS * (coordinates - rest coordinates)`` in the null space: ``dq = z +
-  J^T y``, ``y`` the damped solution for the error minus the (barely damped, ``PROJECTION``)
-  solution for ``J z``, so the redundant freedom relaxes toward rest while reachable goals
-  are still reached exactly; a goal beyond ``1 - BAND`` of the reach biases toward straight;
+  J^T y``, ``y`` the damped solution for the error minus the solution for ``J z`` (damped
+  by only ``PROJECTED`` of it while the goal is in reach, so reachable goals are reached
+  exactly while the redundant freedom relaxes toward rest); from 1 to ``1 + BAND`` reaches
+  out the bias turns to straight, with the full damping, and the base's bias fades out, so
+  a goal out of reach gets a straight chain pointing at it;
 - every joint turns at most :data:`MAX_TURN` per iteration (the whole update scaled);
-- the limits are clamped after every update (the rotation angle brought back about its axis).
+- a joint the update would take past its limit is held and the update solved again without
+  it (once); then every limit is clamped (the rotation angle brought back about its axis).
 
 The straight pose is singular along the chain (a goal straight below the tip cannot be
 reached from it by the Jacobian alone): the rest pose is slightly bent (:data:`CURL` in all,
 shared by the joints after the base), and the bias toward that bend is not cancelled along a
 singular direction, so a straight chain bends again as soon as its goal comes back in.
 
-The page runs the same algorithm (``studio/web/js/ik.js``), operation for operation, so both
-agree to 1e-6 rad (tests/motion/test_ik.py). Plain floats: for 8 joints they are faster than
-numpy's small-array calls (benchmarks/bench_ik.py).
+The page runs the same algorithm (``studio/web/js/ik.js``), operation for operation, with
+no library trigonometry, so both agree to the bit (tests/motion/test_ik.py checks 1e-6 rad).
+Plain floats: for 8 joints they are faster than numpy's small-array calls
+(benchmarks/bench_ik.py). docs/rigs.md describes the model.
 """
 
 from __future__ import annotations
@@ -54,8 +59,10 @@ RATE: float = 120.0
 
 #: Iterations of damped least squares per tick.
 ITERATIONS = 3
-#: Jacobi sweeps over the 3 x 3 ``J J^T`` (4 reach machine precision on 3 x 3).
+#: Jacobi sweeps over the 3 x 3 ``J J^T`` (4 are machine precision for a 3 x 3).
 SWEEPS = 4
+#: An off-diagonal entry this small against its diagonal ones is not rotated away.
+NEGLIGIBLE = 1e-18
 #: The rest pose's bend (radians), shared by the joints after the base: never straight.
 CURL = 0.2
 #: How fast (reaches per second) the effector may move beyond the goal's own step.
@@ -73,7 +80,7 @@ BIAS = 0.05
 #: Goals from 1 to ``1 + BAND`` reaches out turn the rest bias from the rest bend to straight.
 BAND = 0.05
 #: The share of the damping the bias's projection keeps while the goal is in reach.
-PROJECTED = 0.01
+PROJECTED = 1e-4
 #: Bisection steps pulling a tick back that would move the effector beyond its allowance.
 BACKOFF = 12
 
@@ -224,7 +231,7 @@ def _prepare(chain: Chain) -> _Prepared:
 
 def rest(chain: Chain) -> np.ndarray:
     """The start pose, shape (J, 4): a slight bend about x at each joint after the base
-    (``CURL`` radians in all, at most half a joint's limit), so that the chain is never
+    (about ``CURL`` radians in all, at most half a joint's limit), so that the chain is never
     straight at rest, where the Jacobian is singular along it; the rest bias relaxes to it.
 
     Examples
@@ -273,50 +280,73 @@ def _rotate(q: list[float], k: int, inverse: bool, x: float, y: float, z: float)
             z + 2 * (w * cz + (ux * cy - uy * cx)))
 
 
-_PAIRS = ((0, 1, 2), (0, 2, 1), (1, 2, 0))
+def _givens(aii: float, ajj: float, aij: float) -> tuple[float, float, float]:
+    """The Jacobi rotation's tan, cos and sin that zero ``aij`` between ``aii`` and ``ajj``."""
+    theta = (ajj - aii) / (2 * aij)
+    t = 1 / (abs(theta) + math.sqrt(theta * theta + 1))
+    if theta < 0:
+        t = -t
+    c = 1 / math.sqrt(t * t + 1)
+    return t, c, t * c
 
 
 def _jacobi(a: list[float]) -> list[float]:
     """Eigen-decomposition of the symmetric 3 x 3 ``a`` (row-major, changed in place) by
-    cyclic Jacobi, ``SWEEPS`` sweeps: eigenvalues on its diagonal, eigenvectors the
-    columns of the returned 3 x 3."""
-    v = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+    cyclic Jacobi, ``SWEEPS`` sweeps over the pairs (0, 1), (0, 2), (1, 2): eigenvalues on
+    its diagonal, eigenvectors the columns of the returned 3 x 3. (The page's loop, unrolled:
+    the same operations on each entry.)"""
+    d0, d1, d2, o01, o02, o12 = a[0], a[4], a[8], a[1], a[2], a[5]
+    v00, v01, v02, v10, v11, v12, v20, v21, v22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
     for _ in range(SWEEPS):
-        for i, j, r in _PAIRS:
-            aij = a[3 * i + j]
-            if aij == 0:
-                continue
-            theta = (a[3 * j + j] - a[3 * i + i]) / (2 * aij)
-            t = 1 / (abs(theta) + math.sqrt(theta * theta + 1))
-            if theta < 0:
-                t = -t
-            c = 1 / math.sqrt(t * t + 1)
-            s = t * c
-            a[3 * i + i] -= t * aij
-            a[3 * j + j] += t * aij
-            a[3 * i + j] = a[3 * j + i] = 0.0
-            ari, arj = a[3 * r + i], a[3 * r + j]
-            a[3 * r + i] = a[3 * i + r] = c * ari - s * arj
-            a[3 * r + j] = a[3 * j + r] = s * ari + c * arj
-            for k in range(3):
-                vki, vkj = v[3 * k + i], v[3 * k + j]
-                v[3 * k + i] = c * vki - s * vkj
-                v[3 * k + j] = s * vki + c * vkj
-    return v
+        # Negligible already (the same test in the page): the rotation would change nothing.
+        if not abs(o01) <= NEGLIGIBLE * (abs(d0) + abs(d1)):
+            t, c, s = _givens(d0, d1, o01)
+            d0 -= t * o01
+            d1 += t * o01
+            o01 = 0.0
+            o02, o12 = c * o02 - s * o12, s * o02 + c * o12
+            v00, v01 = c * v00 - s * v01, s * v00 + c * v01
+            v10, v11 = c * v10 - s * v11, s * v10 + c * v11
+            v20, v21 = c * v20 - s * v21, s * v20 + c * v21
+        if not abs(o02) <= NEGLIGIBLE * (abs(d0) + abs(d2)):
+            t, c, s = _givens(d0, d2, o02)
+            d0 -= t * o02
+            d2 += t * o02
+            o02 = 0.0
+            o01, o12 = c * o01 - s * o12, s * o01 + c * o12
+            v00, v02 = c * v00 - s * v02, s * v00 + c * v02
+            v10, v12 = c * v10 - s * v12, s * v10 + c * v12
+            v20, v22 = c * v20 - s * v22, s * v20 + c * v22
+        if not abs(o12) <= NEGLIGIBLE * (abs(d1) + abs(d2)):
+            t, c, s = _givens(d1, d2, o12)
+            d1 -= t * o12
+            d2 += t * o12
+            o12 = 0.0
+            o01, o02 = c * o01 - s * o02, s * o01 + c * o02
+            v01, v02 = c * v01 - s * v02, s * v01 + c * v02
+            v11, v12 = c * v11 - s * v12, s * v11 + c * v12
+            v21, v22 = c * v21 - s * v22, s * v21 + c * v22
+    a[0], a[4], a[8] = d0, d1, d2
+    a[1] = a[3] = o01
+    a[2] = a[6] = o02
+    a[5] = a[7] = o12
+    return [v00, v01, v02, v10, v11, v12, v20, v21, v22]
 
 
 def _clamp(p: _Prepared, q: list[float], i: int) -> None:
     """Hold joint i of ``q`` within its limit: a rotation angle past it is brought back to
-    it about the same axis (a hinge's x keeps its sign); the quaternion's sign is kept."""
+    it about the same axis (a hinge's x keeps its sign). Joints start each tick with w >= 0
+    (rotation angles up to pi), so a w pushed below cos(limit / 2), even below 0 (an update
+    that carried a limit near pi past pi), is brought back on the side the joint came from."""
     k = 4 * i
     w = q[k + 3]
     c = p.cos_lim[i]
-    if abs(w) >= c:
+    if w >= c:
         return
     x, y, z = q[k], q[k + 1], q[k + 2]
     f = p.sin_lim[i] / math.sqrt(x * x + y * y + z * z)
     q[k], q[k + 1], q[k + 2] = x * f, y * f, z * f
-    q[k + 3] = -c if w < 0 else c
+    q[k + 3] = c
 
 
 def _dls(p: _Prepared, dx: float, dy: float, dz: float, cols: list[float], bias: list[float],
@@ -441,7 +471,6 @@ def _iterate(p: _Prepared, q: list[float], pos: list[float], world: list[float],
     for i in range(n):
         j, k = 3 * i, 4 * i
         rx, ry, rz = ex - pos[j], ey - pos[j + 1], ez - pos[j + 2]
-        sign = -2 if q[k + 3] < 0 else 2
         # The base points the chain: it is not biased upright when the goal is out of reach.
         gain = -BIAS * keep if i == 0 else -BIAS
         if hinge[i]:
@@ -449,13 +478,22 @@ def _iterate(p: _Prepared, q: list[float], pos: list[float], world: list[float],
             # The hinge's world axis: the first column of its world rotation; its column a x r.
             ax, ay, az = 1 - 2 * (wy * wy + wz * wz), 2 * (wx * wy + ww * wz), 2 * (wx * wz - ww * wy)
             cols[j], cols[j + 1], cols[j + 2] = ay * rz - az * ry, az * rx - ax * rz, ax * ry - ay * rx
-            bias[j] = gain * (sign * q[k] - keep * 2 * rest_x[i])
+            bias[j] = gain * (2 * q[k] - keep * 2 * rest_x[i])
         else:
             cols[j], cols[j + 1], cols[j + 2] = rx, ry, rz
-            lx = gain * (sign * q[k] - keep * 2 * rest_x[i])
-            ly = gain * (sign * q[k + 1])
-            lz = gain * (sign * q[k + 2])
-            bias[j], bias[j + 1], bias[j + 2] = (lx, ly, lz) if i == 0 else _rotate(world, k - 4, False, lx, ly, lz)
+            lx = gain * (2 * q[k] - keep * 2 * rest_x[i])
+            ly = gain * (2 * q[k + 1])
+            lz = gain * (2 * q[k + 2])
+            if i == 0:
+                # Out of reach, a ball base keeps the bias on its twist about its own segment
+                # (which does not move a straight chain's effector), so no twist from the swing
+                # there stays to make its rotation angle larger than pointing needs.
+                l0 = p.lengths[0]
+                ax, ay, az = pos[3] / l0, pos[4] / l0, pos[5] / l0
+                twist = -BIAS * (1 - keep) * (2 * q[0] * ax + 2 * q[1] * ay + 2 * q[2] * az)
+                bias[0], bias[1], bias[2] = lx + twist * ax, ly + twist * ay, lz + twist * az
+            else:
+                bias[j], bias[j + 1], bias[j + 2] = _rotate(world, k - 4, False, lx, ly, lz)
     skip = [False] * n
     turn = [0.0] * (3 * n)
     trial = [0.0] * (4 * n)
@@ -463,7 +501,7 @@ def _iterate(p: _Prepared, q: list[float], pos: list[float], world: list[float],
     held = False
     for i in range(n):
         _turned(p, q, world, i, scale, turn, trial)
-        if abs(trial[4 * i + 3]) < p.cos_lim[i]:
+        if trial[4 * i + 3] < p.cos_lim[i]:
             skip[i] = True
             held = True
     if held:
@@ -523,7 +561,13 @@ def _advance(p: _Prepared, pose: list[float], gx: float, gy: float, gz: float,
     n, reach = p.n, p.reach
     pos = [0.0] * (3 * n + 3)
     world = [0.0] * (4 * n)
-    start = list(pose)
+    # Unit quaternions with w >= 0: a joint's coordinates (twice the vector part) and its
+    # limit test (w >= cos(limit / 2)) read the rotation angle from 0 to pi.
+    start = [0.0] * (4 * n)
+    for k in range(0, 4 * n, 4):
+        x, y, z, w = pose[k], pose[k + 1], pose[k + 2], pose[k + 3]
+        f = (-1 if w < 0 else 1) / math.sqrt(x * x + y * y + z * z + w * w)
+        start[k], start[k + 1], start[k + 2], start[k + 3] = x * f, y * f, z * f, w * f
     _forward(p, start, pos, world)
     sx, sy, sz = pos[3 * n], pos[3 * n + 1], pos[3 * n + 2]
     mx, my, mz = gx - gx0, gy - gy0, gz - gz0
@@ -547,7 +591,7 @@ def _advance(p: _Prepared, pose: list[float], gx: float, gy: float, gz: float,
         tz *= f
     far = (math.sqrt(gx * gx + gy * gy + gz * gz) - reach) / (BAND * reach)
     keep = 1 - min(max(far, 0.0), 1.0)
-    out = list(pose)
+    out = list(start)
     for _ in range(ITERATIONS):
         _iterate(p, out, pos, world, tx, ty, tz, keep)
     _pull_back(p, start, out, pos, world, sx, sy, sz, allowance)
@@ -558,6 +602,9 @@ def _pose_list(p: _Prepared, pose: ArrayLike) -> list[float]:
     q = np.asarray(pose, dtype=float)
     if q.shape != (p.n, 4) or not np.isfinite(q).all():
         raise ArgumentError("pose", f"needs ({p.n}, 4) finite quaternions, got shape {q.shape}")
+    norms = np.sqrt(np.sum(q * q, axis=1))
+    if (norms < 1e-6).any():
+        raise ArgumentError("pose", f"joint {int(np.argmax(norms < 1e-6))} is not a rotation (norm {norms.min():.3g})")
     return q.ravel().tolist()
 
 
@@ -575,7 +622,7 @@ def step(chain: Chain, pose: ArrayLike, goal: ArrayLike, previous: ArrayLike | N
     ----------
     chain : Chain
     pose : array_like, shape (J, 4)
-        Local rotations, scalar-last, within the limits.
+        Local rotations, scalar-last, within the limits (either sign; normalised here).
     goal : array_like, shape (3,)
         The goal in the chain's base frame (world goal minus the base's position).
     previous : array_like, shape (3,), optional
@@ -584,8 +631,9 @@ def step(chain: Chain, pose: ArrayLike, goal: ArrayLike, previous: ArrayLike | N
     Returns
     -------
     numpy.ndarray, shape (J, 4)
-        The effector has moved at most ``|goal - previous| + CATCH_UP * reach / RATE``;
-        each joint has turned at most ``ITERATIONS * MAX_TURN``; the limits hold.
+        Unit quaternions with ``w >= 0``. The effector has moved at most
+        ``|goal - previous| + CATCH_UP * reach / RATE``; each joint has turned at most
+        ``ITERATIONS * MAX_TURN``; the limits hold.
 
     Examples
     --------

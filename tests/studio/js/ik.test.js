@@ -67,3 +67,21 @@ test('limits hold: a hinge limited to 10 degrees stays within them', () => {
     assert.ok(Math.abs(poses[k + 3]) >= Math.cos(5 * Math.PI / 180) - 1e-12 || k % 12 === 0);
   }
 });
+
+test('solve is step after step, the first from rest with the goal as its own previous', () => {
+  const goals = new Float64Array(60 * 3);
+  for (let k = 0; k < 60; k++) goals.set([0.2 + k / 60, 1 - k / 40, 0.3], 3 * k);
+  const solved = solve(arm, goals);
+  let pose = rest(arm);
+  for (let k = 0; k < 60; k++) {
+    pose = step(arm, pose, goals.subarray(3 * k, 3 * k + 3), k ? goals.subarray(3 * k - 3, 3 * k) : undefined);
+    assert.deepEqual([...pose], [...solved.subarray(20 * k, 20 * k + 20)]);
+  }
+});
+
+test('bad goals and poses are refused, naming them', () => {
+  assert.throws(() => solve(arm, [0, 1]), /goals/);
+  assert.throws(() => solve(arm, [0, 1, NaN]), /goals/);
+  assert.throws(() => step(arm, rest(arm), [0, 1]), /goal/);
+  assert.throws(() => step(arm, new Float64Array(8), [0, 1, 0]), /pose/);
+});

@@ -527,6 +527,7 @@ export class Studio {
     if (name !== this.selected) this.selectPoints([]);
     this.selected = name;
     const obj = name ? this.objectOf(name) : null;
+    if (obj && (obj.kind === 'chain' || obj.kind === 'walker') && this.attribute === 'position') this.attribute = 'goal';   // what a rig is performed by
     if (obj && !obj.attributes.some((a) => a.name === this.attribute && a.type.continuous)) {
       this.attribute = obj.attributes.find((a) => a.type.continuous)?.name ?? 'position';
     }

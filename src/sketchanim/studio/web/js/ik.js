@@ -1,9 +1,9 @@
 // @ts-check
 /**
  * Articulated-chain inverse kinematics in the page: a port of motion/ik.py, operation for
- * operation (the same floating-point operations in the same order), so the page's pose of a
- * chain agrees with the model's to 1e-6 rad (tests/motion/test_ik.py runs both on random
- * chains and goal paths).
+ * operation (the same floating-point operations in the same order, no library trigonometry),
+ * so the page's pose of a chain agrees with the model's to the bit (tests/motion/test_ik.py
+ * runs both on random chains and goal paths and asks for 1e-6 rad).
  *
  * A chain's frame: its base at the origin; at rest (every local rotation identity) it points
  * straight up +y; joint i sits at the start of segment i, its segment along its local +y;
@@ -13,9 +13,9 @@
  * The pose is simulated at RATE ticks per second from the start pose (`rest`): each tick
  * (`step`) runs damped least squares on the 3 x m position Jacobian, the damping of each
  * singular direction from its singular value (Maciejewski), with a bias toward the rest pose
- * in the null space, the limits clamped after every update, the error clamped per iteration
- * (Buss) and the tick's target at most the goal's own step plus a catch-up speed from the
- * effector (docs/rigs.md says why each, and what is promised).
+ * in the null space, joints held at their limits and the limits clamped after every update,
+ * the error clamped per iteration (Buss) and the tick's target at most the goal's own step
+ * plus a catch-up speed from the effector (docs/rigs.md says why each, and what is promised).
  */
 
 /** Ticks per second of every derived pose. */
@@ -23,8 +23,10 @@ export const RATE = 120;
 
 /** Iterations of damped least squares per tick. */
 const ITERATIONS = 3;
-/** Jacobi sweeps over the 3 x 3 J J^T (4 reach machine precision on 3 x 3). */
+/** Jacobi sweeps over the 3 x 3 J J^T (4 are machine precision for a 3 x 3). */
 const SWEEPS = 4;
+/** An off-diagonal entry this small against its diagonal ones is not rotated away. */
+const NEGLIGIBLE = 1e-18;
 /** The rest pose's bend (radians) shared by the joints after the base: never straight. */
 const CURL = 0.2;
 /** How fast (reaches per second) the effector may move beyond the goal's own step. */
@@ -42,7 +44,7 @@ const BIAS = 0.05;
 /** Goals from 1 to 1 + BAND reaches out turn the rest bias from the rest bend to straight. */
 const BAND = 0.05;
 /** The share of the damping the bias's projection keeps while the goal is in reach. */
-const PROJECTED = 0.01;
+const PROJECTED = 1e-4;
 /** Bisection steps pulling a tick back that would move the effector beyond its allowance. */
 const BACKOFF = 12;
 
@@ -161,7 +163,7 @@ function halfTurn(angle) {
 }
 
 /**
- * The start pose: a slight bend about x at each joint after the base (0.2 rad in all, at most
+ * The start pose: a slight bend about x at each joint after the base (about 0.2 rad in all, at most
  * half a joint's limit), so that the chain is never straight at rest, where the Jacobian is
  * singular along the chain; the rest bias relaxes toward it.
  * @param {Chain} chain
@@ -235,7 +237,8 @@ function jacobi(p) {
     for (let pair = 0; pair < 3; pair++) {
       const i = pair === 2 ? 1 : 0, j = pair === 0 ? 1 : 2, r = 3 - i - j;
       const aij = a[3 * i + j];
-      if (aij === 0) continue;
+      // Negligible already (the same test in the model): the rotation would change nothing.
+      if (Math.abs(aij) <= NEGLIGIBLE * (Math.abs(a[3 * i + i]) + Math.abs(a[3 * j + j]))) continue;
       const theta = (a[3 * j + j] - a[3 * i + i]) / (2 * aij);
       let t = 1 / (Math.abs(theta) + Math.sqrt(theta * theta + 1));
       if (theta < 0) t = -t;
@@ -257,7 +260,9 @@ function jacobi(p) {
 
 /**
  * Hold joint i of q within its limit: a rotation angle past it is brought back to it about
- * the same axis (a hinge's x component keeps its sign). The quaternion's sign is kept.
+ * the same axis (a hinge's x component keeps its sign). Joints start each tick with w >= 0
+ * (rotation angles up to pi), so a w pushed below cos(limit / 2), even below 0 (an update that
+ * carried a limit near pi past pi), is brought back on the side the joint came from.
  * @param {Prepared} p
  * @param {Float64Array} q
  * @param {number} i
@@ -266,11 +271,11 @@ function clampJoint(p, q, i) {
   const k = 4 * i;
   const w = q[k + 3];
   const c = p.cosLim[i];
-  if (Math.abs(w) >= c) return;
+  if (w >= c) return;
   const x = q[k], y = q[k + 1], z = q[k + 2];
   const f = p.sinLim[i] / Math.sqrt(x * x + y * y + z * z);
   q[k] = x * f; q[k + 1] = y * f; q[k + 2] = z * f;
-  q[k + 3] = w < 0 ? -c : c;
+  q[k + 3] = c;
 }
 
 /**
@@ -404,7 +409,6 @@ function iterate(p, q, tx, ty, tz, keep) {
   for (let i = 0; i < n; i++) {
     const rx = ex - pos[3 * i], ry = ey - pos[3 * i + 1], rz = ez - pos[3 * i + 2];
     const k = 4 * i;
-    const sign = q[k + 3] < 0 ? -2 : 2;
     // The base points the chain: it is not biased upright when the goal is out of reach.
     const gain = i === 0 ? -BIAS * keep : -BIAS;
     skip[i] = 0;
@@ -413,15 +417,21 @@ function iterate(p, q, tx, ty, tz, keep) {
       // The hinge's world axis: the first column of its world rotation; its column a x r.
       const ax = 1 - 2 * (wy * wy + wz * wz), ay = 2 * (wx * wy + ww * wz), az = 2 * (wx * wz - ww * wy);
       cols[3 * i] = ay * rz - az * ry; cols[3 * i + 1] = az * rx - ax * rz; cols[3 * i + 2] = ax * ry - ay * rx;
-      bias[3 * i] = gain * (sign * q[k] - keep * 2 * p.restX[i]);
+      bias[3 * i] = gain * (2 * q[k] - keep * 2 * p.restX[i]);
       bias[3 * i + 1] = 0; bias[3 * i + 2] = 0;
     } else {
       cols[3 * i] = rx; cols[3 * i + 1] = ry; cols[3 * i + 2] = rz;
-      const lx = gain * (sign * q[k] - keep * 2 * p.restX[i]);
-      const ly = gain * (sign * q[k + 1]);
-      const lz = gain * (sign * q[k + 2]);
+      const lx = gain * (2 * q[k] - keep * 2 * p.restX[i]);
+      const ly = gain * (2 * q[k + 1]);
+      const lz = gain * (2 * q[k + 2]);
       if (i === 0) {
-        bias[0] = lx; bias[1] = ly; bias[2] = lz;
+        // Out of reach, a ball base keeps the bias on its twist about its own segment (which
+        // does not move a straight chain's effector), so no twist from the swing there stays
+        // to make its rotation angle larger than pointing needs, up against its limit.
+        const l0 = p.lengths[0];
+        const ax = pos[3] / l0, ay = pos[4] / l0, az = pos[5] / l0;
+        const twist = -BIAS * (1 - keep) * (2 * q[0] * ax + 2 * q[1] * ay + 2 * q[2] * az);
+        bias[0] = lx + twist * ax; bias[1] = ly + twist * ay; bias[2] = lz + twist * az;
       } else {
         rotate(world, k - 4, false, lx, ly, lz, bias, 3 * i);
       }
@@ -431,7 +441,7 @@ function iterate(p, q, tx, ty, tz, keep) {
   let held = false;
   for (let i = 0; i < n; i++) {
     turned(p, q, i, scale, trial);
-    if (Math.abs(trial[4 * i + 3]) < p.cosLim[i]) {
+    if (trial[4 * i + 3] < p.cosLim[i]) {
       skip[i] = 1;
       held = true;
     }
@@ -466,7 +476,13 @@ function iterate(p, q, tx, ty, tz, keep) {
  */
 function advance(p, pose, gx, gy, gz, gx0, gy0, gz0, out) {
   const n = p.n, reach = p.reach, pos = p.pos, back = p.back;
-  for (let k = 0; k < 4 * n; k++) back[k] = pose[k];
+  // Unit quaternions with w >= 0: a joint's coordinates (twice the vector part) and its limit
+  // test (w >= cos(limit / 2)) read the rotation angle from 0 to pi.
+  for (let k = 0; k < 4 * n; k += 4) {
+    const x = pose[k], y = pose[k + 1], z = pose[k + 2], w = pose[k + 3];
+    const f = (w < 0 ? -1 : 1) / Math.sqrt(x * x + y * y + z * z + w * w);
+    back[k] = x * f; back[k + 1] = y * f; back[k + 2] = z * f; back[k + 3] = w * f;
+  }
   forward(p, back);
   const sx = pos[3 * n], sy = pos[3 * n + 1], sz = pos[3 * n + 2];
   const mx = gx - gx0, my = gy - gy0, mz = gz - gz0;
@@ -488,7 +504,7 @@ function advance(p, pose, gx, gy, gz, gx0, gy0, gz0, out) {
   }
   const far = (Math.sqrt(gx * gx + gy * gy + gz * gz) - reach) / (BAND * reach);
   const keep = 1 - Math.min(Math.max(far, 0), 1);
-  for (let k = 0; k < 4 * n; k++) out[k] = pose[k];
+  for (let k = 0; k < 4 * n; k++) out[k] = back[k];
   for (let it = 0; it < ITERATIONS; it++) iterate(p, out, tx, ty, tz, keep);
   pullBack(p, out, sx, sy, sz, allowance);
 }
@@ -548,14 +564,18 @@ function blend(p, from, to, t, out) {
  * goal's own step plus CATCH_UP reaches per second; each joint turns at most
  * ITERATIONS * MAX_TURN; the limits hold.
  * @param {Chain} chain
- * @param {ArrayLike<number>} pose  n * 4 local rotations (x, y, z, w).
+ * @param {ArrayLike<number>} pose  n * 4 local rotations (x, y, z, w), normalised, either sign.
  * @param {ArrayLike<number>} goal  (x, y, z).
  * @param {ArrayLike<number>} [previous]
- * @returns {Float64Array} n * 4
+ * @returns {Float64Array} n * 4, unit quaternions with w >= 0.
  */
 export function step(chain, pose, goal, previous) {
   const p = prepare(chain);
   if (pose.length !== 4 * p.n) throw new Error(`pose: needs ${4 * p.n} numbers, got ${pose.length}`);
+  for (let k = 0; k < 4 * p.n; k += 4) {
+    const norm = Math.hypot(pose[k], pose[k + 1], pose[k + 2], pose[k + 3]);
+    if (!(norm >= 1e-6) || !Number.isFinite(norm)) throw new Error(`pose: joint ${k / 4} is not a rotation (norm ${norm})`);
+  }
   const before = previous ?? goal;
   for (const g of [goal, before]) {
     if (g.length !== 3 || ![0, 1, 2].every((c) => Number.isFinite(g[c]))) throw new Error(`goal: needs 3 finite numbers, got ${Array.from(g)}`);

@@ -7,7 +7,10 @@
  * A click on an attribute's name shows it in the curve view. Under each continuous
  * attribute, the tolerance its takes are recorded within: empty for what the input
  * resolves (resolution.js: 2 px for a pointer), or an amount in input steps (px) or in the
- * attribute's units; the project keeps it. In a read-only project the fields are disabled.
+ * attribute's units; the project keeps it. A chain's `lengths`, `limits` and `hinges` (8 slots
+ * each) show as one table of its joints: a row per joint in use (length, limit in degrees, hinge
+ * or ball) and one empty row to add a joint; a length of 0 removes that joint and those after
+ * it. In a read-only project the fields are disabled.
  */
 import * as THREE from 'three';
 import { el } from './dom.js';
@@ -15,7 +18,43 @@ import { DEFAULT_STEPS, PICKER_STEP, sliderPerPixel } from './resolution.js';
 
 /** Slider ranges by attribute type. */
 const RANGES = { intensity: [0, 5, 0.01], fov: [10, 120, 0.1] };
-const LABELS = { position: 'x y z', scale: 'x y z', orientation: 'x° y° z°' };
+const LABELS = { position: 'x y z', goal: 'x y z', scale: 'x y z', orientation: 'x° y° z°' };
+/** A chain's structure attributes (anim/scene.py KINDS["chain"]), shown as one joints table. */
+const JOINTS = ['lengths', 'limits', 'hinges'];
+/** The fewest joints a chain has (anim/scene.py CHAIN_SLOTS' leading positive lengths: 2 to 8). */
+const MIN_JOINTS = 2;
+
+/**
+ * How many joints a chain's `lengths` use: its leading slots of positive length.
+ * @param {number[]} lengths
+ *
+ * @example
+ * jointsUsed([0.5, 0.4, 0, 0.3]);   // 2
+ */
+export function jointsUsed(lengths) {
+  let n = 0;
+  while (n < lengths.length && lengths[n] > 0) n += 1;
+  return n;
+}
+
+/**
+ * A chain's `lengths` with slot `i` set to `x`: a length of 0 (or less) ends the chain there
+ * (the slots after it cleared too), a slot past the end joins the chain's end.
+ * @param {number[]} lengths
+ * @param {number} i
+ * @param {number} x
+ * @returns {number[]}
+ *
+ * @example
+ * withLength([0.5, 0.4, 0.3, 0], 1, 0);     // [0.5, 0, 0, 0]
+ * withLength([0.5, 0.4, 0, 0], 2, 0.25);    // [0.5, 0.4, 0.25, 0]
+ */
+export function withLength(lengths, i, x) {
+  const next = [...lengths];
+  if (x > 0) next[i] = x;
+  else for (let j = i; j < next.length; j++) next[j] = 0;
+  return next;
+}
 
 export class Inspector {
   /**
@@ -53,9 +92,13 @@ export class Inspector {
       this.body.replaceChildren(el('p', { class: 'hint' }, 'Click an object in the view or the list to select it. Drag it to move it; turn REC on first to record the move.'));
       return;
     }
-    this.body.replaceChildren(...obj.attributes.flatMap((a) => (a.type.continuous
-      ? [this.row(obj.name, a.name, a.type), this.toleranceRow(`${obj.name}.${a.name}`, a.type)]
-      : [this.row(obj.name, a.name, a.type)])));
+    const chain = obj.kind === 'chain';
+    this.body.replaceChildren(...obj.attributes.flatMap((a) => {
+      if (chain && JOINTS.includes(a.name)) return a.name === JOINTS[0] ? [this.joints(obj.name)] : [];
+      return a.type.continuous
+        ? [this.row(obj.name, a.name, a.type), this.toleranceRow(`${obj.name}.${a.name}`, a.type)]
+        : [this.row(obj.name, a.name, a.type)];
+    }));
     for (const field of this.body.querySelectorAll('input, select')) {
       /** @type {HTMLInputElement | HTMLSelectElement} */ (field).disabled = s.readOnly;
     }
@@ -112,6 +155,67 @@ export class Inspector {
     const editor = this.editor(path, attr, type);
     row.append(editor);
     return row;
+  }
+
+  /**
+   * A chain's joints, a row each (length, limit, hinge), and an empty row to add one: an edit
+   * is one undoable step of the attribute it changes (a length of 0 on the first two joints is refused: a chain has two at least).
+   * @param {string} name
+   */
+  joints(name) {
+    const s = this.studio;
+    const [lengths, limits, hinges] = JOINTS.map((a) => `${name}.${a}`);
+    const table = el('div', { class: 'joints', 'data-testid': `joints-${name}`,
+      title: 'The chain from its base: each joint\'s segment length, how far it turns from rest (degrees), hinge (turns about its x axis) or ball' });
+    const used = jointsUsed(s.values.get(lengths));
+    const slots = Math.min(used + 1, s.values.get(lengths).length);
+    table.append(el('span', { class: 'attr' }, 'joint'), el('span', { class: 'attr' }, 'length'),
+      el('span', { class: 'attr' }, 'limit°'), el('span', { class: 'attr' }, 'hinge'));
+    /** @type {(() => void)[]} */
+    const refresh = [];
+    for (let i = 0; i < slots; i++) {
+      const spare = i >= used;
+      const length = /** @type {HTMLInputElement} */ (el('input', { type: 'number', min: '0', step: '0.05', 'data-testid': `edit-${lengths}-${i}`,
+        placeholder: spare ? 'add' : '' }));
+      const limit = /** @type {HTMLInputElement} */ (el('input', { type: 'number', min: '0.1', max: '180', step: '5', 'data-testid': `edit-${limits}-${i}` }));
+      const hinge = /** @type {HTMLInputElement} */ (el('input', { type: 'checkbox', 'data-testid': `edit-${hinges}-${i}`,
+        title: 'hinge (turns about its x axis); unticked: a ball joint' }));
+      limit.disabled = spare;
+      hinge.disabled = spare;
+      length.addEventListener('change', () => {
+        const x = Number(length.value);
+        if (length.value.trim() === '' && spare) return;
+        if (!Number.isFinite(x)) return;
+        if (x <= 0 && i < MIN_JOINTS) {                 // ik.js chainFromSlots: 2 joints at least
+          length.setCustomValidity(`a chain has ${MIN_JOINTS} joints at least`);
+          length.reportValidity();
+          return;
+        }
+        length.setCustomValidity('');
+        s.set(lengths, withLength(s.values.get(lengths), i, x), `set ${lengths}`);
+      });
+      limit.addEventListener('change', () => {
+        const x = Number(limit.value);
+        if (!(x > 0 && x <= 180)) { limit.setCustomValidity('a limit is more than 0 and at most 180 degrees'); limit.reportValidity(); return; }
+        limit.setCustomValidity('');
+        s.set(limits, s.values.get(limits).map((/** @type {number} */ v, /** @type {number} */ j) => (j === i ? x : v)), `set ${limits}`);
+      });
+      hinge.addEventListener('change', () => {
+        s.set(hinges, s.values.get(hinges).map((/** @type {number} */ v, /** @type {number} */ j) => (j === i ? (hinge.checked ? 1 : 0) : v)), `set ${hinges}`);
+      });
+      refresh.push(() => {
+        if (document.activeElement !== length) length.value = spare ? '' : Number(s.values.get(lengths)[i]).toFixed(2);
+        if (document.activeElement !== limit) limit.value = spare ? '' : String(Number(s.values.get(limits)[i]));
+        hinge.checked = !spare && s.values.get(hinges)[i] > 0.5;
+      });
+      table.append(el('span', { class: 'joint-index' }, spare ? '+' : String(i + 1)), length, limit, hinge);
+    }
+    this.refreshers.set(lengths, () => {
+      if (jointsUsed(s.values.get(lengths)) !== used) queueMicrotask(() => this.show());     // a joint came or went
+      else for (const r of refresh) r();
+    });
+    this.refreshers.get(lengths)?.();
+    return table;
   }
 
   /**

@@ -67,6 +67,8 @@ export const SHORTCUTS = [
 export const GESTURES = [
   { where: 'view', gesture: 'drag an object', does: 'move it (in record mode: perform a take)' },
   { where: 'view', gesture: 'drag a path handle', does: "move that control point of the object's path" },
+  { where: 'view', gesture: "drag a chain's green goal / its body", does: 'pose the chain by its goal / move its base (record mode: a take of it)' },
+  { where: 'view', gesture: "drag a walker's green marker or its body", does: 'walk it along the floor (record mode: a take of its path)' },
   { where: 'timeline ruler', gesture: 'drag / Shift-drag', does: 'scrub / set the loop range' },
   { where: 'timeline', gesture: 'click an object row', does: 'fold / unfold its lanes (wheel: scroll the lanes)' },
   { where: 'timeline', gesture: "drag a take's block / its right edge", does: 'move the take / stretch it about its start (Ctrl: about the playhead)' },

@@ -596,7 +596,7 @@
  * @typedef {number[] | boolean | string | null} Value
  */
 
-/** @typedef {'object' | 'light' | 'camera'} ObjectKind */
+/** @typedef {'object' | 'light' | 'camera' | 'chain' | 'walker'} ObjectKind */
 /** @typedef {import('./resolution.js').ToleranceSetting} ToleranceSetting */
 /** @typedef {'replace' | 'additive'} LayerMode */
 /** @typedef {'info' | 'warning' | 'error'} NoticeLevel */

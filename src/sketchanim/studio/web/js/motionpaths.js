@@ -1,6 +1,7 @@
 // @ts-check
 /**
- * Motion paths in the 3D view: where an animated position (a `<object>.position` curve) goes
+ * Motion paths in the 3D view: where an animated position (a `<object>.position` curve, or a
+ * chain's or walker's performed `<object>.goal`) goes
  * over the range around the playhead (pathgeometry.js: ±2 s, or the loop range), a line with
  * a tick at each frame (their spacing shows the speed) and the playhead's frame highlighted;
  * the selected object's, or every animated object's. The curve's control points acting on
@@ -25,6 +26,8 @@ const SIZES = { tick: 4, now: 7, handle: 9, outline: 13 };
 const GRAB = 8;
 /** CSS pixels the pointer moves before a press on a handle is a drag (not a click). */
 const SLOP = 3;
+/** The attributes whose curves are paths in space: an object's position, a rig's goal. */
+const PATHS = ['position', 'goal'];
 /** Line samples per frame (the path is smooth between ticks). */
 const SAMPLES_PER_FRAME = 4;
 
@@ -208,12 +211,13 @@ export class MotionPaths {
     return this.preview.get(path) ?? (track?.kind === 'curve' ? track : null);
   }
 
-  /** The position paths to show: the selected object's, or every object's (the toggle). */
+  /** The position (and goal) paths to show: the selected object's, or every object's (the toggle). */
   paths() {
     const s = this.studio;
     if (!this.toggles.on.paths) return [];
     const names = this.toggles.on.all ? [...this.viewport.nodes.keys()] : s.selected ? [s.selected] : [];
-    return names.map((n) => `${n}.position`).filter((p) => this.curveOf(p) && this.viewport.nodes.has(p.slice(0, -9)));
+    return names.filter((n) => this.viewport.nodes.has(n))
+      .flatMap((n) => PATHS.map((a) => `${n}.${a}`)).filter((p) => this.curveOf(p));
   }
 
   /** Each frame: draw the paths shown (rebuilt only where something changed). */
@@ -304,7 +308,7 @@ export class MotionPaths {
     const s = this.studio;
     const hit = s.performer.grab ? null : this.pick(e);
     if (!hit) return false;
-    const name = hit.path.slice(0, -9);
+    const name = hit.path.slice(0, hit.path.lastIndexOf('.'));
     if (s.selected !== name) s.select(name);
     const had = s.points.some((q) => same(q, hit));
     if (!had) s.selectPoints(e.shiftKey ? [...s.points, hit] : [hit]);

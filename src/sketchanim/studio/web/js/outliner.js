@@ -4,15 +4,24 @@
  * tools act on the selected object: rename (also F2, or a double-click on its name: an inline
  * field, Enter keeps, Escape drops; a name is 1 to 64 letters, digits, `_` or `-`), duplicate
  * (also Shift+D) and delete (also Delete). "+ object" adds one in front of the camera, clear
- * of the others (placement.js). Each is one undoable step; none in a read-only project.
+ * of the others (placement.js); "+ chain" and "+ walker" add a rig there, standing on the floor
+ * (a chain's base, a walker's ground marker). Each is one undoable step; none in a read-only project.
  */
 import * as THREE from 'three';
 import { el } from './dom.js';
 import { placeInFront } from './placement.js';
 
-const ICONS = { object: '◼', light: '☀', camera: '◉', cue: '♪' };
+const ICONS = { object: '◼', light: '☀', camera: '◉', cue: '♪', chain: '⚯', walker: '☺' };
 /** The room an object fills around its position, by kind (metres, at scale 1): a new object is placed clear of it. */
-const ROOM = { object: 0.75, light: 0.3, camera: 0.3 };
+const ROOM = { object: 0.75, light: 0.3, camera: 0.3, chain: 0.6, walker: 0.5 };
+/** The attribute that places an object, by kind (else `position`): a walker stands at its goal. */
+const PLACE = { walker: 'goal' };
+/** What the add buttons add: kind, label, tooltip. */
+const ADDS = /** @type {const} */ ([
+  ['object', '+ object', 'Add an object in front of the camera (undoable)'],
+  ['chain', '+ chain', 'Add an articulated chain standing on the floor in front of the camera: drag its green goal to pose it (undoable)'],
+  ['walker', '+ walker', 'Add a walking character in front of the camera: drag its green ground marker to walk it (undoable)'],
+]);
 /** What an object's name may be (as the server checks it). */
 export const NAME = /^[A-Za-z0-9_-]{1,64}$/;
 
@@ -41,10 +50,14 @@ export class Outliner {
     this.studio = studio;
     this.viewport = viewport;
     this.list = el('ul', { class: 'outliner', 'data-testid': 'outliner' });
-    this.addButton = el('button', { class: 'small', 'data-testid': 'add-object', title: 'Add an object in front of the camera (undoable)' }, '+ object');
-    this.addButton.addEventListener('click', () => this.add());
+    this.addButtons = ADDS.map(([kind, label, title]) => {
+      const button = el('button', { class: 'small', 'data-testid': `add-${kind}`, title }, label);
+      button.addEventListener('click', () => this.add(kind));
+      return button;
+    });
     const head = el('div', { class: 'panel-head' }, 'Scene');
-    head.append(this.addButton);
+    const adds = el('div', { class: 'outliner-tools' });
+    adds.append(...this.addButtons);
     this.renameButton = el('button', { class: 'small', 'data-testid': 'object-rename', title: 'Rename the selected object (F2)' }, 'rename');
     this.renameButton.addEventListener('click', () => this.startRename());
     this.duplicateButton = el('button', { class: 'small', 'data-testid': 'object-duplicate', title: 'Duplicate the selected object with its tracks (Shift+D)' }, 'duplicate');
@@ -53,7 +66,7 @@ export class Outliner {
     this.deleteButton.addEventListener('click', () => { if (studio.selected) studio.removeObject(studio.selected); });
     const tools = el('div', { class: 'outliner-tools' });
     tools.append(this.renameButton, this.duplicateButton, this.deleteButton);
-    root.append(head, tools, this.list);
+    root.append(head, adds, tools, this.list);
     /** @type {{name: string, text: string, problem: string} | null} the object being renamed, the text typed, what is wrong with it */
     this.renaming = null;
     /** @type {{from: string, to: string} | null} a rename sent: its object is selected again under the new name */
@@ -74,18 +87,23 @@ export class Outliner {
     }
   }
 
-  /** Add an object in front of the view's camera, clear of every other object. */
-  add() {
+  /**
+   * Add an object (or a rig, on the floor) in front of the view's camera, clear of every other object.
+   * @param {import('./messages.js').ObjectKind} [kind]
+   */
+  add(kind = 'object') {
     const s = this.studio;
     const camera = this.viewport.camera;
     const direction = camera.getWorldDirection(new THREE.Vector3());
     const occupied = s.objects.flatMap((o) => {
-      const position = s.values.get(`${o.name}.position`);
+      const position = s.values.get(`${o.name}.${PLACE[/** @type {keyof PLACE} */ (o.kind)] ?? 'position'}`);
       if (!position) return [];
       const scale = s.values.get(`${o.name}.scale`) ?? [1, 1, 1];
-      return [{ position, radius: ROOM[/** @type {keyof ROOM} */ (o.kind)] * Math.max(...scale.map(Math.abs)) }];
+      return [{ position, radius: (ROOM[/** @type {keyof ROOM} */ (o.kind)] ?? 0.5) * Math.max(...scale.map(Math.abs)) }];
     });
-    s.addObject('object', placeInFront(camera.position.toArray(), direction.toArray(), occupied));
+    const at = placeInFront(camera.position.toArray(), direction.toArray(), occupied);
+    if (kind === 'chain' || kind === 'walker') at[1] = 0;                 // rigs stand on the floor
+    s.addObject(kind, at);
   }
 
   /** Edit the selected object's name in its row. */
@@ -121,7 +139,7 @@ export class Outliner {
     this.renameButton.disabled = none;
     this.duplicateButton.disabled = none;
     this.deleteButton.disabled = none;
-    this.addButton.disabled = s.readOnly;
+    for (const button of this.addButtons) button.disabled = s.readOnly;
     if (this.renaming && (s.readOnly || !s.objects.some((o) => o.name === this.renaming?.name))) this.renaming = null;
     this.list.replaceChildren(...s.objects.map((o) => {
       const animated = [...s.tracks.keys()].some((p) => p.startsWith(`${o.name}.`));

@@ -5,19 +5,26 @@
  * facing the view), translate / rotate / scale gizmos (W, E, S), orbit / pan / zoom, a
  * gamepad or 3D mouse moving and turning the selected object, and a preview of the scene
  * camera's view in a corner, with motion paths (motionpaths.js: their control points dragged
- * here take the pointer first) and onion skin (onionskin.js) over it. A hold tells the performer what its input resolves (a pixel
- * at the grabbed point's depth, the gizmo's degrees or scale per pixel, the stick's step)
- * and marks every pointer event that moved it (coalesced events included) with its time.
+ * here take the pointer first) and onion skin (onionskin.js) over it. Chains and walkers
+ * (chainview.js, walkerview.js) are drawn in the pose rigs.js derives from their goal: pressing
+ * on a chain's goal handle drags `<name>.goal`, on its body its base (`<name>.position`); a
+ * walker's marker and body both drag its goal, in the ground plane (the marker's height); the
+ * translate gizmo moves a chain's base and a walker's goal (rigs have no rotate or scale).
+ * A hold tells the performer what its input resolves (a pixel at the grabbed point's depth,
+ * the gizmo's degrees or scale per pixel, the stick's step) and marks every pointer event that moved it (coalesced events included) with its time.
  */
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { TransformControls } from 'three/addons/controls/TransformControls.js';
 import { Bones } from './bones.js';
+import { ChainView } from './chainview.js';
 import { active, applyPad, padResolution, readPad } from './gamepad.js';
 import { MotionPaths } from './motionpaths.js';
 import { OnionSkin } from './onionskin.js';
 import { pixelWorld, turnPerPixel } from './resolution.js';
+import { Rigs } from './rigs.js';
 import { ViewToggles } from './viewtoggles.js';
+import { WalkerView, behindText } from './walkerview.js';
 
 const PALETTE = [0xe07a5f, 0x81b29a, 0xf2cc8f, 0x6d9dc5, 0xb388eb, 0xf28482, 0x84a59d];
 /** three.js intensity (candela) of a light of intensity 1: a clear pool of light on the floor. */
@@ -35,7 +42,15 @@ const PAD_REST = 0.3;
  * @property {THREE.PerspectiveCamera} [camera]
  * @property {THREE.PerspectiveCamera} [frustum] a short copy of the camera, drawn by the helper
  * @property {THREE.CameraHelper} [helper]
+ * @property {ChainView | WalkerView} [rig]  a chain's or a walker's drawing
  */
+
+/** The least |y| of the pointer's ray (unit) for a walker's level drag plane (about 3°; a flatter view drags in the view's plane, on the ground). */
+const LEVEL = 0.05;
+/** Ticks of a walker's walk simulated ahead each frame (about 2 ms) until its goal's track is covered. */
+const AHEAD = 24;
+/** The attribute the translate gizmo and the body's drag move, by kind (else `position`). */
+const MOVES = { walker: 'goal' };
 
 /** @param {string} shape */
 function geometry(shape) {
@@ -101,7 +116,7 @@ export class Viewport {
     this.raycaster = new THREE.Raycaster();
     this.previewCamera = true;
     this.aimed = false;
-    /** @type {{name: string, plane: THREE.Plane, offset: THREE.Vector3, x: number, y: number} | null} */
+    /** @type {{name: string, path: string, plane: THREE.Plane, offset: THREE.Vector3, x: number, y: number, ground: number | null} | null} */
     this.drag = null;
     /** @type {{idle: number} | null} the device's hold */
     this.pad = null;
@@ -111,10 +126,18 @@ export class Viewport {
     this.toggles = new ViewToggles(studio, container);
     this.paths = new MotionPaths(this, this.toggles);
     this.onion = new OnionSkin(this, this.toggles, (path) => this.paths.curveOf(path));
+    this.rigs = new Rigs({
+      curveOf: (path) => this.paths.curveOf(path),
+      valueOf: (path) => studio.values.get(path),
+      live: (path) => studio.performer.holds(path) || !!studio.remoteTake?.paths.includes(path),
+    });
+    /** @type {Map<string, string>} the notice told last, by walker (its `behind`) or rig structure (told again only when it changes) */
+    this.told = new Map();
     studio.addSink((path, value) => this.apply(path, value));
     studio.signals.on('state', () => this.build());
     studio.signals.on('selection', () => this.showSelection());
     studio.signals.on('frame', () => this.poll());
+    studio.signals.on('frame', (now) => this.pose(now));
     this.bones = new Bones(this);       // after build's 'state' handler: the nodes are there
     this.bind();
     new ResizeObserver(() => this.resize()).observe(container);
@@ -127,8 +150,10 @@ export class Viewport {
     for (const node of this.nodes.values()) {
       node.root.removeFromParent();
       node.helper?.removeFromParent();
+      node.rig?.dispose();
     }
     this.nodes.clear();
+    this.rigs.keep(this.studio.objects);
     this.studio.objects.forEach((obj, i) => {
       if (obj.kind === 'cue') return;                     // a cue has no place in space (a sound's beats)
       const root = new THREE.Group();
@@ -162,17 +187,22 @@ export class Viewport {
         node.helper = new THREE.CameraHelper(frustum);
         this.scene.add(node.helper);
         node.pick = [body, lens];
+      } else if (obj.kind === 'chain' || obj.kind === 'walker') {
+        const rig = obj.kind === 'chain' ? new ChainView(obj.name, this.scene) : new WalkerView(obj.name, this.scene);
+        node.rig = rig;
+        node.root = rig.root;
       } else {
         const mesh = new THREE.Mesh(geometry('box'), new THREE.MeshStandardMaterial({ color: PALETTE[i % PALETTE.length], roughness: 0.55 }));
         root.add(mesh);
         node.pick = [mesh];
       }
       for (const mesh of node.pick) mesh.userData.object = obj.name;
-      this.scene.add(root);
+      this.scene.add(node.root);
       this.nodes.set(obj.name, node);
       for (const a of obj.attributes) this.apply(`${obj.name}.${a.name}`, this.studio.values.get(`${obj.name}.${a.name}`));
     });
     if (!this.aimed) this.aim();
+    this.pose(performance.now());
     this.showSelection();
   }
 
@@ -199,7 +229,8 @@ export class Viewport {
     if (!node || value == null) return;
     const attr = path.slice(dot + 1);
     const root = node.root;
-    if (attr === 'position') root.position.set(value[0], value[1], value[2]);
+    if (attr === 'goal' && node.rig) node.rig.goal.position.set(value[0], value[1], value[2]);
+    else if (attr === 'position') root.position.set(value[0], value[1], value[2]);
     else if (attr === 'orientation') root.quaternion.set(value[0], value[1], value[2], value[3]);
     else if (attr === 'scale') root.scale.set(value[0], value[1], value[2]);
     else if (attr === 'visible') root.visible = value;
@@ -224,13 +255,112 @@ export class Viewport {
   showSelection() {
     const node = this.studio.selected ? this.nodes.get(this.studio.selected) : null;
     if (node) {
-      this.transform.attach(node.root);
+      const target = this.gizmoTarget(node);
+      if (target) this.transform.attach(target);
+      else this.transform.detach();
       this.selection.setFromObject(node.root);
       this.selection.visible = true;
     } else {
       this.transform.detach();
       this.selection.visible = false;
     }
+  }
+
+  /**
+   * What the gizmo moves of `node` in its mode: a rig's base or goal in translate mode only.
+   * @param {Node} node
+   * @returns {THREE.Object3D | null}
+   */
+  gizmoTarget(node) {
+    if (!node.rig) return node.root;
+    if (this.transform.mode !== 'translate') return null;
+    return node.kind === 'walker' ? node.rig.goal : node.root;
+  }
+
+  // -- chains and walkers -----------------------------------------------------------------
+
+  /**
+   * Each frame: every rig in the pose rigs.js gives it at the transport's time (live while its
+   * goal is performed).
+   * @param {number} now performance.now()
+   */
+  pose(now) {
+    const t = this.studio.transport.time;
+    for (const node of this.nodes.values()) {
+      const rig = node.rig;
+      if (!rig) continue;
+      const pose = this.rigs.poseAt(node.name, t, now);
+      const state = this.rigs.rigs.get(node.name);
+      const motion = state?.motion;
+      this.tellOnce(`${node.name}#structure`, state?.error ? `${node.name} is drawn without its joints: ${state.error}` : '', node.kind);
+      const pixel = this.pixelAt(rig.goal.position);
+      if (rig instanceof ChainView) {
+        rig.show(motion?.chain ?? null, pose);
+        rig.face(this.camera, pixel);
+      } else {
+        rig.show(motion?.skeleton ?? null, pose);
+        rig.fit(pixel);
+        this.tellBehind(node.name);
+      }
+    }
+  }
+
+  /**
+   * A notice when a walker's marker outruns its fastest run (once per change of what it says):
+   * its walk simulated a second past its goal's track, AHEAD ticks a frame (no hitch after a take).
+   * @param {string} name
+   */
+  tellBehind(name) {
+    const curve = this.studio.tracks.get(`${name}.goal`);
+    const spans = curve?.kind === 'curve' ? this.rigs.behindUntil(name, curve.end + 1, AHEAD) : [];
+    if (!spans) return;
+    this.tellOnce(name, spans.length ? behindText(name, spans) : '', 'walker');
+  }
+
+  /**
+   * A warning notice of `text` under `key`, unless it is what was told there last ('': nothing to tell).
+   * @param {string} key
+   * @param {string} text
+   * @param {string} source
+   */
+  tellOnce(key, text, source) {
+    if (text && text !== this.told.get(key)) this.studio.tell('warning', text, source);
+    this.told.set(key, text);
+  }
+
+  /**
+   * What each rig shows now, for tests: its joints in the world, its goal, its pose.
+   * @returns {{name: string, kind: string, points: number[][], goal: number[], rotations: number[], root: number[] | null}[]}
+   */
+  rigReport() {
+    const t = this.studio.transport.time;
+    return [...this.nodes.values()].flatMap((node) => {
+      if (!node.rig) return [];
+      const pose = this.rigs.poseAt(node.name, t, performance.now());
+      return [{ name: node.name, kind: node.kind, points: node.rig.world(), goal: node.rig.goal.position.toArray(),
+        rotations: pose ? Array.from(pose.rotations) : [], root: pose?.root ? Array.from(pose.root) : null }];
+    });
+  }
+
+  /**
+   * The page coordinates of a rig's goal handle (a chain's ball, a walker's marker), for tests and tools.
+   * @param {string} name
+   * @returns {{x: number, y: number} | null}
+   */
+  goalScreen(name) {
+    const node = this.nodes.get(name);
+    return node?.rig ? this.pageOf(node.rig.goal.getWorldPosition(new THREE.Vector3())) : null;
+  }
+
+  /**
+   * The page coordinates of a rig's joint `i` (world points as rigReport lists them), for tests and tools.
+   * @param {string} name
+   * @param {number} i
+   * @returns {{x: number, y: number} | null}
+   */
+  jointScreen(name, i) {
+    const p = this.nodes.get(name)?.rig?.world()[i];
+    return p ? this.pageOf(new THREE.Vector3(p[0], p[1], p[2])) : null;
   }
 
   // -- the pointer ------------------------------------------------------------------------
@@ -245,9 +375,10 @@ export class Viewport {
     this.transform.addEventListener('dragging-changed', (e) => { this.orbit.enabled = !e.value; });
     this.transform.addEventListener('mouseDown', () => {
       const name = this.studio.selected;
-      if (!name) return;
+      const node = name ? this.nodes.get(name) : null;
+      if (!name || !node) return;
       const mode = this.transform.mode;
-      const attr = { translate: 'position', rotate: 'orientation', scale: 'scale' }[mode];
+      const attr = { translate: MOVES[/** @type {keyof MOVES} */ (node.kind)] ?? 'position', rotate: 'orientation', scale: 'scale' }[mode];
       const path = `${name}.${attr}`;
       this.studio.performer.hold([path], `${mode} ${name}`, null, () => ({ [path]: this.gizmoResolution(name, mode) }));
     });
@@ -255,9 +386,9 @@ export class Viewport {
       const grab = this.studio.performer.grab;
       const node = this.studio.selected ? this.nodes.get(this.studio.selected) : null;
       if (!grab || !node) return;
-      const r = node.root;
+      const r = this.transform.object ?? node.root;
       for (const path of grab.paths) {
-        if (path.endsWith('.position')) this.studio.setLocal(path, r.position.toArray());
+        if (path.endsWith('.position') || path.endsWith('.goal')) this.studio.setLocal(path, r.position.toArray());
         if (path.endsWith('.orientation')) this.studio.setLocal(path, r.quaternion.toArray());
         if (path.endsWith('.scale')) this.studio.setLocal(path, r.scale.toArray());
       }
@@ -272,6 +403,7 @@ export class Viewport {
    */
   setGizmo(mode) {
     this.transform.setMode(mode);
+    this.showSelection();                               // a rig has the translate gizmo alone
   }
 
   /** Show or hide the scene camera's view in the corner (C). */
@@ -298,8 +430,9 @@ export class Viewport {
    * @returns {import('./resolution.js').Resolution}
    */
   gizmoResolution(name, mode) {
-    const root = /** @type {Node} */ (this.nodes.get(name)).root;
-    const centre = root.getWorldPosition(new THREE.Vector3());
+    const node = /** @type {Node} */ (this.nodes.get(name));
+    const root = node.root;
+    const centre = (this.gizmoTarget(node) ?? root).getWorldPosition(new THREE.Vector3());
     const pixel = this.pixelAt(centre);
     if (mode === 'rotate') return { step: turnPerPixel(pixel, Math.max(centre.distanceTo(this.camera.position), 1e-6)), input: 'px' };
     if (mode === 'scale') {
@@ -321,8 +454,9 @@ export class Viewport {
   /** @param {PointerEvent} e */
   press(e) {
     if (e.button !== 0 || this.transform.dragging) return;
-    const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => n.pick);
-    const hit = this.ray(e).intersectObjects(meshes, false)[0];
+    const meshes = [...this.nodes.values()].filter((n) => n.root.visible).flatMap((n) => (n.rig ? n.rig.pick : n.pick));
+    const hits = this.ray(e).intersectObjects(meshes, false);
+    const hit = hits.find((h) => h.object.userData.handle) ?? hits[0];     // a goal handle is drawn over everything: it is grabbed first
     // a control point's handle takes the press over the gizmo and the objects; in record mode (a take
     // is the object's) only where neither is
     const record = this.studio.transport.record;
@@ -335,14 +469,19 @@ export class Viewport {
     if (!hit) return;
     const name = hit.object.userData.object;
     const node = /** @type {Node} */ (this.nodes.get(name));
-    const normal = this.camera.getWorldDirection(new THREE.Vector3());
-    const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.point);
-    this.drag = { name, plane, offset: node.root.position.clone().sub(hit.point), x: e.clientX, y: e.clientY };
+    const path = `${name}.${hit.object.userData.attr ?? 'position'}`;
+    const at = new THREE.Vector3(...this.studio.values.get(path));
+    // a walker's goal slides on the ground at the marker's height: the grabbed point (on the marker, or the
+    // body) moves level, under the pointer, and the marker with it; anything else in the plane facing the view
+    const level = node.kind === 'walker' && Math.abs(this.raycaster.ray.direction.y) > LEVEL;
+    const plane = level ? new THREE.Plane(new THREE.Vector3(0, 1, 0), -hit.point.y)
+      : new THREE.Plane().setFromNormalAndCoplanarPoint(this.camera.getWorldDirection(new THREE.Vector3()), hit.point);
+    this.drag = { name, path, plane, offset: at.clone().sub(hit.point), x: e.clientX, y: e.clientY,
+      ground: node.kind === 'walker' ? at.y : null };
     this.orbit.enabled = false;
     this.renderer.domElement.setPointerCapture(e.pointerId);
     if (this.studio.selected !== name) this.studio.select(name);
-    const path = `${name}.position`;
-    this.studio.performer.hold([path], `move ${name}`, null, () => ({ [path]: this.dragResolution() }));
+    this.studio.performer.hold([path], `move ${path.endsWith('.goal') ? path : name}`, null, () => ({ [path]: this.dragResolution() }));
     e.stopImmediatePropagation();
   }
 
@@ -352,8 +491,8 @@ export class Viewport {
    */
   dragResolution() {
     const drag = this.drag;
-    const node = drag ? this.nodes.get(drag.name) : null;
-    const point = node && drag ? node.root.position.clone().sub(drag.offset) : this.orbit.target.clone();
+    const value = drag ? this.studio.values.get(drag.path) : null;
+    const point = drag && value ? new THREE.Vector3(...value).sub(drag.offset) : this.orbit.target.clone();
     return { step: this.pixelAt(point), input: 'px' };
   }
 
@@ -368,7 +507,9 @@ export class Viewport {
     for (const ev of events.length ? events : [e]) {
       const point = this.ray(ev).ray.intersectPlane(this.drag.plane, new THREE.Vector3());
       if (!point) continue;
-      this.studio.setLocal(`${this.drag.name}.position`, point.add(this.drag.offset).toArray());
+      point.add(this.drag.offset);
+      if (this.drag.ground !== null) point.y = this.drag.ground;      // a view too level for the ground plane: still on the ground
+      this.studio.setLocal(this.drag.path, point.toArray());
       this.studio.performer.mark(ev.timeStamp);
     }
   }
@@ -390,13 +531,14 @@ export class Viewport {
   }
 
   /**
-   * The page coordinates of an object's centre (for tests and tools).
+   * The page coordinates of an object's centre (a chain's base, a walker's marker; for tests and tools).
    * @param {string} name
    * @returns {{x: number, y: number} | null}
    */
   screenOf(name) {
     const node = this.nodes.get(name);
-    return node ? this.pageOf(node.root.getWorldPosition(new THREE.Vector3())) : null;
+    const at = node?.rig && node.kind === 'walker' ? node.rig.goal : node?.root;      // a walker is where its marker is
+    return at ? this.pageOf(at.getWorldPosition(new THREE.Vector3())) : null;
   }
 
   /**
@@ -417,7 +559,7 @@ export class Viewport {
     const pads = navigator.getGamepads ? [...navigator.getGamepads()].filter(Boolean) : [];
     const pad = /** @type {Gamepad | undefined} */ (pads[0]);
     const name = this.studio.selected;
-    if (!pad || !name || !this.nodes.has(name)) return;
+    if (!pad || !name || !this.nodes.has(name) || this.nodes.get(name)?.rig) return;     // a device steers objects with an orientation
     if (this.pad && this.pad.idle >= PAD_REST) {
       this.pad = null;
       this.studio.performer.release();
@@ -485,7 +627,8 @@ export class Viewport {
       r.setScissorTest(true);
       r.setScissor(x, y, w, h);
       r.setViewport(x, y, w, h);
-      const hidden = [cam.helper, this.transform.getHelper(), this.selection, cam.root, this.paths.group, this.onion.group];
+      const rigs = [...this.nodes.values()].flatMap((n) => (n.rig instanceof ChainView ? [n.rig.goal, n.rig.line] : n.rig ? [n.rig.goal] : []));
+      const hidden = [cam.helper, this.transform.getHelper(), this.selection, cam.root, this.paths.group, this.onion.group, ...rigs];
       const was = hidden.map((o) => o?.visible);
       hidden.forEach((o) => o && (o.visible = false));
       r.render(this.scene, cam.camera);
