@@ -13,14 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
+from sketchanim.anim.rigs import LEAD
 from sketchanim.motion import ik, walk
 from studio_browser import curve, drag, drew_something, held, last_take, project
 
 SHOTS = Path("/tmp/shots-rigs")
-#: Ticks per second of every derived pose (ik.js / walk.js RATE).
-RATE = 120
-#: Ticks the solver runs on the goal at time 0 before it (anim/rigs.py LEAD).
-LEAD = 2 * RATE
+RATE = ik.RATE
 
 
 def _led(k: int) -> np.ndarray:

@@ -202,9 +202,9 @@ export class PoseCache {
   /**
    * @param {Motion} motion
    * @param {(k: number, out: Float64Array) => Float64Array} sample the goal at tick k
-   * @param {number} [lead] ticks solved on the goal of tick 0 before tick 0 (LEAD)
+   * @param {number} [lead] ticks solved on the goal of tick 0 before tick 0 (the model's LEAD by default)
    */
-  constructor(motion, sample, lead = 0) {
+  constructor(motion, sample, lead = LEAD) {
     this.motion = motion;
     this.sample = sample;
     this.lead = lead;
@@ -407,7 +407,7 @@ export class Rigs {
       }
     }
     const motion = /** @type {Motion} */ (rig.motion);
-    rig.cache = new PoseCache(motion, goalSampler(goal, base), LEAD);
+    rig.cache = new PoseCache(motion, goalSampler(goal, base));
     if (old && from > 0) rig.cache.adopt(old, Math.ceil(from * RATE) - 1);
   }
 
