@@ -122,7 +122,7 @@ def test_reachable_goals_are_reached(data: st.DataObject) -> None:
 def test_goals_out_of_reach_point_a_straight_chain_at_them(data: st.DataObject) -> None:
     chain = data.draw(chains(low=0.8))
     reach = sum(chain.lengths)
-    tilt = data.draw(st.floats(0.0, 1.0)) * (chain.limits[0] - 0.1)
+    tilt = data.draw(st.floats(0.0, 1.0)) * max(chain.limits[0] - 0.1, 0.0)
     if chain.hinges[0]:
         tilt *= data.draw(st.sampled_from([-1.0, 1.0]))
         direction = np.array([0.0, math.cos(tilt), math.sin(tilt)])

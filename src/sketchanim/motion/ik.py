@@ -352,36 +352,37 @@ def _clamp(p: _Prepared, q: list[float], i: int) -> None:
 def _dls(p: _Prepared, dx: float, dy: float, dz: float, cols: list[float], bias: list[float],
          skip: list[bool], turn: list[float], keep: float) -> float:
     """The damped least-squares update of every joint not skipped into ``turn`` (a hinge's
-    angle, a ball's world rotation vector; skipped joints 0) for the error (dx, dy, dz);
+    angle, a ball's world rotation vector; skipped joints their bias alone) for the error
+    (dx, dy, dz);
     returns the factor that holds every joint's turn to ``MAX_TURN``."""
     n, reach, hinge = p.n, p.reach, p.hinge
     a0 = a1 = a2 = a4 = a5 = a8 = 0.0
     jx = jy = jz = 0.0                  # J z: the rest bias's effector motion
     for i in range(n):
-        if skip[i]:
-            continue
         j = 3 * i
         cx, cy, cz = cols[j], cols[j + 1], cols[j + 2]
         bx, by, bz = bias[j], bias[j + 1], bias[j + 2]
         if hinge[i]:
-            a0 += cx * cx
-            a1 += cx * cy
-            a2 += cx * cz
-            a4 += cy * cy
-            a5 += cy * cz
-            a8 += cz * cz
+            if not skip[i]:
+                a0 += cx * cx
+                a1 += cx * cy
+                a2 += cx * cz
+                a4 += cy * cy
+                a5 += cy * cz
+                a8 += cz * cz
             jx += bx * cx
             jy += bx * cy
             jz += bx * cz
         else:
-            # Its three world-axis columns w x r (r = cols) give |r|^2 I - r r^T.
-            rr = cx * cx + cy * cy + cz * cz
-            a0 += rr - cx * cx
-            a1 -= cx * cy
-            a2 -= cx * cz
-            a4 += rr - cy * cy
-            a5 -= cy * cz
-            a8 += rr - cz * cz
+            if not skip[i]:
+                # Its three world-axis columns w x r (r = cols) give |r|^2 I - r r^T.
+                rr = cx * cx + cy * cy + cz * cz
+                a0 += rr - cx * cx
+                a1 -= cx * cy
+                a2 -= cx * cz
+                a4 += rr - cy * cy
+                a5 -= cy * cz
+                a8 += rr - cz * cz
             jx += by * cz - bz * cy
             jy += bz * cx - bx * cz
             jz += bx * cy - by * cx
@@ -407,7 +408,11 @@ def _dls(p: _Prepared, dx: float, dy: float, dz: float, cols: list[float], bias:
         j = 3 * i
         cx, cy, cz = cols[j], cols[j + 1], cols[j + 2]
         if skip[i]:
-            turn[j] = turn[j + 1] = turn[j + 2] = 0.0
+            # A joint held at its limit still relaxes by its bias (toward rest: inward), the
+            # others making up for its motion.
+            bx, by, bz = bias[j], bias[j + 1], bias[j + 2]
+            turn[j], turn[j + 1], turn[j + 2] = bx, by, bz
+            most = max(most, math.sqrt(bx * bx + by * by + bz * bz))
         elif hinge[i]:
             d = bias[j] + (cx * yx + cy * yy + cz * yz)
             turn[j] = d
@@ -454,8 +459,8 @@ def _iterate(p: _Prepared, q: list[float], pos: list[float], world: list[float],
              tx: float, ty: float, tz: float, keep: float) -> None:
     """One damped least-squares iteration of ``q`` (in place) toward (tx, ty, tz); ``keep``
     is how much of the rest bend the bias keeps (1 all, 0 straight). A joint the update
-    would take past its limit is held where it is and the update solved again without it
-    (once), so the others make up for it rather than pushing it in vain."""
+    would take past its limit is held (moved by its rest bias alone) and the update solved
+    again without it (once), so the others make up for it rather than pushing it in vain."""
     n, hinge, rest_x = p.n, p.hinge, p.rest_x
     _forward(p, q, pos, world)
     ex, ey, ez = pos[3 * n], pos[3 * n + 1], pos[3 * n + 2]
@@ -507,10 +512,7 @@ def _iterate(p: _Prepared, q: list[float], pos: list[float], world: list[float],
     if held:
         scale = _dls(p, dx, dy, dz, cols, bias, skip, turn, keep)
         for i in range(n):
-            if skip[i]:
-                trial[4 * i:4 * i + 4] = q[4 * i:4 * i + 4]
-            else:
-                _turned(p, q, world, i, scale, turn, trial)
+            _turned(p, q, world, i, scale, turn, trial)
     q[:] = trial
     for i in range(n):
         _clamp(p, q, i)

@@ -280,7 +280,7 @@ function clampJoint(p, q, i) {
 
 /**
  * The damped least-squares update of every joint not skipped (p.turn: a hinge's angle, a
- * ball's world rotation vector; skipped joints 0), for the error (dx, dy, dz), with p.cols,
+ * ball's world rotation vector; skipped joints their bias alone), for the error (dx, dy, dz), with p.cols,
  * p.bias and p.lever as `iterate` left them. Returns the factor that holds every joint's
  * turn to MAX_TURN.
  * @param {Prepared} p
@@ -296,18 +296,21 @@ function dls(p, dx, dy, dz, skip, keep) {
   a.fill(0);
   let jx = 0, jy = 0, jz = 0;          // J z: the rest bias's effector motion
   for (let i = 0; i < n; i++) {
-    if (skip[i]) continue;
     const cx = cols[3 * i], cy = cols[3 * i + 1], cz = cols[3 * i + 2];
     const bx = bias[3 * i], by = bias[3 * i + 1], bz = bias[3 * i + 2];
     if (p.hinge[i]) {
-      a[0] += cx * cx; a[1] += cx * cy; a[2] += cx * cz;
-      a[4] += cy * cy; a[5] += cy * cz; a[8] += cz * cz;
+      if (!skip[i]) {
+        a[0] += cx * cx; a[1] += cx * cy; a[2] += cx * cz;
+        a[4] += cy * cy; a[5] += cy * cz; a[8] += cz * cz;
+      }
       jx += bx * cx; jy += bx * cy; jz += bx * cz;
     } else {
-      // Its three world-axis columns w x r (r = cols) give |r|^2 I - r r^T.
-      const rr = cx * cx + cy * cy + cz * cz;
-      a[0] += rr - cx * cx; a[1] -= cx * cy; a[2] -= cx * cz;
-      a[4] += rr - cy * cy; a[5] -= cy * cz; a[8] += rr - cz * cz;
+      if (!skip[i]) {
+        // Its three world-axis columns w x r (r = cols) give |r|^2 I - r r^T.
+        const rr = cx * cx + cy * cy + cz * cz;
+        a[0] += rr - cx * cx; a[1] -= cx * cy; a[2] -= cx * cz;
+        a[4] += rr - cy * cy; a[5] -= cy * cz; a[8] += rr - cz * cz;
+      }
       jx += by * cz - bz * cy; jy += bz * cx - bx * cz; jz += bx * cy - by * cx;
     }
   }
@@ -331,7 +334,11 @@ function dls(p, dx, dy, dz, skip, keep) {
   for (let i = 0; i < n; i++) {
     const cx = cols[3 * i], cy = cols[3 * i + 1], cz = cols[3 * i + 2];
     if (skip[i]) {
-      turn[3 * i] = 0; turn[3 * i + 1] = 0; turn[3 * i + 2] = 0;
+      // A joint held at its limit still relaxes by its bias (toward rest: inward), the
+      // others making up for its motion.
+      const bx = bias[3 * i], by = bias[3 * i + 1], bz = bias[3 * i + 2];
+      turn[3 * i] = bx; turn[3 * i + 1] = by; turn[3 * i + 2] = bz;
+      most = Math.max(most, Math.sqrt(bx * bx + by * by + bz * bz));
     } else if (p.hinge[i]) {
       const d = bias[3 * i] + (cx * yx + cy * yy + cz * yz);
       turn[3 * i] = d;
@@ -387,8 +394,8 @@ function turned(p, q, i, scale, out) {
 
 /**
  * One damped least-squares iteration of q (in place) toward the target (tx, ty, tz). A joint
- * the update would take past its limit is held where it is and the update solved again
- * without it (once), so the others make up for it rather than pushing it in vain.
+ * the update would take past its limit is held (moved by its rest bias alone) and the update
+ * solved again without it (once), so the others make up for it rather than pushing it in vain.
  * @param {Prepared} p
  * @param {Float64Array} q
  * @param {number} tx
@@ -448,13 +455,7 @@ function iterate(p, q, tx, ty, tz, keep) {
   }
   if (held) {
     scale = dls(p, dx, dy, dz, skip, keep);
-    for (let i = 0; i < n; i++) {
-      if (skip[i]) {
-        for (let c = 0; c < 4; c++) trial[4 * i + c] = q[4 * i + c];
-      } else {
-        turned(p, q, i, scale, trial);
-      }
-    }
+    for (let i = 0; i < n; i++) turned(p, q, i, scale, trial);
   }
   for (let i = 0; i < n; i++) {
     for (let c = 0; c < 4; c++) q[4 * i + c] = trial[4 * i + c];
