@@ -7,6 +7,7 @@ figure)."""
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -113,8 +114,6 @@ def test_a_baked_chain_plays_in_float32_within_its_goals_tolerance(joints: int, 
     tracks: dict[str, Track] = {"arm.goal": goal_track("arm.goal", t, reaching(t, float(lengths.sum()), swell))}
     baked = bake(scene, tracks, "arm")
     assert baked.reduced.world_errors(baked.clip, SHELL).max() <= POSITION.tol
-    import tempfile
-
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "arm.glb"
         out.write_bytes(scene_glb(scene, tracks)[0])

@@ -106,7 +106,6 @@ def rig_nodes(baked: BakedRig, first: int, rate: float | None = None) -> RigNode
     the caller's: it sets them on ``nodes[-1]``). ``rate`` keys ``keys="frames"`` files
     (the ticks by default).
 
-    >>> from scipy.interpolate import BSpline
     >>> scene = Scene(); _ = scene.add("arm", "chain")
     >>> made = rig_nodes(bake(scene, {}, "arm"), 0)
     >>> [n.name for n in made.nodes][:3], made.nodes[2].parent, made.tracks[0].path
