@@ -179,3 +179,11 @@ def last_take(page, timeout: float = 30_000) -> dict:  # noqa: ANN001
         return {id: l.id, paths: s.paths, dims: s.dims, times: s.times, rows: s.rows, stamps: s.stamps,
                 label: l.label, latency: l.final - l.released, errors: studio.errors, gap: s.gap}; }""")
 
+
+#: An init script standing in for a gamepad: ``window.__pad.axes`` (and ``buttons``) are what
+#: ``navigator.getGamepads()`` reports, set them to move its sticks.
+GAMEPAD = """
+window.__pad = {axes: [0, 0, 0, 0], buttons: []};
+navigator.getGamepads = () => [{id: 'stub pad', index: 0, connected: true, mapping: 'standard',
+    timestamp: performance.now(), axes: window.__pad.axes, buttons: window.__pad.buttons}];
+"""

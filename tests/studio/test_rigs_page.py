@@ -15,7 +15,7 @@ import numpy as np
 
 from sketchanim.anim.rigs import LEAD
 from sketchanim.motion import ik, walk
-from studio_browser import curve, drag, drew_something, held, last_take, project
+from studio_browser import GAMEPAD, curve, drag, drew_something, held, last_take, project
 
 SHOTS = Path("/tmp/shots-rigs")
 RATE = ik.RATE
@@ -220,4 +220,26 @@ def test_a_chains_body_drags_its_base_and_the_gizmo_moves_a_walkers_goal(_page, 
     page.wait_for_function(f"studio.served.get('{walker}.goal')[0] === {marker[0]}")
     page.keyboard.press("Control+z")
     page.wait_for_function(f"studio.served.get('{chain}.position')[0] === {base[0]}")
+    assert drew_something(page) > 5 and not page.errors
+
+
+def test_a_gamepad_steers_a_walkers_goal_on_its_ground_into_a_take(_page, studio: str) -> None:  # noqa: ANN001
+    page = _page(studio, GAMEPAD)
+    walker = _add(page, "walker")
+    page.click(f"[data-testid=outliner] li[data-object={walker}]")
+    start = np.array(_report(page, walker)["points"][0])
+    page.click("[data-testid=record]")
+    page.evaluate("window.__pad.axes = [0.9, 0.5, 0, 0]")         # left stick: right and back
+    page.wait_for_timeout(1500)
+    page.evaluate("window.__pad.axes = [0, 0, 0, 0]")
+    take = last_take(page)
+    assert take["paths"] == [f"{walker}.goal"], take["errors"]
+    rows = np.array(take["rows"])
+    assert np.ptp(rows[:, 1]) == 0, "the marker left its ground"
+    assert np.linalg.norm(rows[-1] - rows[0]) > 0.5
+    page.click("[data-testid=record]")
+    page.evaluate(f"studio.transport.seek(studio.tracks.get('{walker}.goal').end + 1)")
+    page.wait_for_timeout(200)
+    hips = np.array(_report(page, walker)["points"][0])
+    assert np.linalg.norm((hips - start)[[0, 2]]) > 0.4, "the walker did not walk after its goal"
     assert drew_something(page) > 5 and not page.errors

@@ -12,7 +12,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from studio_browser import curve, drag, drew_something, held, last_take, project, studio_server
-from studio_browser import viewport_drew
+from studio_browser import GAMEPAD, viewport_drew
 
 
 
@@ -171,13 +171,6 @@ def test_a_slider_drag_in_record_mode_records_its_attribute(_page, studio: str) 
     assert values.max() - values.min() > 1.0, "the slider did not move the intensity"
     _check_within(take, project(studio), "lamp.intensity")
     assert drew_something(page) > 5 and not page.errors
-
-
-GAMEPAD = """
-window.__pad = {axes: [0, 0, 0, 0], buttons: []};
-navigator.getGamepads = () => [{id: 'stub pad', index: 0, connected: true, mapping: 'standard',
-    timestamp: performance.now(), axes: window.__pad.axes, buttons: window.__pad.buttons}];
-"""
 
 
 def test_a_gamepad_moves_and_turns_the_selected_object_into_a_take(_page, studio: str) -> None:  # noqa: ANN001

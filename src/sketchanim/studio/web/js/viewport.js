@@ -3,7 +3,7 @@
  * The 3D view: the scene drawn with three.js (floor grid, objects, lights, cameras), with
  * direct manipulation (press on an object and drag: it follows the pointer in the plane
  * facing the view), translate / rotate / scale gizmos (W, E, S), orbit / pan / zoom, a
- * gamepad or 3D mouse moving and turning the selected object, and a preview of the scene
+ * gamepad or 3D mouse moving and turning the selected object (a rig's goal: moving it), and a preview of the scene
  * camera's view in a corner, with motion paths (motionpaths.js: their control points dragged
  * here take the pointer first) and onion skin (onionskin.js) over it. Chains and walkers
  * (chainview.js, walkerview.js) are drawn in the pose rigs.js derives from their goal: pressing
@@ -559,7 +559,8 @@ export class Viewport {
     const pads = navigator.getGamepads ? [...navigator.getGamepads()].filter(Boolean) : [];
     const pad = /** @type {Gamepad | undefined} */ (pads[0]);
     const name = this.studio.selected;
-    if (!pad || !name || !this.nodes.has(name) || this.nodes.get(name)?.rig) return;     // a device steers objects with an orientation
+    const node = name ? this.nodes.get(name) : null;
+    if (!pad || !name || !node) return;
     if (this.pad && this.pad.idle >= PAD_REST) {
       this.pad = null;
       this.studio.performer.release();
@@ -568,17 +569,23 @@ export class Viewport {
     if (this.pad || this.studio.performer.grab || !active(readPad(pad))) return;
     const state = { idle: 0 };
     this.pad = state;
-    const paths = [`${name}.position`, `${name}.orientation`];
+    // a rig's goal moves (a walker's on its ground: its height kept); an object moves and turns
+    const moved = node.rig ? `${name}.goal` : `${name}.position`;
+    const turned = node.rig ? null : `${name}.orientation`;
+    const paths = turned ? [moved, turned] : [moved];
     const stick = padResolution();
-    const resolve = () => ({ [paths[0]]: { step: stick.position, input: 'step' }, [paths[1]]: { step: stick.orientation, input: 'step' } });
+    const resolve = () => ({ [moved]: { step: stick.position, input: 'step' },
+      ...(turned ? { [turned]: { step: stick.orientation, input: 'step' } } : {}) });
     this.studio.performer.hold(paths, `steer ${name}`, (dt) => {
       const current = /** @type {Gamepad | undefined} */ ([...navigator.getGamepads()].filter(Boolean)[0]);
       const input = current ? readPad(current) : { move: [0, 0, 0], turn: [0, 0, 0] };
       state.idle = active(/** @type {any} */ (input)) ? 0 : state.idle + dt;
-      const next = applyPad(this.studio.values.get(paths[0]), this.studio.values.get(paths[1]),
+      const from = this.studio.values.get(moved);
+      const next = applyPad(from, turned ? this.studio.values.get(turned) : [0, 0, 0, 1],
         /** @type {any} */ (input), dt, this.camera.quaternion.toArray());
-      this.studio.setLocal(paths[0], next.position);
-      this.studio.setLocal(paths[1], next.orientation);
+      if (node.kind === 'walker') next.position[1] = from[1];
+      this.studio.setLocal(moved, next.position);
+      if (turned) this.studio.setLocal(turned, next.orientation);
     }, resolve);
   }
 
