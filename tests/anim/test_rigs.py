@@ -41,10 +41,6 @@ def test_a_chain_is_its_solver_on_the_goal_from_its_base(ends: list[float], t1: 
     expected = ik.solve(chain(scene, "arm"), tracks["arm.goal"].evaluate(held) - base)[LEAD:]
     assert np.array_equal(clip.rotations[:, :-1], expected)
     assert np.allclose(clip.world_positions()[:, 0], base[LEAD:])
-    tip = clip.world_positions()[0, -1] - base[LEAD]                     # at rest on its goal at 0
-    goal = tracks["arm.goal"].evaluate([0.0])[0] - base[LEAD]
-    if np.linalg.norm(goal) < 0.9 * 1.65 and np.linalg.norm(goal) > 0.3:
-        assert np.linalg.norm(tip - goal) < 1e-3
     mid = (at[:-1] + at[1:]) / 2                                           # between ticks: slerped
     between = rig_clip(scene, tracks, "arm", mid)
     for j in range(len(clip.skeleton) - 1):
@@ -78,7 +74,7 @@ def test_rigs_and_their_errors() -> None:
     with pytest.raises(ArgumentError, match="bob.height"):
         rig_clip(scene, {}, "bob")
     scene.set("arm.lengths", [0.5] + [0.0] * 7)
-    with pytest.raises(ArgumentError, match="lengths"):
+    with pytest.raises(ArgumentError, match="arm.lengths"):
         rig_clip(scene, {}, "arm")
 
 

@@ -30,7 +30,7 @@ from sketchanim.motion.skeleton import JOINT_CHANNELS, ROOT_CHANNELS, Clip, Skel
 SETTLE = 1.0
 
 #: Ticks a rig's solver runs on its goal's first value before time 0 (from the rest pose),
-#: so that at 0 the figure has come to rest on its goal: a chain holds it, a walker stands.
+#: so that at 0 the figure has settled on its goal: a chain reaching for it, a walker standing.
 LEAD = int(2 * ik.RATE)
 
 
@@ -76,8 +76,15 @@ def chain(scene: Scene, name: str) -> ik.Chain:
     >>> scene = Scene(); _ = scene.add("arm", "chain")
     >>> len(chain(scene, "arm").lengths)
     5
+    >>> scene.set("arm.lengths", [0.5] + [0.0] * 7); chain(scene, "arm")
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: arm.lengths: a chain is 2 to 8 leading positive lengths, got 1
     """
-    return ik.Chain.from_slots(*(scene.get(f"{name}.{a}") for a in ("lengths", "limits", "hinges")))
+    try:
+        return ik.Chain.from_slots(*(scene.get(f"{name}.{a}") for a in ("lengths", "limits", "hinges")))
+    except ArgumentError as err:                     # the chain's own field, named with the object
+        raise ArgumentError(f"{name}.{err.argument}", str(err).removeprefix(f"{err.argument}: ")) from None
 
 
 def height(scene: Scene, name: str) -> float:
