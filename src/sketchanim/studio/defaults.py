@@ -43,9 +43,10 @@ def new_object(name: str, kind: str, place: Sequence[float] | None = None) -> Sc
     obj = SceneObject(name, kind)
     if kind == "object":
         obj.add("shape", SHAPE)
-    at = obj.attributes["goal" if kind == "walker" else "position"]
+    placed = "goal" if kind == "walker" else "position"
     if place is not None:
-        at.value = at.type.check(place, f"{name}.{'goal' if kind == 'walker' else 'position'}")
+        at = obj.attributes[placed]
+        at.value = at.type.check(place, f"{name}.{placed}")
     if kind == "chain":
         obj.attributes["goal"].value = obj.attributes["position"].value + CHAIN_GOAL
     return obj

@@ -10,12 +10,11 @@
 import * as THREE from 'three';
 import { el } from './dom.js';
 import { placeInFront } from './placement.js';
+import { PLACED } from './rigs.js';
 
 const ICONS = { object: '◼', light: '☀', camera: '◉', cue: '♪', chain: '⚯', walker: '☺' };
 /** The room an object fills around its position, by kind (metres, at scale 1): a new object is placed clear of it. */
 const ROOM = { object: 0.75, light: 0.3, camera: 0.3, chain: 0.6, walker: 0.5 };
-/** The attribute that places an object, by kind (else `position`): a walker stands at its goal. */
-const PLACE = { walker: 'goal' };
 /** What the add buttons add: kind, label, tooltip. */
 const ADDS = /** @type {const} */ ([
   ['object', '+ object', 'Add an object in front of the camera (undoable)'],
@@ -96,7 +95,7 @@ export class Outliner {
     const camera = this.viewport.camera;
     const direction = camera.getWorldDirection(new THREE.Vector3());
     const occupied = s.objects.flatMap((o) => {
-      const position = s.values.get(`${o.name}.${PLACE[/** @type {keyof PLACE} */ (o.kind)] ?? 'position'}`);
+      const position = s.values.get(`${o.name}.${PLACED[/** @type {keyof PLACED} */ (o.kind)] ?? 'position'}`);
       if (!position) return [];
       const scale = s.values.get(`${o.name}.scale`) ?? [1, 1, 1];
       return [{ position, radius: (ROOM[/** @type {keyof ROOM} */ (o.kind)] ?? 0.5) * Math.max(...scale.map(Math.abs)) }];

@@ -338,6 +338,9 @@ export class PoseCache {
  * @property {(Curve | number[] | null)[]} sources  its goal and base (curves or values) the cache was made from
  */
 
+/** Where an object of a kind is, by kind (else its `position`): a walker is at its goal. */
+export const PLACED = { walker: 'goal' };
+
 /** The structure attributes of each kind (a change of one makes a new simulation). */
 export const STRUCTURE = { chain: ['lengths', 'limits', 'hinges'], walker: ['height'] };
 

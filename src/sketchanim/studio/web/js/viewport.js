@@ -22,7 +22,7 @@ import { active, applyPad, padResolution, readPad } from './gamepad.js';
 import { MotionPaths } from './motionpaths.js';
 import { OnionSkin } from './onionskin.js';
 import { pixelWorld, turnPerPixel } from './resolution.js';
-import { Rigs } from './rigs.js';
+import { PLACED, Rigs } from './rigs.js';
 import { ViewToggles } from './viewtoggles.js';
 import { WalkerView, behindText } from './walkerview.js';
 
@@ -49,8 +49,6 @@ const PAD_REST = 0.3;
 const LEVEL = 0.05;
 /** Ticks of a walker's walk simulated ahead each frame (about 2 ms) until its goal's track is covered. */
 const AHEAD = 24;
-/** The attribute the translate gizmo and the body's drag move, by kind (else `position`). */
-const MOVES = { walker: 'goal' };
 
 /** @param {string} shape */
 function geometry(shape) {
@@ -378,7 +376,7 @@ export class Viewport {
       const node = name ? this.nodes.get(name) : null;
       if (!name || !node) return;
       const mode = this.transform.mode;
-      const attr = { translate: MOVES[/** @type {keyof MOVES} */ (node.kind)] ?? 'position', rotate: 'orientation', scale: 'scale' }[mode];
+      const attr = { translate: PLACED[/** @type {keyof PLACED} */ (node.kind)] ?? 'position', rotate: 'orientation', scale: 'scale' }[mode];
       const path = `${name}.${attr}`;
       this.studio.performer.hold([path], `${mode} ${name}`, null, () => ({ [path]: this.gizmoResolution(name, mode) }));
     });
