@@ -49,7 +49,7 @@ def test_the_file_as_written_plays_within_the_world_distance(tmp_path_factory, c
     errors = world_error(path, clip, shell)
     assert errors.max() <= tol * (1 + 1e-6) + 1e-9, (errors.max(), tol)
     assert made.report.max_world_error <= tol
-    assert made.report.quantisation_error <= made.report.max_world_error + 1e-12 or made.report.keys == 0
+    assert errors.max() <= made.report.max_world_error + 1e-4 * tol   # the report: what plays, to float32
 
 
 def still_joints() -> Clip:

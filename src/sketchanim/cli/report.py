@@ -89,6 +89,8 @@ def compact_table(report: CompactReport, row: ClipOutcome) -> Table:
                          ("largest world error of the decoded values alone", f"{report.quantisation_error:.4g}"),
                          ("largest world error as played", f"{report.max_world_error:.4g}"),
                          ("largest rotation error (deg)", f"{report.max_rotation_error_deg:.4f}"),
+                         ("joint frames held on the ground / their largest world error",
+                          f"{report.planted:,} / {report.planted_error:.4g}"),
                          ("tracks written / as their node's value", f"{report.tracks - report.constant_tracks} / "
                                                                    f"{report.constant_tracks}"),
                          ("keys (of frames x tracks)", f"{report.keys:,} ({report.keys / max(report.frames * report.tracks, 1):.1%})"),

@@ -6,35 +6,50 @@ plays them.
 The distance ``tol`` bounds every joint's world position and every point ``shell`` from a
 joint (a vertex its skin could carry), as :mod:`sketchanim.mocap.world_reduction` does
 for curves; the joints' first bounds are the same (a joint's angle from how far its turn
-reaches). Of each joint's bound, :data:`~sketchanim.formats.gltf_compact.QUANTISATION_SHARE` is the filters' (it sets
-their bits), and the keys take what the decoded values leave: keys are chosen on the
-values the file will hold (:func:`~sketchanim.reducer.linear_keys.linear_keys`). Where
-the source holds an end joint still (``planted``: a foot on the ground), the world bound
-there is ``contact_share`` of ``tol``. The decoded clip is then played (spherically as
-glTF clients do, and component-wise as Blender's F-curves do) and measured in the world
+reaches). Of each joint's bound, a share (one of :data:`QUANTISATION_SHARES`) is the
+filters' (it sets their bits), and the keys take what the decoded values leave: keys are
+chosen on the values the file will hold (:func:`~sketchanim.reducer.linear_keys.linear_keys`).
+Where the source holds an end joint still (a foot on the ground:
+:func:`~sketchanim.mocap.contacts.planted`), the world bound there is
+:data:`~sketchanim.mocap.contacts.CONTACT_SHARE` of ``tol``. The decoded clip is then
+played (spherically as glTF clients do, and component-wise as Blender's F-curves do) and
+measured in the world
 at every frame; the joints above any miss are tightened at that frame and keyed again,
 for :data:`ROUNDS` rounds, then given bounds that provably keep their chains within.
 
 A track whose one value holds within its bound at every frame is no track: its value
-is the node's. Key times are each track's own or the skeleton's, whichever file is
-smaller (:data:`SHARING`).
+is the node's. Key times are the skeleton's, or each track's own where keys are sparse
+(:data:`SHARING`, :data:`SPARSE`); of these and the quantisation shares, the smallest
+file is kept, and its report says which.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError
+from sketchanim.float32 import float32_margin
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
-from sketchanim.formats.gltf_compact import BITS, QUANTISATION_SHARE, CompactChannel, bits_for, compact_glb, held
+from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held
+from sketchanim.mocap.contacts import CONTACT_SHARE, planted
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG, TRANSLATION_SHARE
-from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.kinematics import world_matrices
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer.linear_keys import linear_keys, misses, played
 from sketchanim.reducer.metric import rotation_angle
+
+#: Of each joint's bound, what the quantisation may take (it sets the filters' bits):
+#: the smallest file of these is kept. Where keys are close together the rounding may
+#: take more; where they are far apart, the interpolation.
+QUANTISATION_SHARES = (0.5, 0.8)
+
+#: Each track's own key times are tried only where the skeleton's keyed fewer than this
+#: share of its tracks' frames: with keys at most frames, one time array always made the
+#: smaller file (every clip of the project's shared data, at 0.5 and 1 cm).
+SPARSE = 0.5
 
 #: Rounds of measuring in the world and tightening before the provable bounds.
 ROUNDS = 6
@@ -58,7 +73,8 @@ class CompactReport:
     quantisation_error : float
         The largest world error of the decoded keys alone at their frames, clip units.
     max_world_error : float
-        The largest world error of what plays, at every frame, clip units.
+        The largest world error of what plays, at every frame, clip units, as computed
+        in float64 (it is kept a float32 margin under ``tol``).
     max_rotation_error_deg, max_position_error : float
         The largest error of any joint's rotation (degrees) and translation (clip
         units) at the frames, as played.
@@ -67,6 +83,9 @@ class CompactReport:
         written over all tracks.
     sharing : str
         One of :data:`SHARING`.
+    planted, planted_error : int, float
+        Frames of joints held on the ground (summed over joints), and their largest world
+        error there, as played.
     bytes : int
         Of the .glb.
     """
@@ -85,6 +104,8 @@ class CompactReport:
     constant_tracks: int
     keys: int
     sharing: str
+    planted: int
+    planted_error: float
     bytes: int
 
 
@@ -107,6 +128,7 @@ class _Tracks:
     bits: np.ndarray              # (T,)
     held: np.ndarray              # (T, n, d): each frame's value as decoded
     constant: np.ndarray          # (T,) bool
+    share: float                  # of the bound, the quantisation's
     keep: np.ndarray | None = None  # (T, n) bool: the keyed frames
     error: np.ndarray | None = None  # (T, n): the error at each frame of what plays
 
@@ -122,14 +144,13 @@ def _continuous(q: np.ndarray) -> np.ndarray:
     return np.where(flips[..., None] == 1, -q, q)
 
 
-def _tracks(path: str, joints: np.ndarray, values: np.ndarray, bound: np.ndarray) -> _Tracks:
-    """Tracks with their bits (from the quantisation's share of their tightest bound),
+def _tracks(path: str, joints: np.ndarray, values: np.ndarray, bound: np.ndarray, share: float) -> _Tracks:
+    """Tracks with their bits (from ``share`` of their tightest bound, the quantisation's),
     decoded values, and which are constant."""
     scale = np.abs(values).max(axis=(1, 2), initial=0.0)
-    bits = np.array([bits_for(path, QUANTISATION_SHARE * float(b.min()), float(s)) for b, s in zip(bound, scale)],
-                    dtype=int)
+    bits = np.array([bits_for(path, share * float(b.min()), float(s)) for b, s in zip(bound, scale)], dtype=int)
     decoded = np.stack([held(v, path, int(k)) for v, k in zip(values, bits)]) if len(values) else values
-    tracks = _Tracks(path, joints, values, bound, bits, decoded.astype(float), np.zeros(len(joints), bool))
+    tracks = _Tracks(path, joints, values, bound, bits, decoded.astype(float), np.zeros(len(joints), bool), share)
     tracks.constant = np.array([_error(tracks, i, _steady(tracks, i)).max() <= b.min()
                                 for i, b in enumerate(bound)], dtype=bool)
     return tracks
@@ -189,21 +210,21 @@ def _pose(clip: Clip, rotations: _Tracks, translations: _Tracks, variant: int) -
     return rot, trans
 
 
-def _world_errors(skeleton, source: tuple[list[Rotation], np.ndarray], rot: np.ndarray, trans: np.ndarray,
+def _world_errors(skeleton: Skeleton, source: tuple[np.ndarray, np.ndarray], rot: np.ndarray, trans: np.ndarray,
                   shell: float) -> np.ndarray:
     """Per frame and joint (n, J): the joint's distance from the source's in the world,
-    plus the most a point ``shell`` from it moves by their rotations' difference."""
-    turns, positions = world_pose(skeleton, rot, trans)
+    plus the most a point ``shell`` from it moves by their rotations' difference
+    (``source``: :func:`~sketchanim.motion.kinematics.world_matrices` of the source)."""
+    turns, positions = world_matrices(skeleton, rot, trans)
     out = np.linalg.norm(positions - source[1], axis=-1)
     if shell:
-        for j in range(len(skeleton)):
-            out[:, j] += 2 * shell * np.sin((turns[j] * source[0][j].inv()).magnitude() / 2)
+        cos = (np.einsum("njab,njab->nj", turns, source[0]) - 1) / 2       # the trace of one turned back by the other
+        out += 2 * shell * np.sin(np.arccos(np.clip(cos, -1.0, 1.0)) / 2)
     return out
 
 
-def compact_clip(clip: Clip, tol: float, shell: float, *, planted: np.ndarray | None = None,
-                 contact_share: float = 1.0, sharing: str | None = None, mesh: bool = True,
-                 name: str = "clip") -> CompactClip:
+def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True, sharing: str | None = None,
+                 mesh: bool = True, name: str = "clip") -> CompactClip:
     """``clip`` as a compact .glb whose every joint, and every point ``shell`` from a
     joint, plays within ``tol`` (clip units) of the source in the world at every frame.
 
@@ -212,9 +233,10 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, planted: np.ndarray | 
     clip : Clip
     tol, shell : float
         Clip units.
-    planted : ndarray of bool, shape (n, J), optional
-        Frames where a joint is held still (a foot on the ground): there its bound is
-        ``contact_share * tol``.
+    contacts : bool
+        Where the source holds an end joint on the ground
+        (:func:`~sketchanim.mocap.contacts.planted`), bound it there by
+        :data:`~sketchanim.mocap.contacts.CONTACT_SHARE` of ``tol``.
     sharing : one of :data:`SHARING`, optional
         Key times per track or for the skeleton; the smaller file if omitted.
     mesh : bool
@@ -233,13 +255,19 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, planted: np.ndarray | 
     for what, value in (("tol", tol), ("shell", shell)):
         if not np.isfinite(value) or value < 0 or (what == "tol" and value == 0):
             raise ArgumentError(what, f"must be a positive distance, got {value!r}")
-    if not 0 < contact_share <= 1:
-        raise ArgumentError("contact_share", f"must be in (0, 1], got {contact_share!r}")
     if sharing is not None and sharing not in SHARING:
         raise ArgumentError("sharing", f"one of {', '.join(SHARING)}, got {sharing!r}")
-    options = SHARING if sharing is None else (sharing,)
-    made = [_compact(clip, tol, shell, planted, contact_share, s, mesh, name) for s in options]
-    return min(made, key=lambda c: len(c.glb))
+    world_bound = np.full((len(clip.times), len(clip.skeleton)), _budget(clip, float(tol), shell))
+    if contacts:
+        world_bound[planted(clip)] *= CONTACT_SHARE
+    best = None
+    for s in ("skeleton", "track") if sharing is None else (sharing,):
+        if sharing is None and s == "track" and best.report.keys > SPARSE * best.report.frames * best.report.tracks:
+            break                                    # keys at most frames: one time array is the smaller file
+        for q in QUANTISATION_SHARES:
+            made = _compact(clip, world_bound, shell, s, q, mesh, name)
+            best = made if best is None or len(made.glb) < len(best.glb) else best
+    return replace(best, report=replace(best.report, tol=float(tol)))
 
 
 def compact_clip_glb(clip: Clip, tol: float, shell: float, *, mesh: bool = True) -> bytes:
@@ -252,14 +280,31 @@ def compact_clip_glb(clip: Clip, tol: float, shell: float, *, mesh: bool = True)
     return compact_clip(clip, tol, shell, mesh=mesh).glb
 
 
-def _compact(clip: Clip, tol: float, shell: float, planted: np.ndarray | None, contact_share: float, sharing: str,
-             mesh: bool, name: str) -> CompactClip:
+def _budget(clip: Clip, tol: float, shell: float) -> float:
+    """What the keys and the filters may use of ``tol``, less what float32 key times and
+    a client's float32 arithmetic may move the world's points
+    (:func:`~sketchanim.float32.float32_margin`, at the clip's largest world position and
+    the largest speed of a joint or a point ``shell`` from one); never less than half."""
+    turns, positions = world_matrices(clip.skeleton, clip.rotations, clip.translations)
+    if len(clip.times) < 2:
+        return tol
+    dt = np.diff(clip.times)[:, None]
+    speed = np.linalg.norm(np.diff(positions, axis=0), axis=-1) / dt
+    cos = (np.einsum("njab,njab->nj", turns[1:], turns[:-1]) - 1) / 2
+    speed += shell * np.arccos(np.clip(cos, -1.0, 1.0)) / dt
+    size = float(np.linalg.norm(positions, axis=-1).max()) + shell
+    return max(tol - float32_margin(clip.times, size, float(speed.max())), tol / 2)
+
+
+def _compact(clip: Clip, world_bound: np.ndarray, shell: float, sharing: str, share_q: float, mesh: bool,
+             name: str) -> CompactClip:
+    """The compact file with key times shared as ``sharing`` says, the quantisation given
+    ``share_q`` of each joint's bound, every joint within ``world_bound`` (n, J) in the
+    world at every frame."""
     sk = clip.skeleton
     n = len(clip.times)
     chains = sk.chains()
-    world_bound = np.full((n, len(sk)), float(tol))
-    if planted is not None:
-        world_bound[np.asarray(planted, bool)] *= contact_share
+    tol = float(world_bound.max(initial=0.0))
     varying = clip.translating & np.any(np.ptp(clip.translations, axis=0) > 0, axis=-1)
     moving = max(sum(bool(varying[a]) for a in chain) for chain in chains)
     share = TRANSLATION_SHARE * world_bound / max(moving, 1)                   # (n, J)
@@ -276,10 +321,10 @@ def _compact(clip: Clip, tol: float, shell: float, planted: np.ndarray | None, c
     r_joints = np.flatnonzero(clip.rotating)
     t_joints = np.flatnonzero(clip.translating)
     rotations = _tracks("rotation", r_joints, _continuous(np.swapaxes(clip.rotations[:, r_joints], 0, 1)),
-                        angle.T[r_joints].copy())
+                        angle.T[r_joints].copy(), share_q)
     translations = _tracks("translation", t_joints, np.swapaxes(clip.translations[:, t_joints], 0, 1),
-                           np.broadcast_to(share.min(axis=1), (len(t_joints), n)).copy())
-    source = world_pose(sk, clip.rotations, clip.translations)
+                           np.broadcast_to(share.min(axis=1), (len(t_joints), n)).copy(), share_q)
+    source = world_matrices(sk, clip.rotations, clip.translations)
     for round in range(ROUNDS + 3):
         for tracks in (rotations, translations):
             _keyed(clip.times, tracks, sharing)
@@ -302,7 +347,7 @@ def _compact(clip: Clip, tol: float, shell: float, planted: np.ndarray | None, c
                 limit = provable.T[tracks.joints]
                 now = np.minimum(now, np.where(tight.T[tracks.joints], limit, np.inf) if round == ROUNDS else limit)
             _tighten(tracks, now)
-    return _written(clip, rotations, translations, errors, tol, shell, sharing, mesh, name)
+    return _written(clip, rotations, translations, errors, world_bound, shell, sharing, share_q, mesh, name)
 
 
 def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
@@ -318,13 +363,16 @@ def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
         if np.any(2 * _error(tracks, i, tracks.held[i]) >= tracks.bound[i]) and tracks.bits[i] < BITS[tracks.path][1]:
             scale = float(np.abs(tracks.values[i]).max(initial=0.0))
             tracks.bits[i] = max(tracks.bits[i] + 1,
-                                 bits_for(tracks.path, QUANTISATION_SHARE * float(tracks.bound[i].min()), scale))
+                                 bits_for(tracks.path, tracks.share * float(tracks.bound[i].min()), scale))
             tracks.held[i] = held(tracks.values[i], tracks.path, int(tracks.bits[i]))
+            tracks.bound[i] = np.maximum(tracks.bound[i], 2 * _error(tracks, i, tracks.held[i]))
 
 
-def _written(clip: Clip, rotations: _Tracks, translations: _Tracks, errors: np.ndarray, tol: float, shell: float,
-             sharing: str, mesh: bool, name: str) -> CompactClip:
+def _written(clip: Clip, rotations: _Tracks, translations: _Tracks, errors: np.ndarray, world_bound: np.ndarray,
+             shell: float, sharing: str, share_q: float, mesh: bool, name: str) -> CompactClip:
     """The .glb of the keyed tracks, and its report."""
+    tol = float(world_bound.max(initial=0.0))
+    held_still = world_bound < tol
     sk = clip.skeleton
     nodes = [Node(n, p, translation=o.tolist()) for n, p, o in zip(sk.names, sk.parents, sk.offsets)]
     channels = []
@@ -350,12 +398,13 @@ def _written(clip: Clip, rotations: _Tracks, translations: _Tracks, errors: np.n
             extra = {"meshes": [bones], "skins": [Skin(list(range(len(sk))), inverse)]}
     glb = compact_glb(nodes, channels, animation=name, unit_m=clip.unit_m, **extra)
     quantisation = _quantisation_error(clip, rotations, translations, shell)
-    report = CompactReport(float(tol), float(shell), QUANTISATION_SHARE, _range(rotations), _range(translations),
+    report = CompactReport(tol, float(shell), share_q, _range(rotations), _range(translations),
                            quantisation, float(errors.max(initial=0.0)),
                            float(np.degrees(rotations.error.max(initial=0.0))), float(translations.error.max(initial=0.0)),
                            len(clip.times),
                            len(rotations.joints) + len(translations.joints),
-                           int(rotations.constant.sum() + translations.constant.sum()), keys, sharing, len(glb))
+                           int(rotations.constant.sum() + translations.constant.sum()), keys, sharing,
+                           int(held_still.sum()), float(errors[held_still].max(initial=0.0)), len(glb))
     return CompactClip(glb, report)
 
 
@@ -371,6 +420,5 @@ def _quantisation_error(clip: Clip, rotations: _Tracks, translations: _Tracks, s
     for tracks, out in ((rotations, rot), (translations, trans)):
         for i in np.flatnonzero(~tracks.constant):
             out[:, tracks.joints[i]] = tracks.held[i]
-    source = world_pose(clip.skeleton, clip.rotations, clip.translations)
-    normalised = rot / np.linalg.norm(rot, axis=-1, keepdims=True)
-    return float(_world_errors(clip.skeleton, source, normalised, trans, shell).max(initial=0.0))
+    source = world_matrices(clip.skeleton, clip.rotations, clip.translations)
+    return float(_world_errors(clip.skeleton, source, rot, trans, shell).max(initial=0.0))

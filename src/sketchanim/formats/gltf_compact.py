@@ -27,6 +27,10 @@ from sketchanim.formats.gltf import Mesh, Node, Skin, document, finished, key_ti
 
 MESHOPT = "EXT_meshopt_compression"
 
+#: meshopt's vertex codec, its version 1 (meshoptimizer 0.23 and later decode it, three.js's
+#: decoder among them) at its hardest level.
+CODEC_VERSION, CODEC_LEVEL = 1, 3
+
 #: Of a channel's bound, what the filters' rounding may take (it sets their bits).
 QUANTISATION_SHARE = 0.2
 
@@ -126,7 +130,7 @@ class _Views:
         for kind, parts in self.rows.items():
             rows = np.concatenate(parts)
             stride = rows.shape[1]
-            packed = meshopt.encode_gltf_buffer(rows, "ATTRIBUTES")
+            packed = meshopt.encode_vertex_buffer_level(rows, CODEC_LEVEL, CODEC_VERSION)
             self.data += b"\0" * (-len(self.data) % 4)
             filter = {"rotation": "QUATERNION", "vector": "EXPONENTIAL"}.get(kind, "NONE")
             ext = {"buffer": 0, "byteOffset": len(self.data), "byteLength": len(packed), "byteStride": stride,

@@ -41,3 +41,28 @@ def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarr
             world_rot.append(world_rot[p] * local)
             out[:, i] = out[:, p] + world_rot[p].apply(translations[:, i])
     return world_rot, out
+
+
+def world_matrices(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Forward kinematics as :func:`world_pose`, with each joint's world rotation as a
+    matrix (n, J, 3, 3): cheaper where many frames are measured. Quaternions of any norm
+    are normalised.
+
+    >>> from sketchanim.motion.skeleton import Skeleton
+    >>> s = Skeleton(("a", "b"), (-1, 0), np.array([[0.0, 0, 0], [1.0, 0, 0]]))
+    >>> q = np.array([[[0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)], [0, 0, 0, 1.0]]])
+    >>> turns, positions = world_matrices(s, q, np.array([[[0.0, 0, 0], [1.0, 0, 0]]]))
+    >>> positions[0, 1].round(12).tolist()
+    [0.0, 1.0, 0.0]
+    """
+    n, j = rotations.shape[:2]
+    local = Rotation.from_quat(rotations.reshape(-1, 4)).as_matrix().reshape(n, j, 3, 3)
+    turns = np.empty_like(local)
+    out = np.empty((n, j, 3))
+    for i, p in enumerate(skeleton.parents):
+        if p < 0:
+            turns[:, i], out[:, i] = local[:, i], translations[:, i]
+        else:
+            turns[:, i] = turns[:, p] @ local[:, i]
+            out[:, i] = out[:, p] + np.einsum("nab,nb->na", turns[:, p], translations[:, i])
+    return turns, out
