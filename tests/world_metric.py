@@ -65,9 +65,11 @@ def shell_points(quaternions: np.ndarray, positions: np.ndarray) -> np.ndarray:
     return positions[..., None, :] + SHELL_M * np.swapaxes(axes, -1, -2)   # rows: the rotated x, y, z axes
 
 
-def world_error(clip: Clip, played: dict[str, dict[str, np.ndarray]]) -> WorldError:
-    """The world error of ``played`` (world ``position`` (n, 3) metres and ``quaternion``
-    (n, 4) per node name, at the clip's frames) against ``clip``.
+def world_error(clip: Clip, played: dict[str, dict[str, np.ndarray]], file_unit_m: float = 1.0) -> WorldError:
+    """The world error of ``played`` (world ``position`` (n, 3) and ``quaternion`` (n, 4)
+    per node name, at the clip's frames) against ``clip``; ``file_unit_m``: metres per unit
+    of the file's world (1 for a file in metres, glTF's unit: ours when the clip's unit is
+    set, under their ``to metres`` node).
 
     >>> from sketchanim.motion.skeleton import Skeleton
     >>> clip = Clip.still(Skeleton(("hips", "head"), (-1, 0), np.array([[0.0, 1, 0], [0, 0.5, 0]])), [0.0, 0.1])
@@ -86,12 +88,13 @@ def world_error(clip: Clip, played: dict[str, dict[str, np.ndarray]]) -> WorldEr
                          f"{len(missing)} of {len(names)} joints missing)")
     quaternions, positions = source_world(clip)
     got_q = np.stack([played[n]["quaternion"] for n in names], axis=1)
-    got_p = np.stack([played[n]["position"] for n in names], axis=1)
+    got_p = np.stack([played[n]["position"] for n in names], axis=1) * file_unit_m
     joint = np.linalg.norm(got_p - positions, axis=-1).max()
     point = np.linalg.norm(shell_points(got_q, got_p) - shell_points(quaternions, positions), axis=-1).max()
     return WorldError(100 * float(joint), 100 * float(point))
 
 
-def file_world_error(clip: Clip, glb: Path) -> WorldError:
-    """The world error of the .glb ``glb`` as three.js plays it at the clip's frames."""
-    return world_error(clip, three_play_world(glb, clip.times))
+def file_world_error(clip: Clip, glb: Path, file_unit_m: float = 1.0) -> WorldError:
+    """The world error of the .glb ``glb`` as three.js plays it at the clip's frames
+    (:func:`world_error`)."""
+    return world_error(clip, three_play_world(glb, clip.times), file_unit_m)
