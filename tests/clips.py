@@ -8,6 +8,7 @@ import json
 import subprocess
 from pathlib import Path
 
+import meshopt
 import numpy as np
 import pygltflib as gl
 from hypothesis import strategies as st
@@ -80,13 +81,15 @@ def samplers(path: Path) -> dict[tuple[str, str], tuple[str, np.ndarray, np.ndar
     file's bytes."""
     doc = gl.GLTF2().load_binary(str(path))
     blob = doc.binary_blob()
+    views = {i: _view_bytes(v, blob) for i, v in enumerate(doc.bufferViews)}
 
     def accessor(i: int) -> np.ndarray:
         acc = doc.accessors[i]
-        view = doc.bufferViews[acc.bufferView]
         width = {"SCALAR": 1, "VEC3": 3, "VEC4": 4}[acc.type]
-        start = (view.byteOffset or 0) + (acc.byteOffset or 0)
-        return np.frombuffer(blob, np.float32, acc.count * width, start).reshape(acc.count, width).astype(float)
+        kind = {gl.FLOAT: np.float32, gl.SHORT: np.int16}[acc.componentType]
+        values = np.frombuffer(views[acc.bufferView], kind, acc.count * width, acc.byteOffset or 0)
+        values = values.reshape(acc.count, width).astype(float)
+        return np.maximum(values / 32767, -1.0) if acc.normalized else values
 
     out = {}
     for ch in (doc.animations[0].channels if doc.animations else []):
@@ -97,6 +100,58 @@ def samplers(path: Path) -> dict[tuple[str, str], tuple[str, np.ndarray, np.ndar
             values = values.reshape(len(times), 3, -1)
         out[(doc.nodes[ch.target.node].name, ch.target.path)] = (sampler.interpolation, times, values)
     return out
+
+
+def _view_bytes(view: gl.BufferView, blob: bytes) -> bytes:
+    """A buffer view's bytes: as stored, or decoded from EXT_meshopt_compression."""
+    ext = (view.extensions or {}).get("EXT_meshopt_compression")
+    if ext is None:
+        start = view.byteOffset or 0
+        return blob[start:start + view.byteLength]
+    packed = blob[ext.get("byteOffset", 0):ext.get("byteOffset", 0) + ext["byteLength"]]
+    return meshopt.decode_gltf_buffer(packed, ext["count"], ext["byteStride"], ext["mode"],
+                                      ext.get("filter", "NONE")).tobytes()
+
+
+def linear_play(times: np.ndarray, values: np.ndarray, t: np.ndarray, rotation: bool) -> np.ndarray:
+    """A LINEAR sampler played at ``t`` (clamped to its keys): translations linearly,
+    rotations spherically the shorter way and normalised, as glTF's spec has it."""
+    t = np.clip(t, times[0], times[-1])
+    if len(times) == 1:
+        return np.repeat(values[:1], len(t), axis=0)
+    seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)
+    u = ((t - times[seg]) / (times[seg + 1] - times[seg]))[:, None]
+    a, b = values[seg], values[seg + 1]
+    if not rotation:
+        return a + u * (b - a)
+    a = a / np.linalg.norm(a, axis=1, keepdims=True)
+    b = b / np.linalg.norm(b, axis=1, keepdims=True)
+    dot = np.sum(a * b, axis=1, keepdims=True)
+    b = np.where(dot < 0, -b, b)
+    angle = np.arccos(np.clip(np.abs(dot), -1, 1))
+    sin = np.sin(angle)
+    small = sin < 1e-9
+    wa = np.where(small, 1 - u, np.sin((1 - u) * angle) / np.where(small, 1, sin))
+    wb = np.where(small, u, np.sin(u * angle) / np.where(small, 1, sin))
+    q = wa * a + wb * b
+    return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+def played_pose(path: Path, skeleton: Skeleton, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Local rotations (n, J, 4) and translations (n, J, 3) of ``skeleton``'s joints as a
+    .glb of LINEAR samplers plays at ``t``: each node's own transform where it has no
+    channel (read from the file independently of the writer)."""
+    doc = gl.GLTF2().load_binary(str(path))
+    nodes = {n.name: n for n in doc.nodes}
+    rot = np.array([nodes[name].rotation or [0.0, 0, 0, 1] for name in skeleton.names], dtype=float)
+    trans = np.array([nodes[name].translation or [0.0, 0, 0] for name in skeleton.names], dtype=float)
+    rotations, translations = np.repeat(rot[None], len(t), axis=0), np.repeat(trans[None], len(t), axis=0)
+    for (name, what), (kind, times, values) in samplers(path).items():
+        if name in nodes and what in ("rotation", "translation"):
+            assert kind == "LINEAR", (name, what, kind)
+            out = rotations if what == "rotation" else translations
+            out[:, skeleton.index(name)] = linear_play(times, values, t, what == "rotation")
+    return rotations, translations
 
 
 def hermite_channels(path: Path) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:

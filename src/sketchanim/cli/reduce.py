@@ -17,9 +17,10 @@ from sketchanim.batch import FolderOptions, reduce_folder
 from sketchanim.cli.flags import console, stderr, fail, fail_to_write, in_flags
 from sketchanim.cli.reduce_flags import clip_options, folder_options, input_kind, refuse_others, table_options, \
     with_parameters
-from sketchanim.cli.report import features_line, folder_table, joints_table, markers_table, summary_line, \
+from sketchanim.cli.report import compact_table, features_line, folder_table, joints_table, markers_table, summary_line, \
     summary_table, unit_line
 from sketchanim.errors import InputError
+from sketchanim.export.compact_clip import CompactClip
 from sketchanim.mocap.markers import ReducedMarkers
 from sketchanim.pipeline import ClipOptions, TableOptions, TableReduction, reduce_clip_file, reduce_table
 
@@ -115,9 +116,10 @@ def _clip(source: Path, output: Path | None, options: ClipOptions) -> None:
     result = reduce_clip_file(source, options, output)
     row, reduced = result.outcome, result.reduced
     markers = isinstance(reduced, ReducedMarkers)
-    console.print(markers_table(reduced, row) if isinstance(reduced, ReducedMarkers) else joints_table(
-        reduced, row, options))
-    console.print(f"compression {row.compression:.1f}:1 ({row.reduced_bytes:,} bytes of curves vs {row.raw_bytes:,} "
+    console.print(markers_table(reduced, row) if isinstance(reduced, ReducedMarkers) else compact_table(
+        reduced.report, row) if isinstance(reduced, CompactClip) else joints_table(reduced, row, options))
+    what = "of the file" if isinstance(reduced, CompactClip) else "of curves"
+    console.print(f"compression {row.compression:.1f}:1 ({row.reduced_bytes:,} bytes {what} vs {row.raw_bytes:,} "
                   f"bytes of float32 channels); largest {'marker' if markers else 'joint'} position error in the "
                   f"world {row.max_world_error:.4g} units; {row.seconds:.2f} s")
     console.print(unit_line(result.clip.unit_m, options), soft_wrap=True)

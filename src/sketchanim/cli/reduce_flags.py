@@ -96,8 +96,10 @@ REDUCE_PARAMETERS = [
             "intervals (0: only jumps and intervals the curve would swing across, always bridged; "
             f"{_range('gap')})."),
     _option("keys", str, "curves", "Clips as .glb: 'curves' (exact, few keys: three.js, Babylon, our Blender "
-            "add-on) or 'frames' (LINEAR keys at every frame or --rate: importers that ignore tangents, such as "
-            "Blender's own)."),
+            "add-on), 'frames' (LINEAR keys at every frame or --rate: importers that ignore tangents, such as "
+            "Blender's own) or 'compact' (the smallest file, quantised and meshopt-compressed, that plays every "
+            "joint and every point --shell cm from one within --tol in the world: three.js with its meshopt "
+            "decoder, our Blender add-on)."),
 ]
 
 

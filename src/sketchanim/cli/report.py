@@ -8,6 +8,7 @@ from pathlib import Path
 from rich.table import Table
 
 from sketchanim.batch import FolderReduction
+from sketchanim.export.compact_clip import CompactReport
 from sketchanim.mocap.clip_reduction import ReducedClip
 from sketchanim.mocap.markers import ReducedMarkers
 from sketchanim.motion.skeleton import UNITS_M
@@ -72,6 +73,28 @@ def joints_table(reduced: ReducedClip, row: ClipOutcome, options: ClipOptions) -
     for j in reduced.joint_reports():
         table.add_row(j.joint, str(j.rotation_points or ""), f"{j.rotation_error_deg:.4f}" if j.rotation_points else "",
                       str(j.position_points or ""), f"{j.position_error:.4g}" if j.position_points else "")
+    return table
+
+
+def compact_table(report: CompactReport, row: ClipOutcome) -> Table:
+    """A compact clip's file: how the world tolerance was split and spent."""
+    table = Table(title=f"{Path(row.source).name}: {row.frames} frames, {row.joints} joints, every joint and "
+                        f"{report.shell:.4g} units shell within {report.tol:.4g} units in the world, as played")
+    table.add_column("compact .glb", justify="left")
+    table.add_column("", justify="right")
+    bits = ", ".join(f"{what} {'-'.join(map(str, sorted(set(b))))}" for what, b in
+                     (("rotations", report.rotation_bits), ("translations", report.translation_bits)) if b)
+    for label, value in (("quantisation's share of each joint's bound", f"{report.quantisation_share:.0%}"),
+                         ("bits", bits or "none"),
+                         ("largest world error of the decoded values alone", f"{report.quantisation_error:.4g}"),
+                         ("largest world error as played", f"{report.max_world_error:.4g}"),
+                         ("largest rotation error (deg)", f"{report.max_rotation_error_deg:.4f}"),
+                         ("tracks written / as their node's value", f"{report.tracks - report.constant_tracks} / "
+                                                                   f"{report.constant_tracks}"),
+                         ("keys (of frames x tracks)", f"{report.keys:,} ({report.keys / max(report.frames * report.tracks, 1):.1%})"),
+                         ("key times", "one array" if report.sharing == "skeleton" else "per track"),
+                         ("bytes", f"{report.bytes:,}")):
+        table.add_row(label, value)
     return table
 
 

@@ -17,6 +17,7 @@ rounded up in float32 (:func:`key_times`), so its last frame plays inside the cl
 
 from __future__ import annotations
 
+import json
 import struct
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -114,7 +115,7 @@ def sampler_keys(spline: BSpline) -> tuple[str, np.ndarray, np.ndarray]:
     return "CUBICSPLINE", keys.times, np.stack([keys.in_tangents, keys.values, keys.out_tangents], axis=1)
 
 
-class _Buffer:
+class Buffer:
     """One binary buffer: accessors appended, each in its own 4-byte aligned view."""
 
     def __init__(self, doc: gl.GLTF2) -> None:
@@ -158,8 +159,26 @@ def glb_bytes(nodes: Sequence[Node], channels: Sequence[Channel] = (), *, animat
     >>> [(n.name, n.scale) for n in doc.nodes], doc.scenes[0].nodes
     ([('box', None), ('to metres', [0.01, 0.01, 0.01])], [1])
     """
+    doc, buf = document(nodes, meshes=meshes, skins=skins, cameras=cameras, lights=lights, unit_m=unit_m)
+    if channels:
+        anim = gl.Animation(name=animation)
+        for ch in channels:
+            width = ch.values.shape[-1]
+            anim.samplers.append(gl.AnimationSampler(input=buf.add(key_times(ch.times, last_key_free(ch.interpolation, ch.values)), 1, bounds=True),
+                                                     output=buf.add(ch.values, width), interpolation=ch.interpolation))
+            anim.channels.append(gl.AnimationChannel(sampler=len(anim.samplers) - 1,
+                                                     target=gl.AnimationChannelTarget(node=ch.node, path=ch.path)))
+        doc.animations.append(anim)
+    return finished(doc, buf)
+
+
+def document(nodes: Sequence[Node], *, meshes: Sequence[Mesh] = (), skins: Sequence[Skin] = (),
+             cameras: Sequence[gl.Camera] = (), lights: Sequence[dict] = (),
+             unit_m: float | None = None) -> tuple[gl.GLTF2, Buffer]:
+    """A glTF document of ``nodes`` and what they refer to (as :func:`glb_bytes`), not
+    yet animated, and its binary buffer (buffer 0)."""
     doc = gl.GLTF2(asset=gl.Asset(version="2.0", generator=GENERATOR), scene=0, scenes=[gl.Scene(nodes=[])])
-    buf = _Buffer(doc)
+    buf = Buffer(doc)
     doc.meshes = [buf.mesh(m) for m in meshes]
     doc.skins = [gl.Skin(joints=list(s.joints), inverseBindMatrices=buf.add(np.transpose(s.inverse_binds, (0, 2, 1)),
                                                                              16)) for s in skins]
@@ -180,23 +199,27 @@ def glb_bytes(nodes: Sequence[Node], channels: Sequence[Channel] = (), *, animat
         doc.nodes.append(gl.Node(name="to metres", scale=[unit_m] * 3, children=[i for i in roots if i not in skinned]))
         roots = [len(doc.nodes) - 1]
     doc.scenes[0].nodes = roots + skinned
-    if channels:
-        anim = gl.Animation(name=animation)
-        for ch in channels:
-            width = ch.values.shape[-1]
-            # a STEP key moved would change what plays before it, unless it repeats the key before
-            last_free = ch.interpolation != "STEP" or len(ch.values) < 2 or np.array_equal(ch.values[-1], ch.values[-2])
-            anim.samplers.append(gl.AnimationSampler(input=buf.add(key_times(ch.times, last_free), 1, bounds=True),
-                                                     output=buf.add(ch.values, width), interpolation=ch.interpolation))
-            anim.channels.append(gl.AnimationChannel(sampler=len(anim.samplers) - 1,
-                                                     target=gl.AnimationChannelTarget(node=ch.node, path=ch.path)))
-        doc.animations.append(anim)
+    return doc, buf
+
+
+def finished(doc: gl.GLTF2, buf: Buffer) -> bytes:
+    """The .glb of ``doc`` with ``buf`` as its binary chunk (buffer 0), other buffers
+    as ``doc`` has them."""
     if not buf.data:
-        return _json_only_glb(doc)
+        return _glb(doc, b"")
     buf.data += b"\0" * (-len(buf.data) % 4)
-    doc.buffers.append(gl.Buffer(byteLength=len(buf.data)))
-    doc.set_binary_blob(bytes(buf.data))
-    return b"".join(doc.save_to_bytes())
+    doc.buffers.insert(0, gl.Buffer(byteLength=len(buf.data)))
+    return _glb(doc, bytes(buf.data))
+
+
+def last_key_free(interpolation: str, values: np.ndarray) -> bool:
+    """Whether a sampler's last key time may round up (:func:`key_times`): a STEP key
+    moved would change what plays before it, unless it repeats the key before.
+
+    >>> last_key_free("STEP", np.array([[0.0], [1.0]])), last_key_free("LINEAR", np.array([[0.0], [1.0]]))
+    (False, True)
+    """
+    return interpolation != "STEP" or len(values) < 2 or np.array_equal(values[-1], values[-2])
 
 
 def key_times(times: np.ndarray, round_up: bool = True) -> np.ndarray:
@@ -219,12 +242,39 @@ def key_times(times: np.ndarray, round_up: bool = True) -> np.ndarray:
     return out
 
 
-def _json_only_glb(doc: gl.GLTF2) -> bytes:
-    """A .glb of a document with no binary data: the header and the JSON chunk only
-    (pygltflib always writes a BIN chunk, and an empty one is invalid)."""
-    body = doc.gltf_to_json(separators=(",", ":"), indent=None).encode("utf-8")
+#: Properties glTF gives a default, by the array of objects that have them.
+DEFAULTS = {"accessors": {"byteOffset": 0, "normalized": False}, "bufferViews": {"byteOffset": 0},
+            "samplers": {"interpolation": "LINEAR"}}
+
+
+def _without_defaults(doc: dict) -> dict:
+    """``doc`` (glTF JSON) without the properties that only repeat their default, nor
+    empty extensions and extras (a compact file's JSON is much of its size).
+
+    >>> _without_defaults({"accessors": [{"byteOffset": 0, "count": 2, "extras": {}}]})
+    {'accessors': [{'count': 2}]}
+    """
+    def clean(value, defaults=None):
+        if isinstance(value, dict):
+            return {k: clean(v, DEFAULTS.get(k)) for k, v in value.items()
+                    if not (defaults and k in defaults and v == defaults[k]) and not (k in ("extensions", "extras")
+                                                                                    and v in ({}, None))}
+        if isinstance(value, list):
+            return [clean(v, defaults) for v in value]
+        return value
+    return clean(doc)
+
+
+def _glb(doc: gl.GLTF2, blob: bytes) -> bytes:
+    """A .glb of a document: the header, the JSON chunk and (if ``blob``) the binary
+    chunk, ``blob`` being buffer 0 (pygltflib would merge every buffer into it, and
+    always writes a BIN chunk, which is invalid empty)."""
+    body = json.dumps(_without_defaults(json.loads(doc.gltf_to_json())), separators=(",", ":")).encode("utf-8")
     body += b" " * (-len(body) % 4)
-    return struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(body)) + struct.pack("<I4s", len(body), b"JSON") + body
+    chunks = struct.pack("<I4s", len(body), b"JSON") + body
+    if blob:
+        chunks += struct.pack("<I4s", len(blob), b"BIN\0") + blob
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
 
 
 def bone_mesh(rest: np.ndarray, parents: tuple[int, ...]) -> Mesh:

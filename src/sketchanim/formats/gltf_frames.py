@@ -21,9 +21,10 @@ from sketchanim.reducer.metric import rotation_angle
 #: Of a curve's tolerance, the most that dropping keys may add to its error.
 FRAME_SHARE = 0.1
 
-#: How a curve is written: exactly (CUBICSPLINE keys at its breakpoints), or as LINEAR
-#: keys at frames.
-KEYS = ("curves", "frames")
+#: How a curve is written: exactly (CUBICSPLINE keys at its breakpoints), as LINEAR
+#: keys at frames, or as the fewest LINEAR keys at frames, quantised and compressed
+#: (:mod:`sketchanim.formats.gltf_compact`).
+KEYS = ("curves", "frames", "compact")
 
 
 def frame_values(spline: BSpline, times: np.ndarray, rotation: bool) -> np.ndarray:

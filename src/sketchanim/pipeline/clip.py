@@ -10,11 +10,14 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from sketchanim.errors import InputError
+from sketchanim.atomic import write_atomic
+from sketchanim.export.compact_clip import CompactClip, compact_clip
 from sketchanim.export.files import write_reduced
 from sketchanim.formats.clip_files import read_clip
 from sketchanim.mocap.clip_reduction import ReducedClip, reduce_clip
 from sketchanim.mocap.markers import Markers, ReducedMarkers, reduce_markers
 from sketchanim.mocap.world_reduction import reduce_clip_world
+from sketchanim.mocap.tracks import FLOAT32
 from sketchanim.motion.skeleton import UNITS_M, Clip
 from sketchanim.pipeline.clip_options import ClipOptions
 
@@ -46,15 +49,23 @@ class ClipReduction:
     the position tolerance used, and the report row."""
 
     clip: Clip | Markers
-    reduced: ReducedClip | ReducedMarkers
+    reduced: ReducedClip | ReducedMarkers | CompactClip
     tol: float
     outcome: ClipOutcome
 
 
-def clip_outcome(source: Path, output: Path, clip: Clip | Markers, reduced: ReducedClip | ReducedMarkers,
-                 tol: float, seconds: float) -> ClipOutcome:
+def clip_outcome(source: Path, output: Path, clip: Clip | Markers,
+                 reduced: ReducedClip | ReducedMarkers | CompactClip, tol: float, seconds: float) -> ClipOutcome:
     """The report row of a reduced clip (markers: one "joint" per marker, no rotation,
-    and their position error is their world error)."""
+    and their position error is their world error; a compact clip: its keys as control
+    points, its file as the reduced bytes)."""
+    if isinstance(reduced, CompactClip):
+        assert isinstance(clip, Clip)
+        r = reduced.report
+        raw = FLOAT32 * len(clip.times) * sum(len(c) for c in clip.channels)
+        return ClipOutcome(str(source), str(output), "reduced", "", r.frames, len(clip.skeleton), r.keys, raw, r.bytes,
+                           round(raw / max(r.bytes, 1), 3), r.max_rotation_error_deg, r.max_position_error,
+                           r.max_world_error, tol, round(seconds, 3))
     if isinstance(reduced, ReducedMarkers):
         rows = reduced.reports()
         worst = max((r.max_distance for r in rows), default=0.0)
@@ -71,15 +82,19 @@ def clip_outcome(source: Path, output: Path, clip: Clip | Markers, reduced: Redu
                        max(pos, default=0.0), float(reduced.world_errors(clip).max()), tol, round(seconds, 3))
 
 
-def _reduced(clip: Clip | Markers, options: ClipOptions) -> tuple[ReducedClip | ReducedMarkers, float]:
+def _reduced(clip: Clip | Markers, options: ClipOptions,
+             name: str) -> tuple[ReducedClip | ReducedMarkers | CompactClip, float]:
     tol = options.distance(clip)
     if isinstance(clip, Markers):
         return reduce_markers(clip, tol), tol
-    if options.world:
+    if options.world or options.keys == "compact":
         if clip.unit_m is None:
-            raise InputError(f"world: cannot tell the clip's units, to put its {options.shell_cm:g} cm shell in "
-                             f"them; give units=UNIT ({', '.join(UNITS_M)})")
-        return reduce_clip_world(clip, tol, options.shell_cm * 0.01 / clip.unit_m), tol
+            raise InputError(f"{'world' if options.world else 'keys'}: cannot tell the clip's units, to put its "
+                             f"{options.shell_cm:g} cm shell in them; give units=UNIT ({', '.join(UNITS_M)})")
+        shell = options.shell_cm * 0.01 / clip.unit_m
+        if options.keys == "compact":
+            return compact_clip(clip, tol, shell, name=name), tol
+        return reduce_clip_world(clip, tol, shell), tol
     return reduce_clip(clip, tol, options.rot_tol_deg), tol
 
 
@@ -96,8 +111,12 @@ def reduce_clip_file(source: str | os.PathLike[str], options: ClipOptions,
     start = time.perf_counter()
     clip = read_clip(Path(source), skeleton=options.skeleton)
     clip = replace(clip, unit_m=options.unit_m(clip))
-    reduced, tol = _reduced(clip, options)
-    if output is not None:
+    if output is not None and options.keys == "compact" and Path(output).suffix.lower() != ".glb":
+        raise InputError(f"{output}: keys: compact files are .glb")
+    reduced, tol = _reduced(clip, options, Path(output or source).stem)
+    if isinstance(reduced, CompactClip) and output is not None:
+        write_atomic(Path(output), reduced.glb)
+    elif output is not None:
         write_reduced(Path(output), reduced, rate=options.rate, keys=options.keys)
     row = clip_outcome(Path(source), Path(output or ""), clip, reduced, tol, time.perf_counter() - start)
     return ClipReduction(clip, reduced, tol, row)

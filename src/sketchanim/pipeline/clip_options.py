@@ -42,9 +42,13 @@ class ClipOptions:
         instead of every joint's rotation within ``rot_tol_deg``.
     shell_cm : float
         The shell's distance from each joint, centimetres.
-    keys : {"curves", "frames"}
+    keys : {"curves", "frames", "compact"}
         glTF output: the curves exactly, or LINEAR keys at frames (``rate``) for
-        importers that ignore tangents (:mod:`sketchanim.formats.gltf_frames`).
+        importers that ignore tangents (:mod:`sketchanim.formats.gltf_frames`), or
+        ``"compact"``: for a skeleton, the smallest file that plays within the distance
+        in the world (every joint and every point ``shell_cm`` from one, as ``world``)
+        at every frame, its keys picked from the source's frames and compressed
+        (:mod:`sketchanim.export.compact_clip`); markers as keys at their frames.
     """
 
     tol: float | None = None

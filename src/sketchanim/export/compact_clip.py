@@ -1,0 +1,398 @@
+"""A skeletal clip as the smallest glTF we can make that plays within a distance in the
+world at every frame: LINEAR keys picked from the source's frames, quantised and
+compressed (:mod:`sketchanim.formats.gltf_compact`), checked as a client decodes and
+plays them.
+
+The distance ``tol`` bounds every joint's world position and every point ``shell`` from a
+joint (a vertex its skin could carry), as :mod:`sketchanim.mocap.world_reduction` does
+for curves; the joints' first bounds are the same (a joint's angle from how far its turn
+reaches). Of each joint's bound, :data:`QUANTISATION_SHARE` is the filters' (it sets
+their bits), and the keys take what the decoded values leave: keys are chosen on the
+values the file will hold (:func:`~sketchanim.reducer.linear_keys.linear_keys`). Where
+the source holds an end joint still (``planted``: a foot on the ground), the world bound
+there is ``contact_share`` of ``tol``. The decoded clip is then played (spherically as
+glTF clients do, and component-wise as Blender's F-curves do) and measured in the world
+at every frame; the joints above any miss are tightened at that frame and keyed again,
+for :data:`ROUNDS` rounds, then given bounds that provably keep their chains within.
+
+A track whose one value holds within its bound at every frame is no track: its value
+is the node's. Key times are each track's own or the skeleton's, whichever file is
+smaller (:data:`SHARING`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from sketchanim.errors import ArgumentError
+from sketchanim.formats.gltf import Node, Skin, bone_mesh
+from sketchanim.formats.gltf_compact import BITS, CompactChannel, compact_glb, held
+from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG, TRANSLATION_SHARE
+from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.skeleton import Clip, Skeleton
+from sketchanim.reducer.linear_keys import linear_keys, misses, played
+from sketchanim.reducer.metric import rotation_angle
+
+#: Of each joint's bound, what the quantisation may take (it sets the filters' bits).
+QUANTISATION_SHARE = 0.2
+
+#: Rounds of measuring in the world and tightening before the provable bounds.
+ROUNDS = 6
+
+#: Key times per track, or one array for the whole skeleton.
+SHARING = ("track", "skeleton")
+
+
+@dataclass(frozen=True)
+class CompactReport:
+    """How a compact clip came out.
+
+    Attributes
+    ----------
+    tol, shell : float
+        The world distance asked, and the shell, clip units.
+    quantisation_share : float
+        Of each joint's bound, what the filters' rounding was given.
+    rotation_bits, translation_bits : tuple of int
+        The fewest and most bits given to any track (empty: no such track).
+    quantisation_error : float
+        The largest world error of the decoded keys alone at their frames, clip units.
+    max_world_error : float
+        The largest world error of what plays, at every frame, clip units.
+    max_rotation_error_deg, max_position_error : float
+        The largest error of any joint's rotation (degrees) and translation (clip
+        units) at the frames, as played.
+    frames, tracks, constant_tracks, keys : int
+        Source frames; tracks of the source; those written as their node's value; keys
+        written over all tracks.
+    sharing : str
+        One of :data:`SHARING`.
+    bytes : int
+        Of the .glb.
+    """
+
+    tol: float
+    shell: float
+    quantisation_share: float
+    rotation_bits: tuple[int, ...]
+    translation_bits: tuple[int, ...]
+    quantisation_error: float
+    max_world_error: float
+    max_rotation_error_deg: float
+    max_position_error: float
+    frames: int
+    tracks: int
+    constant_tracks: int
+    keys: int
+    sharing: str
+    bytes: int
+
+
+@dataclass(frozen=True)
+class CompactClip:
+    """A compact .glb and its report."""
+
+    glb: bytes
+    report: CompactReport
+
+
+@dataclass
+class _Tracks:
+    """Tracks of one kind (rotations or translations) of the joints ``joints``."""
+
+    path: str
+    joints: np.ndarray
+    values: np.ndarray            # (T, n, d)
+    bound: np.ndarray             # (T, n): the largest error at each frame
+    bits: np.ndarray              # (T,)
+    held: np.ndarray              # (T, n, d): each frame's value as decoded
+    constant: np.ndarray          # (T,) bool
+    keep: np.ndarray | None = None  # (T, n) bool: the keyed frames
+    error: np.ndarray | None = None  # (T, n): the error at each frame of what plays
+
+    @property
+    def rotation(self) -> bool:
+        return self.path == "rotation"
+
+
+def _continuous(q: np.ndarray) -> np.ndarray:
+    """Quaternions (T, n, 4), each on the side of the one before."""
+    flips = np.cumsum(np.concatenate([np.zeros(q.shape[:1] + (1,)), np.sum(q[:, 1:] * q[:, :-1], axis=-1) < 0],
+                                     axis=1), axis=1) % 2
+    return np.where(flips[..., None] == 1, -q, q)
+
+
+def _rotation_error(bits: int) -> float:
+    """The most the quaternion filter turns a unit quaternion at ``bits`` bits, radians
+    (each of three components rounded to a step of ``1 / sqrt(2) / (2^(bits-1) - 1)``,
+    doubled for the angle, with the shorts' rounding)."""
+    step = 1 / np.sqrt(2) / (2 ** (bits - 1) - 1)
+    return float(1.5 * np.sqrt(3) * step)
+
+
+def _bits(path: str, allowed: float, scale: float) -> int:
+    """The fewest bits whose rounding stays within ``allowed`` (an angle, or a distance
+    for values up to ``scale`` in size)."""
+    low, high = BITS[path]
+    for bits in range(low, high + 1):
+        error = _rotation_error(bits) if path == "rotation" else max(scale, 1e-300) * 2.0 ** (2 - bits)
+        if error <= allowed:
+            return bits
+    return high
+
+
+def _tracks(path: str, joints: np.ndarray, values: np.ndarray, bound: np.ndarray) -> _Tracks:
+    """Tracks with their bits (from the quantisation's share of their tightest bound),
+    decoded values, and which are constant."""
+    scale = np.abs(values).max(axis=(1, 2), initial=0.0)
+    bits = np.array([_bits(path, QUANTISATION_SHARE * float(b.min()), float(s)) for b, s in zip(bound, scale)],
+                    dtype=int)
+    decoded = np.stack([held(v, path, int(k)) for v, k in zip(values, bits)]) if len(values) else values
+    tracks = _Tracks(path, joints, values, bound, bits, decoded.astype(float), np.zeros(len(joints), bool))
+    tracks.constant = np.array([_error(tracks, i, _steady(tracks, i)).max() <= b.min()
+                                for i, b in enumerate(bound)], dtype=bool)
+    return tracks
+
+
+def _steady(tracks: _Tracks, i: int) -> np.ndarray:
+    """The one value nearest all of track ``i``'s: the middle of its range (rotations: the
+    mean quaternion, normalised)."""
+    v = tracks.values[i]
+    if tracks.rotation:
+        mean = v.mean(axis=0)
+        return mean / np.linalg.norm(mean)
+    return (v.min(axis=0) + v.max(axis=0)) / 2
+
+
+def _error(tracks: _Tracks, i: int, value: np.ndarray) -> np.ndarray:
+    """Track ``i``'s error at every frame if it held ``value``."""
+    v = tracks.values[i]
+    if tracks.rotation:
+        return rotation_angle(np.broadcast_to(value, v.shape), v)
+    return np.linalg.norm(v - value, axis=-1)
+
+
+def _keyed(times: np.ndarray, tracks: _Tracks, sharing: str) -> None:
+    """Key the tracks that are not constant within their bounds, from the keys they have."""
+    if tracks.keep is None:
+        tracks.keep = np.zeros((len(tracks.joints), len(times)), bool)
+        tracks.keep[:, [0, -1]] = True
+    moving = np.flatnonzero(~tracks.constant)
+    if len(moving):
+        groups = np.zeros(len(moving), int) if sharing == "skeleton" else None
+        tracks.keep[moving] = linear_keys(times, tracks.values[moving], tracks.bound[moving],
+                                          held=tracks.held[moving], rotation=tracks.rotation, groups=groups,
+                                          keep=tracks.keep[moving])
+    tracks.error = np.zeros((len(tracks.joints), len(times)))
+    for i in np.flatnonzero(tracks.constant):
+        tracks.error[i] = _error(tracks, i, _steady(tracks, i))
+    if len(moving):
+        tracks.error[moving] = misses(times, tracks.values[moving], tracks.held[moving], tracks.keep[moving],
+                                      tracks.rotation)
+
+
+def _pose(clip: Clip, rotations: _Tracks, translations: _Tracks, variant: int) -> tuple[np.ndarray, np.ndarray]:
+    """Local rotations (n, J, 4) and translations (n, J, 3) as the file plays
+    (``variant`` 0: rotations spherically, 1: component-wise)."""
+    rot, trans = clip.skeleton.rest_pose(len(clip.times))
+    for tracks, out in ((rotations, rot), (translations, trans)):
+        moving = np.flatnonzero(~tracks.constant)
+        for i in np.flatnonzero(tracks.constant):
+            out[:, tracks.joints[i]] = _steady(tracks, i)
+        if len(moving):
+            values = played(clip.times, tracks.held[moving], tracks.keep[moving], tracks.rotation)
+            if tracks.rotation:
+                values = values[:, :, variant]
+                values = values / np.linalg.norm(values, axis=-1, keepdims=True)
+            out[:, tracks.joints[moving]] = np.swapaxes(values, 0, 1)
+    return rot, trans
+
+
+def _world_errors(skeleton, source: tuple[list[Rotation], np.ndarray], rot: np.ndarray, trans: np.ndarray,
+                  shell: float) -> np.ndarray:
+    """Per frame and joint (n, J): the joint's distance from the source's in the world,
+    plus the most a point ``shell`` from it moves by their rotations' difference."""
+    turns, positions = world_pose(skeleton, rot, trans)
+    out = np.linalg.norm(positions - source[1], axis=-1)
+    if shell:
+        for j in range(len(skeleton)):
+            out[:, j] += 2 * shell * np.sin((turns[j] * source[0][j].inv()).magnitude() / 2)
+    return out
+
+
+def compact_clip(clip: Clip, tol: float, shell: float, *, planted: np.ndarray | None = None,
+                 contact_share: float = 1.0, sharing: str | None = None, mesh: bool = True,
+                 name: str = "clip") -> CompactClip:
+    """``clip`` as a compact .glb whose every joint, and every point ``shell`` from a
+    joint, plays within ``tol`` (clip units) of the source in the world at every frame.
+
+    Parameters
+    ----------
+    clip : Clip
+    tol, shell : float
+        Clip units.
+    planted : ndarray of bool, shape (n, J), optional
+        Frames where a joint is held still (a foot on the ground): there its bound is
+        ``contact_share * tol``.
+    sharing : one of :data:`SHARING`, optional
+        Key times per track or for the skeleton; the smaller file if omitted.
+    mesh : bool
+        Add the skinned bone mesh (as :func:`~sketchanim.export.mocap_gltf.clip_glb`).
+
+    Examples
+    --------
+    >>> s = Skeleton(("hips", "knee", "toe"), (-1, 0, 1), np.array([[0.0, 90, 0], [0, -45, 0], [0, -45, 0]]))
+    >>> t = np.arange(240) / 120
+    >>> clip = Clip.still(s, t)
+    >>> clip.rotations[:, 1] = Rotation.from_euler("X", np.sin(5 * t)[:, None]).as_quat()
+    >>> out = compact_clip(clip, 0.5, 3.0)
+    >>> out.report.max_world_error <= 0.5, out.report.constant_tracks, out.glb[:4]
+    (True, 2, b'glTF')
+    """
+    for what, value in (("tol", tol), ("shell", shell)):
+        if not np.isfinite(value) or value < 0 or (what == "tol" and value == 0):
+            raise ArgumentError(what, f"must be a positive distance, got {value!r}")
+    if not 0 < contact_share <= 1:
+        raise ArgumentError("contact_share", f"must be in (0, 1], got {contact_share!r}")
+    if sharing is not None and sharing not in SHARING:
+        raise ArgumentError("sharing", f"one of {', '.join(SHARING)}, got {sharing!r}")
+    options = SHARING if sharing is None else (sharing,)
+    made = [_compact(clip, tol, shell, planted, contact_share, s, mesh, name) for s in options]
+    return min(made, key=lambda c: len(c.glb))
+
+
+def compact_clip_glb(clip: Clip, tol: float, shell: float, *, mesh: bool = True) -> bytes:
+    """The bytes of :func:`compact_clip` (its default options).
+
+    >>> s = Skeleton(("hips",), (-1,), np.zeros((1, 3)))
+    >>> compact_clip_glb(Clip.still(s, np.arange(10) / 30), 0.5, 3.0)[:4]
+    b'glTF'
+    """
+    return compact_clip(clip, tol, shell, mesh=mesh).glb
+
+
+def _compact(clip: Clip, tol: float, shell: float, planted: np.ndarray | None, contact_share: float, sharing: str,
+             mesh: bool, name: str) -> CompactClip:
+    sk = clip.skeleton
+    n = len(clip.times)
+    chains = sk.chains()
+    world_bound = np.full((n, len(sk)), float(tol))
+    if planted is not None:
+        world_bound[np.asarray(planted, bool)] *= contact_share
+    varying = clip.translating & np.any(np.ptp(clip.translations, axis=0) > 0, axis=-1)
+    moving = max(sum(bool(varying[a]) for a in chain) for chain in chains)
+    share = TRANSLATION_SHARE * world_bound / max(moving, 1)                   # (n, J)
+    budget = world_bound - share * np.array([sum(bool(varying[a]) for a in c) for c in chains])
+    turning = max(max(sum(bool(clip.rotating[a]) for a in chain) for chain in chains), 1)
+    arm = sk.reach(clip.bones()) + shell
+    # a joint's bound at a frame: the tightest its descendants' world bounds there allow
+    below = np.full((n, len(sk)), np.inf)
+    for d, chain in enumerate(chains):
+        below[:, chain] = np.minimum(below[:, chain], budget[:, [d]])
+    cap = np.radians(MAX_ANGLE_DEG)
+    angle = np.minimum(below / np.maximum(arm, 1e-300), cap)
+    provable = np.minimum(below / np.maximum(turning * arm, 1e-300), cap)
+    r_joints = np.flatnonzero(clip.rotating)
+    t_joints = np.flatnonzero(clip.translating)
+    rotations = _tracks("rotation", r_joints, _continuous(np.swapaxes(clip.rotations[:, r_joints], 0, 1)),
+                        angle.T[r_joints].copy())
+    translations = _tracks("translation", t_joints, np.swapaxes(clip.translations[:, t_joints], 0, 1),
+                           np.broadcast_to(share.min(axis=1), (len(t_joints), n)).copy())
+    source = world_pose(sk, clip.rotations, clip.translations)
+    for round in range(ROUNDS + 3):
+        for tracks in (rotations, translations):
+            _keyed(clip.times, tracks, sharing)
+        errors = np.maximum(*(_world_errors(sk, source, *_pose(clip, rotations, translations, v), shell)
+                              for v in (0, 1)))
+        over = errors > world_bound
+        if not over.any():
+            break
+        if round == ROUNDS + 2:
+            raise AssertionError(f"world errors up to {errors.max():.6g} > {tol:.6g} after the provable bounds")
+        factor = np.ones((n, len(sk)))               # each joint tightened where a descendant misses, once
+        for f, d in np.argwhere(over):
+            ratio = np.clip(0.95 * world_bound[f, d] / errors[f, d], 0.5, 0.95)
+            factor[f, chains[d]] = np.minimum(factor[f, chains[d]], ratio)
+        tight = factor < 1
+        for tracks in (rotations, translations):
+            # below what each joint misses by now, where a descendant misses: every round gains
+            now = np.where(tight.T[tracks.joints], tracks.error * factor.T[tracks.joints], np.inf)
+            if round >= ROUNDS and tracks.rotation:  # the joints that still miss, then every joint
+                limit = provable.T[tracks.joints]
+                now = np.minimum(now, np.where(tight.T[tracks.joints], limit, np.inf) if round == ROUNDS else limit)
+            _tighten(tracks, now)
+    return _written(clip, rotations, translations, errors, tol, shell, sharing, mesh, name)
+
+
+def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
+    """New bounds for ``tracks``: a constant track that no longer holds is keyed from its
+    ends, and a track whose decoded values take half their bound somewhere gets more bits."""
+    for i in range(len(tracks.joints)):
+        # never below twice what the decoded value misses by alone: more bits come first
+        tracks.bound[i] = np.minimum(tracks.bound[i], np.maximum(bound[i], 2 * _error(tracks, i, tracks.held[i])))
+        if tracks.constant[i] and _error(tracks, i, _steady(tracks, i)).max() > tracks.bound[i].min():
+            tracks.constant[i] = False
+            tracks.keep[i] = False
+            tracks.keep[i, [0, -1]] = True
+        if np.any(2 * _error(tracks, i, tracks.held[i]) >= tracks.bound[i]) and tracks.bits[i] < BITS[tracks.path][1]:
+            scale = float(np.abs(tracks.values[i]).max(initial=0.0))
+            tracks.bits[i] = max(tracks.bits[i] + 1,
+                                 _bits(tracks.path, QUANTISATION_SHARE * float(tracks.bound[i].min()), scale))
+            tracks.held[i] = held(tracks.values[i], tracks.path, int(tracks.bits[i]))
+
+
+def _written(clip: Clip, rotations: _Tracks, translations: _Tracks, errors: np.ndarray, tol: float, shell: float,
+             sharing: str, mesh: bool, name: str) -> CompactClip:
+    """The .glb of the keyed tracks, and its report."""
+    sk = clip.skeleton
+    nodes = [Node(n, p, translation=o.tolist()) for n, p, o in zip(sk.names, sk.parents, sk.offsets)]
+    channels = []
+    keys = 0
+    for tracks in (rotations, translations):
+        moving = np.flatnonzero(~tracks.constant)
+        for i in np.flatnonzero(tracks.constant):
+            setattr(nodes[tracks.joints[i]], tracks.path, _steady(tracks, i).tolist())
+        for i in moving:
+            frames = np.flatnonzero(tracks.keep[i])
+            keys += len(frames)
+            channels.append(CompactChannel(int(tracks.joints[i]), tracks.path, clip.times[frames],
+                                           tracks.values[i, frames], int(tracks.bits[i])))
+    channels.sort(key=lambda c: (c.node, c.path != "rotation"))
+    extra = {}
+    if mesh:
+        rest = sk.rest_positions()
+        bones = bone_mesh(rest, sk.parents)
+        if len(bones.positions):
+            inverse = np.tile(np.eye(4), (len(sk), 1, 1))
+            inverse[:, :3, 3] = -rest
+            nodes.append(Node("bones", mesh=0, skin=0))
+            extra = {"meshes": [bones], "skins": [Skin(list(range(len(sk))), inverse)]}
+    glb = compact_glb(nodes, channels, animation=name, unit_m=clip.unit_m, **extra)
+    quantisation = _quantisation_error(clip, rotations, translations, shell)
+    report = CompactReport(float(tol), float(shell), QUANTISATION_SHARE, _range(rotations), _range(translations),
+                           quantisation, float(errors.max(initial=0.0)),
+                           float(np.degrees(rotations.error.max(initial=0.0))), float(translations.error.max(initial=0.0)),
+                           len(clip.times),
+                           len(rotations.joints) + len(translations.joints),
+                           int(rotations.constant.sum() + translations.constant.sum()), keys, sharing, len(glb))
+    return CompactClip(glb, report)
+
+
+def _range(tracks: _Tracks) -> tuple[int, ...]:
+    """The fewest and most bits of the keyed tracks."""
+    bits = tracks.bits[~tracks.constant]
+    return (int(bits.min()), int(bits.max())) if len(bits) else ()
+
+
+def _quantisation_error(clip: Clip, rotations: _Tracks, translations: _Tracks, shell: float) -> float:
+    """The largest world error of the decoded values alone, held at every frame."""
+    rot, trans = clip.rotations.copy(), clip.translations.copy()
+    for tracks, out in ((rotations, rot), (translations, trans)):
+        for i in np.flatnonzero(~tracks.constant):
+            out[:, tracks.joints[i]] = tracks.held[i]
+    source = world_pose(clip.skeleton, clip.rotations, clip.translations)
+    normalised = rot / np.linalg.norm(rot, axis=-1, keepdims=True)
+    return float(_world_errors(clip.skeleton, source, normalised, trans, shell).max(initial=0.0))

@@ -1,0 +1,167 @@
+"""LINEAR keys at a subset of the frames, for many tracks at once: the fewest keys this
+method finds whose interpolation stays within a bound at every frame, checked on the
+values a client will actually hold at the keys (quantised, for a compact file).
+
+Keys are added top down: every track starts with its first and last frame; at each
+pass, every span between two keys that misses its bound at some frame gets a key at
+the frame that misses it most (relative to its bound there). Passes are whole-array
+operations over all tracks and frames, so a clip's hundred tracks cost about as much as
+one. Rotations are interpolated as every client does: spherically (glTF's LINEAR
+rotation, the shorter way) and component-wise then normalised (Blender's F-curves,
+after the keys are put on one hemisphere); the error is the worse of the two.
+Tracks of a group share their key frames (one time array in the file).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from sketchanim.errors import ArgumentError
+from sketchanim.reducer.metric import rotation_angle
+
+
+def _ends(keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each frame's key at or before it, and at or after it (T, n)."""
+    n = keep.shape[1]
+    index = np.broadcast_to(np.arange(n), keep.shape)
+    left = np.maximum.accumulate(np.where(keep, index, 0), axis=1)
+    right = np.minimum.accumulate(np.where(keep, index, n - 1)[:, ::-1], axis=1)[:, ::-1]
+    return left, right
+
+
+def _played(times: np.ndarray, held: np.ndarray, rows: np.ndarray, frames: np.ndarray, left: np.ndarray,
+            right: np.ndarray, rotation: bool) -> np.ndarray:
+    """What plays at ``frames`` of tracks ``rows`` between their keys ``left`` and
+    ``right``: (m, d), or for rotations (m, 2, 4), spherically and component-wise."""
+    a, b = held[rows, left], held[rows, right]
+    span = times[right] - times[left]
+    s = np.divide(times[frames] - times[left], span, out=np.zeros_like(span), where=span > 0)[:, None]
+    if not rotation:
+        return a + s * (b - a)
+    dot = np.sum(a * b, axis=-1, keepdims=True)
+    b = np.where(dot < 0, -b, b)                       # the shorter way, and one hemisphere for F-curves
+    nlerp = a + s * (b - a)
+    cos = np.clip(np.abs(dot) / np.maximum(np.linalg.norm(a, axis=-1, keepdims=True)
+                                           * np.linalg.norm(b, axis=-1, keepdims=True), 1e-300), -1.0, 1.0)
+    angle = np.arccos(cos)
+    sin = np.sin(angle)
+    small = sin < 1e-9
+    wa = np.where(small, 1 - s, np.sin((1 - s) * angle) / np.where(small, 1.0, sin))
+    wb = np.where(small, s, np.sin(s * angle) / np.where(small, 1.0, sin))
+    return np.stack([wa * a + wb * b, nlerp], axis=-2)
+
+
+def _errors(times: np.ndarray, values: np.ndarray, held: np.ndarray, rows: np.ndarray, frames: np.ndarray,
+            left: np.ndarray, right: np.ndarray, rotation: bool) -> np.ndarray:
+    """Error (m,) at ``frames`` of tracks ``rows`` (the worse interpolation, for rotations)."""
+    played = _played(times, held, rows, frames, left, right, rotation)
+    source = values[rows, frames]
+    if not rotation:
+        return np.linalg.norm(played - source, axis=-1)
+    return np.maximum(rotation_angle(played[:, 0], source), rotation_angle(played[:, 1], source))
+
+
+def played(times: np.ndarray, held: np.ndarray, keep: np.ndarray, rotation: bool) -> np.ndarray:
+    """What plays at every frame from the keys ``keep`` (T, n) of ``held`` (T, n, d):
+    (T, n, d), or for rotations (T, n, 2, 4), spherically then component-wise.
+
+    >>> t = np.arange(5.0)
+    >>> keep = np.array([[True, False, False, False, True]])
+    >>> played(t, np.c_[t, t][None], keep, False)[0, :, 0].tolist()
+    [0.0, 1.0, 2.0, 3.0, 4.0]
+    """
+    rows, frames = np.indices(keep.shape).reshape(2, -1)
+    left, right = _ends(keep)
+    out = _played(np.asarray(times, float), np.asarray(held, float), rows, frames, left.ravel(), right.ravel(),
+                  rotation)
+    return out.reshape(*keep.shape, *out.shape[1:])
+
+
+def misses(times: np.ndarray, values: np.ndarray, held: np.ndarray, keep: np.ndarray, rotation: bool) -> np.ndarray:
+    """Error (T, n) at every frame of what plays from the keys ``keep`` of ``held``
+    (T, n, d), against ``values``: a distance, or an angle in radians (for rotations
+    the worse of spherical and component-wise interpolation).
+
+    >>> t = np.arange(3.0)
+    >>> v = np.c_[[0.0, 1.0, 0.0]][None]
+    >>> misses(t, v, v, np.array([[True, False, True]]), False).tolist()
+    [[0.0, 1.0, 0.0]]
+    """
+    rows, frames = np.indices(keep.shape).reshape(2, -1)
+    left, right = _ends(keep)
+    out = _errors(np.asarray(times, float), np.asarray(values, float), np.asarray(held, float), rows, frames,
+                  left.ravel(), right.ravel(), rotation)
+    return out.reshape(keep.shape)
+
+
+def linear_keys(times: np.ndarray, values: np.ndarray, bound: np.ndarray, *, held: np.ndarray | None = None,
+                rotation: bool = False, groups: np.ndarray | None = None,
+                keep: np.ndarray | None = None) -> np.ndarray:
+    """Which frames to key (T, n) so that every track's interpolation stays within
+    ``bound`` at every frame.
+
+    Parameters
+    ----------
+    times : ndarray, shape (n,)
+        Frame times, increasing.
+    values : ndarray, shape (T, n, d)
+        Each track's values at the frames (rotations: quaternions, scalar-last).
+    bound : float or ndarray broadcasting to (T, n)
+        The largest error at each frame (a distance, or an angle in radians).
+    held : ndarray, shape (T, n, d), optional
+        The values a client holds at each frame if it is keyed (quantised ``values``);
+        ``values`` themselves if omitted.
+    rotation : bool
+        Interpolate as rotations (:func:`interpolated`).
+    groups : ndarray of int, shape (T,), optional
+        Tracks with the same group share their keys.
+    keep : ndarray of bool, shape (T, n), optional
+        Keys to start from (kept); first and last frames otherwise. A tighter ``bound``
+        only adds keys to an earlier answer.
+
+    Raises
+    ------
+    ArgumentError
+        A keyed frame alone misses its bound (what ``held`` holds there is too far).
+
+    Examples
+    --------
+    >>> t = np.arange(7.0)
+    >>> linear_keys(t, np.c_[t, np.minimum(t, 3)][None], 1e-9)[0].nonzero()[0].tolist()
+    [0, 3, 6]
+    """
+    times = np.asarray(times, dtype=float)
+    values = np.asarray(values, dtype=float)
+    held = values if held is None else np.asarray(held, dtype=float)
+    T, n = values.shape[:2]
+    limit = np.broadcast_to(np.asarray(bound, dtype=float), (T, n))
+    if keep is None:
+        keep = np.zeros((T, n), bool)
+        keep[:, [0, -1]] = True
+    else:
+        keep = keep.copy()
+    members = [np.flatnonzero(groups == g) for g in np.unique(groups)] if groups is not None else []
+    for m in members:
+        keep[m] = keep[m].any(axis=0)
+    ratio = misses(times, values, held, keep, rotation) / np.maximum(limit, 1e-300)
+    left, right = _ends(keep)
+    while True:
+        if np.any(ratio[keep] > 1):
+            row, frame = np.argwhere(keep & (ratio > 1))[0]
+            raise ArgumentError("bound", f"track {row}: the key at frame {frame} alone misses its bound "
+                                         f"{limit[row, frame]:.3g} (what it holds is too coarse)")
+        over = np.argwhere(ratio > 1)
+        if not len(over):
+            return keep
+        span = over[:, 0] * n + left[over[:, 0], over[:, 1]]        # the span each miss lies in
+        worst = np.lexsort((-ratio[over[:, 0], over[:, 1]], span))
+        _, first = np.unique(span[worst], return_index=True)
+        added = over[worst[first]]
+        keep[added[:, 0], added[:, 1]] = True
+        for m in members:
+            keep[m] = keep[m].any(axis=0)
+        was = left, right
+        left, right = _ends(keep)
+        rows, frames = np.nonzero((left != was[0]) | (right != was[1]))   # the spans split: measured again
+        ratio[rows, frames] = _errors(times, values, held, rows, frames, left[rows, frames], right[rows, frames],
+                                      rotation) / np.maximum(limit[rows, frames], 1e-300)

@@ -1,0 +1,128 @@
+"""Compact clip files (``keys="compact"``): the world bound through quantisation and
+meshopt, measured on the file as written (decoded and played by the test's own reader),
+constant tracks as their node's values, the Khronos validator, the command line."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pygltflib as gl
+import pytest
+from hypothesis import given, settings, strategies as st
+from scipy.spatial.transform import Rotation
+
+from typer.testing import CliRunner
+
+from clips import ROOT, clips, played_pose, samplers, validate
+from sketchanim.cli import app
+from sketchanim.export.compact_clip import compact_clip
+from sketchanim.formats.bvh import write_bvh
+from sketchanim.formats.clip_files import read_clip
+from sketchanim.formats.gltf_compact import MESHOPT
+from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.skeleton import Clip, Skeleton
+
+DATA = ROOT.parent / "shared" / "data"
+REAL = sorted((DATA / "bvh").glob("*.bvh")) + sorted((DATA / "amc").glob("*.amc"))
+
+
+def world_error(path: Path, clip: Clip, shell: float) -> np.ndarray:
+    """Per frame and joint, the file's played joint distance from the source's in the
+    world plus the largest move of a point ``shell`` from the joint (any direction)."""
+    rot, trans = played_pose(path, clip.skeleton, clip.times)
+    turns, positions = world_pose(clip.skeleton, rot, trans)
+    source_turns, source = world_pose(clip.skeleton, clip.rotations, clip.translations)
+    out = np.linalg.norm(positions - source, axis=-1)
+    for j in range(len(clip.skeleton)):
+        out[:, j] += 2 * shell * np.sin((turns[j] * source_turns[j].inv()).magnitude() / 2)
+    return out
+
+
+@settings(max_examples=40, deadline=None)
+@given(clips(), st.floats(0.05, 2.0), st.sampled_from([0.0, 3.0]))
+def test_the_file_as_written_plays_within_the_world_distance(tmp_path_factory, clip, tol, shell):
+    made = compact_clip(clip, tol, shell)
+    path = tmp_path_factory.mktemp("c") / "c.glb"
+    path.write_bytes(made.glb)
+    errors = world_error(path, clip, shell)
+    assert errors.max() <= tol * (1 + 1e-6) + 1e-9, (errors.max(), tol)
+    assert made.report.max_world_error <= tol
+    assert made.report.quantisation_error <= made.report.max_world_error + 1e-12 or made.report.keys == 0
+
+
+def still_joints() -> Clip:
+    """Three joints: the root translating, the first joint turning, the second still in
+    a pose that is not the rest (a constant track)."""
+    s = Skeleton(("root", "arm", "hand"), (-1, 0, 1), np.array([[0.0, 90, 0], [30.0, 0, 0], [25.0, 0, 0]]))
+    t = np.arange(120) / 60
+    clip = Clip.still(s, t)
+    clip.translations[:, 0] = np.c_[10 * np.sin(t), 90 + 0 * t, 0 * t]
+    clip.rotations[:, 1] = Rotation.from_euler("Z", np.sin(3 * t)[:, None]).as_quat()
+    clip.rotations[:, 2] = Rotation.from_euler("X", [[40.0]] * len(t), degrees=True).as_quat()
+    return replace(clip, translating=np.array([True, False, False]))
+
+
+def test_a_constant_track_is_its_nodes_value(tmp_path):
+    clip = still_joints()
+    made = compact_clip(clip, 0.5, 3.0)
+    path = tmp_path / "c.glb"
+    path.write_bytes(made.glb)
+    doc = gl.GLTF2().load_binary(str(path))
+    hand = next(n for n in doc.nodes if n.name == "hand")
+    animated = set(samplers(path))
+    assert animated == {("root", "translation"), ("arm", "rotation")}      # the root does not turn either
+    assert made.report.constant_tracks == 2
+    angle = Rotation.from_quat(hand.rotation).inv() * Rotation.from_quat(clip.rotations[0, 2])
+    assert np.degrees(angle.magnitude()) < 1e-6
+    assert world_error(path, clip, 3.0).max() <= 0.5
+
+
+def test_files_require_meshopt_and_pass_the_validator(tmp_path):
+    clip = still_joints()
+    path = tmp_path / "c.glb"
+    path.write_bytes(compact_clip(clip, 0.5, 3.0).glb)
+    report = validate(path)[0]
+    assert report["numErrors"] == 0 and report["numWarnings"] == 0, report["messages"]
+    doc = gl.GLTF2().load_binary(str(path))
+    assert doc.extensionsRequired == [MESHOPT]
+    filters = {v.extensions[MESHOPT].get("filter") for v in doc.bufferViews if v.extensions}
+    assert filters == {None, "QUATERNION", "EXPONENTIAL"}
+
+
+def test_bad_arguments_are_named():
+    clip = still_joints()
+    with pytest.raises(Exception, match="tol"):
+        compact_clip(clip, 0.0, 3.0)
+    with pytest.raises(Exception, match="sharing"):
+        compact_clip(clip, 0.5, 3.0, sharing="joint")
+
+
+@pytest.mark.skipif(not REAL, reason="../shared/data is not here")
+@pytest.mark.parametrize("source", REAL, ids=lambda p: p.name)
+def test_real_clips_play_within_half_a_centimetre_in_the_world(tmp_path, source):
+    clip = read_clip(source)
+    clip = replace(clip, unit_m=clip.guess_unit_m())
+    tol, shell = 0.005 / clip.unit_m, 0.03 / clip.unit_m
+    made = compact_clip(clip, tol, shell)
+    path = tmp_path / "c.glb"
+    path.write_bytes(made.glb)
+    assert world_error(path, clip, shell).max() <= tol * (1 + 1e-6)
+    report = validate(path)[0]
+    assert report["numErrors"] == 0 and report["numWarnings"] == 0, report["messages"]
+    raw = 4 * len(clip.times) * sum(len(c) for c in clip.channels)
+    assert len(made.glb) < raw or len(clip.times) < 50          # smaller than the frames, but for a few frames
+
+
+def test_the_command_line_writes_compact_files_and_refuses_other_formats(tmp_path):
+    source = tmp_path / "walk.bvh"
+    write_bvh(source, still_joints())
+    run = CliRunner().invoke(app, ["reduce", str(source), "-o", str(tmp_path / "w.glb"), "--keys", "compact",
+                                   "--units", "cm"])
+    assert run.exit_code == 0, run.output
+    assert "largest world error as played" in run.output and (tmp_path / "w.glb").exists()
+    run = CliRunner().invoke(app, ["reduce", str(source), "-o", str(tmp_path / "w.bvh"), "--keys", "compact",
+                                   "--units", "cm"])
+    assert run.exit_code == 2 and "--keys: compact files are .glb" in run.output, run.output
+    assert not (tmp_path / "w.bvh").exists()
