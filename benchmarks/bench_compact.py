@@ -365,7 +365,8 @@ def print_tables(rows: list[Row], have_ours: bool, startup: tuple[float, float],
             err.add_row(r.name, _err(r.source_error), _err(r.gltfpack.error if r.gltfpack else None),
                         _err(r.transform.error if r.transform else None), _err(r.ours_error))
         console.print(err)
-    best = Table(title="the peers' best settings (smallest file within the bound); peer files made and measured")
+    best = Table(title="the peers' best settings (smallest file within the bound); files: peer files made and measured "
+                       "for the clip by then (shared by the bounds)")
     for col in ("clip", "bound cm", "gltfpack", "glTF-Transform", "files"):
         best.add_column(col)
     for r, bound in zip(rows, BOUNDS_CM * (len(rows) // len(BOUNDS_CM))):
