@@ -6,7 +6,7 @@ plays them.
 The distance ``tol`` bounds every joint's world position and every point ``shell`` from a
 joint (a vertex its skin could carry), as :mod:`sketchanim.mocap.world_reduction` does
 for curves; the joints' first bounds are the same (a joint's angle from how far its turn
-reaches). Of each joint's bound, :data:`QUANTISATION_SHARE` is the filters' (it sets
+reaches). Of each joint's bound, :data:`~sketchanim.formats.gltf_compact.QUANTISATION_SHARE` is the filters' (it sets
 their bits), and the keys take what the decoded values leave: keys are chosen on the
 values the file will hold (:func:`~sketchanim.reducer.linear_keys.linear_keys`). Where
 the source holds an end joint still (``planted``: a foot on the ground), the world bound
@@ -29,15 +29,12 @@ from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
-from sketchanim.formats.gltf_compact import BITS, CompactChannel, compact_glb, held
+from sketchanim.formats.gltf_compact import BITS, QUANTISATION_SHARE, CompactChannel, bits_for, compact_glb, held
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG, TRANSLATION_SHARE
 from sketchanim.motion.kinematics import world_pose
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer.linear_keys import linear_keys, misses, played
 from sketchanim.reducer.metric import rotation_angle
-
-#: Of each joint's bound, what the quantisation may take (it sets the filters' bits).
-QUANTISATION_SHARE = 0.2
 
 #: Rounds of measuring in the world and tightening before the provable bounds.
 ROUNDS = 6
@@ -125,30 +122,11 @@ def _continuous(q: np.ndarray) -> np.ndarray:
     return np.where(flips[..., None] == 1, -q, q)
 
 
-def _rotation_error(bits: int) -> float:
-    """The most the quaternion filter turns a unit quaternion at ``bits`` bits, radians
-    (each of three components rounded to a step of ``1 / sqrt(2) / (2^(bits-1) - 1)``,
-    doubled for the angle, with the shorts' rounding)."""
-    step = 1 / np.sqrt(2) / (2 ** (bits - 1) - 1)
-    return float(1.5 * np.sqrt(3) * step)
-
-
-def _bits(path: str, allowed: float, scale: float) -> int:
-    """The fewest bits whose rounding stays within ``allowed`` (an angle, or a distance
-    for values up to ``scale`` in size)."""
-    low, high = BITS[path]
-    for bits in range(low, high + 1):
-        error = _rotation_error(bits) if path == "rotation" else max(scale, 1e-300) * 2.0 ** (2 - bits)
-        if error <= allowed:
-            return bits
-    return high
-
-
 def _tracks(path: str, joints: np.ndarray, values: np.ndarray, bound: np.ndarray) -> _Tracks:
     """Tracks with their bits (from the quantisation's share of their tightest bound),
     decoded values, and which are constant."""
     scale = np.abs(values).max(axis=(1, 2), initial=0.0)
-    bits = np.array([_bits(path, QUANTISATION_SHARE * float(b.min()), float(s)) for b, s in zip(bound, scale)],
+    bits = np.array([bits_for(path, QUANTISATION_SHARE * float(b.min()), float(s)) for b, s in zip(bound, scale)],
                     dtype=int)
     decoded = np.stack([held(v, path, int(k)) for v, k in zip(values, bits)]) if len(values) else values
     tracks = _Tracks(path, joints, values, bound, bits, decoded.astype(float), np.zeros(len(joints), bool))
@@ -340,7 +318,7 @@ def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
         if np.any(2 * _error(tracks, i, tracks.held[i]) >= tracks.bound[i]) and tracks.bits[i] < BITS[tracks.path][1]:
             scale = float(np.abs(tracks.values[i]).max(initial=0.0))
             tracks.bits[i] = max(tracks.bits[i] + 1,
-                                 _bits(tracks.path, QUANTISATION_SHARE * float(tracks.bound[i].min()), scale))
+                                 bits_for(tracks.path, QUANTISATION_SHARE * float(tracks.bound[i].min()), scale))
             tracks.held[i] = held(tracks.values[i], tracks.path, int(tracks.bits[i]))
 
 

@@ -27,9 +27,12 @@ from sketchanim.formats.gltf import Mesh, Node, Skin, document, finished, key_ti
 
 MESHOPT = "EXT_meshopt_compression"
 
+#: Of a channel's bound, what the filters' rounding may take (it sets their bits).
+QUANTISATION_SHARE = 0.2
+
 #: Bits a filter takes: the quaternion filter 4 to 16 per component, the exponential
-#: filter's mantissa 1 to 24.
-BITS = {"rotation": (4, 16), "translation": (1, 24), "scale": (1, 24)}
+#: filter's mantissa 2 to 24.
+BITS = {"rotation": (4, 16), "translation": (2, 24), "scale": (2, 24)}
 
 _ROWS = {"rotation": 8}                  # bytes a key takes in its view (others: 4 per component)
 
@@ -50,6 +53,26 @@ class CompactChannel:
         low, high = BITS[self.path]
         if not low <= self.bits <= high:
             raise ArgumentError("bits", f"{self.path} takes {low} to {high} bits, got {self.bits}")
+
+
+def bits_for(path: str, allowed: float, scale: float) -> int:
+    """The fewest bits whose rounding stays within ``allowed``: an angle (radians) for
+    rotations, each of three components rounded to a step of ``1 / sqrt(2) / (2^(bits-1) - 1)``
+    (doubled for the angle, with the shorts' rounding); else a distance, for values up to
+    ``scale`` in size. The most bits if none do.
+
+    >>> bits_for("rotation", np.radians(0.05), 1.0), bits_for("translation", 1e-4, 1.0)
+    (13, 16)
+    """
+    low, high = BITS[path]
+    for bits in range(low, high + 1):
+        if path == "rotation":
+            error = 1.5 * np.sqrt(3) / np.sqrt(2) / (2 ** (bits - 1) - 1)
+        else:
+            error = max(scale, 1e-300) * 2.0 ** (2 - bits)
+        if error <= allowed:
+            return bits
+    return high
 
 
 def _encoded(values: np.ndarray, path: str, bits: int) -> np.ndarray:

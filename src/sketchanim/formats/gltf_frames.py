@@ -5,7 +5,7 @@ tangents, so a curve written exactly with few keys plays wrong there. ``keys="fr
 writes the same curve as a key at every frame instead: LINEAR samplers, which every
 client plays alike, translations and scales interpolated linearly and rotations
 spherically (glTF's LINEAR rotation; Blender interpolates the components and
-normalises, which :func:`thin_keys` checks too). A key that its neighbours'
+normalises, which :func:`~sketchanim.reducer.linear_keys.linear_keys` checks too). A key that its neighbours'
 interpolation already reproduces within ``allowance`` is dropped.
 """
 
@@ -16,7 +16,8 @@ from scipy.interpolate import BSpline
 
 from sketchanim.anim.tracks import held_values
 from sketchanim.formats.gltf import Channel
-from sketchanim.reducer.metric import rotation_angle
+from sketchanim.formats.gltf_compact import QUANTISATION_SHARE, CompactChannel, bits_for, held
+from sketchanim.reducer.linear_keys import linear_keys
 
 #: Of a curve's tolerance, the most that dropping keys may add to its error.
 FRAME_SHARE = 0.1
@@ -42,56 +43,10 @@ def frame_values(spline: BSpline, times: np.ndarray, rotation: bool) -> np.ndarr
     return values
 
 
-def _miss(times: np.ndarray, values: np.ndarray, a: int, b: int, rotation: bool) -> float:
-    """Largest error at the frames strictly between keys ``a`` and ``b`` of what a
-    client interpolates between those two keys (rotations: the worse of spherical and
-    normalised component-wise interpolation, as an angle)."""
-    if b - a < 2:
-        return 0.0
-    s = ((times[a + 1 : b] - times[a]) / (times[b] - times[a]))[:, None]
-    inner = values[a + 1 : b]
-    if not rotation:
-        return float(np.linalg.norm(values[a] + s * (values[b] - values[a]) - inner, axis=1).max())
-    nlerp = (1 - s) * values[a] + s * values[b]
-    angle = np.arccos(np.clip(np.dot(values[a], values[b]), -1.0, 1.0))
-    if angle < 1e-12:
-        slerp = nlerp
-    else:
-        slerp = (np.sin((1 - s) * angle) * values[a] + np.sin(s * angle) * values[b]) / np.sin(angle)
-    return float(max(rotation_angle(nlerp, inner).max(), rotation_angle(slerp, inner).max()))
-
-
-def thin_keys(times: np.ndarray, values: np.ndarray, allowance: float, rotation: bool) -> np.ndarray:
-    """Indices of the keys to keep: from each kept key, the farthest next one (found by
-    doubling, then bisection) whose interpolation with it stays within ``allowance``
-    (a distance, or an angle in radians) at every frame between them.
-
-    >>> t = np.arange(7.0)
-    >>> thin_keys(t, np.c_[t, np.minimum(t, 3)], 1e-9, False).tolist()
-    [0, 3, 6]
-    """
-    n = len(times)
-    keep = [0]
-    while keep[-1] < n - 1:
-        a = keep[-1]
-        good, step = a + 1, 1
-        while good + step < n and _miss(times, values, a, good + step, rotation) <= allowance:
-            good += step
-            step *= 2
-        bad = min(good + step, n)                  # the first that failed (or the end)
-        while bad - good > 1:
-            mid = (good + bad) // 2
-            if _miss(times, values, a, mid, rotation) <= allowance:
-                good = mid
-            else:
-                bad = mid
-        keep.append(good)
-    return np.array(keep)
-
-
 def frame_channel(node: int, path: str, spline: BSpline, times: np.ndarray, allowance: float) -> Channel:
     """A curve as a LINEAR channel: its values at ``times``, less the keys that the
-    neighbours' interpolation reproduces within ``allowance`` (:func:`thin_keys`).
+    neighbours' interpolation reproduces within ``allowance``
+    (:func:`~sketchanim.reducer.linear_keys.linear_keys`).
 
     >>> s = BSpline(np.r_[[0.0] * 4, [1.0] * 4], np.c_[[0.0, 0.0, 0.0, 0.0]], 3)     # still: two keys
     >>> ch = frame_channel(0, "translation", s, np.linspace(0, 1, 31), 1e-6)
@@ -101,8 +56,27 @@ def frame_channel(node: int, path: str, spline: BSpline, times: np.ndarray, allo
     rotation = path == "rotation"
     times = np.asarray(times, dtype=float)
     values = frame_values(spline, times, rotation)
-    keep = thin_keys(times, values, allowance, rotation)
+    keep = linear_keys(times, values[None], allowance, rotation=rotation)[0]
     return Channel(node, path, "LINEAR", times[keep], values[keep])
+
+
+def compact_channel(node: int, path: str, spline: BSpline, times: np.ndarray, allowance: float) -> CompactChannel:
+    """A curve as a compact LINEAR channel: its values at ``times``, stored with the
+    bits that leave :data:`~sketchanim.formats.gltf_compact.QUANTISATION_SHARE` of
+    ``allowance`` to the filter's rounding, less the keys that the neighbours'
+    interpolation of the decoded values reproduces within ``allowance``.
+
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 2, 3]]), 1)
+    >>> ch = compact_channel(0, "translation", s, np.linspace(0, 1, 31), 1e-3)
+    >>> ch.times.tolist(), ch.bits
+    ([0.0, 1.0], 16)
+    """
+    rotation = path == "rotation"
+    times = np.asarray(times, dtype=float)
+    values = frame_values(spline, times, rotation)
+    bits = bits_for(path, QUANTISATION_SHARE * allowance, float(np.abs(values).max(initial=0.0)))
+    keep = linear_keys(times, values[None], allowance, held=held(values, path, bits)[None], rotation=rotation)[0]
+    return CompactChannel(node, path, times[keep], values[keep], bits)
 
 
 def allowance(tol: float, error: float) -> float:

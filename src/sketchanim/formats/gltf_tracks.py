@@ -5,7 +5,9 @@ all written through :func:`tracks_glb` (their preparation is in :mod:`sketchanim
 
 A track is written exactly (``keys="curves"``: a CUBICSPLINE or LINEAR sampler per
 curve, :func:`~sketchanim.formats.gltf.sampler_keys`) or as LINEAR keys at frames
-(``keys="frames"``, :mod:`sketchanim.formats.gltf_frames`). A track whose node is shown
+(``keys="frames"``, :mod:`sketchanim.formats.gltf_frames`), or as the fewest LINEAR keys
+at frames, quantised and compressed (``keys="compact"``,
+:mod:`sketchanim.formats.gltf_compact`). A track whose node is shown
 only where it has a curve (a marker lost now and then) has several pieces in one
 sampler, and a STEP scale channel that hides its node where no piece holds.
 """
@@ -21,7 +23,8 @@ from scipy.interpolate import BSpline
 
 from sketchanim.errors import ArgumentError
 from sketchanim.formats.gltf import Channel, Mesh, Node, Skin, glb_bytes, sampler_keys
-from sketchanim.formats.gltf_frames import KEYS, frame_channel
+from sketchanim.formats.gltf_compact import CompactChannel, compact_glb
+from sketchanim.formats.gltf_frames import KEYS, compact_channel, frame_channel
 
 #: Attributes written as glTF channels, and their glTF paths.
 GLTF_PATHS = {"position": "translation", "orientation": "rotation", "scale": "scale"}
@@ -83,9 +86,11 @@ class ExportTrack:
         return self.path.rpartition(".")[0]
 
 
-def track_channels(node: int, track: ExportTrack, keys: str = "curves") -> list[Channel]:
+def track_channels(node: int, track: ExportTrack, keys: str = "curves") -> list[Channel | CompactChannel]:
     """The channels of ``track`` on node ``node``: exactly, or with ``keys="frames"``
-    LINEAR keys at each piece's frames; a track with ``shown`` also gets its scale.
+    LINEAR keys at each piece's frames (``"compact"``: as
+    :func:`~sketchanim.formats.gltf_frames.compact_channel` stores them); a track with
+    ``shown`` also gets its scale.
 
     >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 2, 3]]), 1)
     >>> piece = CurvePiece(0.0, 1.0, s, np.linspace(0, 1, 5), 1e-6)
@@ -98,22 +103,25 @@ def track_channels(node: int, track: ExportTrack, keys: str = "curves") -> list[
     if keys not in KEYS:
         raise ArgumentError("keys", f"one of {', '.join(KEYS)}, got {keys!r}")
     path = GLTF_PATHS[track.path.rpartition(".")[2]]
+    keyed = {"frames": frame_channel, "compact": compact_channel}.get(keys)
     if track.shown is None:
         p = track.pieces[0]
-        if keys == "frames":
-            return [frame_channel(node, path, p.spline, p.frames, p.allowance)]
+        if keyed is not None:
+            return [keyed(node, path, p.spline, p.frames, p.allowance)]
         return [Channel.curve(node, path, p.spline)]
     if not track.pieces:
         return []
     first, last, step = track.shown
-    times, values, show_times, shown = [], [], [], []
+    times, values, show_times, shown, bits = [], [], [], [], []
     if track.pieces[0].start > first:
         show_times.append(first)
         shown.append(0.0)
     for p in track.pieces:
-        if keys == "frames":
-            ch = frame_channel(node, path, p.spline, p.frames, p.allowance)
+        if keyed is not None:
+            ch = keyed(node, path, p.spline, p.frames, p.allowance)
             t, out = ch.times, ch.values
+            if isinstance(ch, CompactChannel):
+                bits.append(ch.bits)
         elif p.spline.k == 0:                    # a constant: one key, flat
             c = np.asarray(p.spline.c)[None, :1]
             t, out = np.array([p.start]), np.concatenate([np.zeros_like(c), c, np.zeros_like(c)], axis=1)
@@ -130,6 +138,9 @@ def track_channels(node: int, track: ExportTrack, keys: str = "curves") -> list[
         show_times.append(last)
         shown.append(shown[-1])
     scale = np.repeat(np.array(shown)[:, None], 3, axis=1)
+    if keys == "compact":                        # 0 and 1 are exact
+        return [CompactChannel(node, path, np.concatenate(times), np.concatenate(values), max(bits)),
+                CompactChannel(node, "scale", np.array(show_times), scale, 8, "STEP")]
     return [Channel(node, path, "LINEAR" if keys == "frames" else "CUBICSPLINE", np.concatenate(times),
                     np.concatenate(values)),
             Channel(node, "scale", "STEP", np.array(show_times), scale)]
@@ -158,6 +169,9 @@ def tracks_glb(nodes: Sequence[Node], tracks: Sequence[ExportTrack], *, name: st
     if missing:
         raise ArgumentError("tracks", f"no node for {', '.join(missing)}")
     channels = [ch for t in tracks for ch in track_channels(index[t.node], t, keys)]
+    if keys == "compact":
+        return compact_glb(nodes, channels, animation=name, meshes=meshes, skins=skins, cameras=cameras,
+                           lights=lights, unit_m=unit_m)
     return glb_bytes(nodes, channels, animation=name, meshes=meshes, skins=skins, cameras=cameras, lights=lights,
                      unit_m=unit_m)
 

@@ -1,44 +1,42 @@
 """Whole-clip reduction within a distance in the world: every joint's position, and every
 point at a ``shell`` distance from a joint (a vertex its skin could carry), stays within
-``tol`` of the source at every frame.
+``tol`` of the source at every frame, and planted end joints within
+``CONTACT_SHARE * tol`` on the frames they are planted (:mod:`sketchanim.mocap.contacts`).
 
 One angle for every joint spends the same accuracy on the hips, whose turn moves the
 whole body, as on a toe, whose turn moves a few centimetres; and the errors of a chain
 add up. Here each joint's angle follows from how far its turn reaches: a joint whose
-descendants reach ``r`` starts at ``tol / (r + shell)``. The errors are then measured by
-forward kinematics; the joints above any joint or shell point still out of tolerance
-are tightened, and the clip reduced again. After :data:`ROUNDS` rounds, the joints
-above any that still miss get an angle that provably keeps their chains within ``tol``
-(a chain's errors at most add up: ``sum of budget / (depth * (r + shell)) * (r + shell)``),
-and if a chain still misses (a joint it shares with one just tightened was reduced
-again), every joint gets it, so the result always holds; it is checked at every frame.
-``r`` follows the source's longest translations where a joint's translation channels
-carry it further than its offset.
+descendants reach ``r`` starts at its chain's bound over ``(r + shell)`` and a part of the
+chain's depth (:data:`~sketchanim.mocap.clip_reduction.START_SPREAD`). The errors are then
+measured by forward kinematics, and the joints above any joint or shell point still out
+of its bound are tightened by the measured ratio, until the angles that provably keep
+every chain within it (:func:`~sketchanim.mocap.clip_reduction.tighten`); the result is
+checked at every frame. ``r`` follows the source's longest translations where a joint's
+translation channels carry it further than its offset. The translating joints' curves
+get :data:`~sketchanim.mocap.clip_reduction.TRANSLATION_SHARE` of the distance, shared
+among the moving ones down a chain.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from sketchanim.mocap.clip_reduction import ReducedClip, clip_tracks, joint_position, joint_rotation
-from sketchanim.motion.kinematics import world_pose
-from sketchanim.motion.skeleton import Clip
 from sketchanim.errors import ArgumentError
-
-#: Of the distance, what the translating joints' curves may use (shared among the moving
-#: ones down a chain); the rotations get what they leave.
-TRANSLATION_SHARE = 0.25
+from sketchanim.mocap.clip_reduction import (TRANSLATION_SHARE, ReducedClip, held_frames, most_moving, contact_angles,
+                                             joint_position, on_chains, tighten)
+from sketchanim.mocap.contacts import CONTACT_SHARE
+from sketchanim.motion.skeleton import Clip
 
 #: The largest angle any joint is given, degrees (a joint that reaches nothing, a leaf).
 MAX_ANGLE_DEG = 30.0
 
-#: Rounds of measuring and tightening before the provable angles.
-ROUNDS = 6
 
-
-def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "global") -> ReducedClip:
+def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "incremental",
+                      contacts: np.ndarray | None = None) -> ReducedClip:
     """Reduce ``clip`` so that every joint, and every point ``shell`` from a joint, is
-    within the distance ``tol`` (clip units) of the source in the world at every frame.
+    within the distance ``tol`` (clip units) of the source in the world at every frame,
+    and within ``CONTACT_SHARE * tol`` where the source plants an end joint on the ground
+    (``contacts``, by default :func:`~sketchanim.mocap.contacts.planted`).
 
     Examples
     --------
@@ -56,40 +54,12 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "gl
     for name, value in (("tol", tol), ("shell", shell)):
         if not np.isfinite(value) or value < 0 or (name == "tol" and value == 0):
             raise ArgumentError(name, f"must be a positive distance, got {value!r}")
-    sk = clip.skeleton
-    chains = sk.chains()
-    varying = clip.translating & np.any(np.ptp(clip.translations, axis=0) > 0, axis=-1)
-    moving = max(sum(bool(varying[a]) for a in chain) for chain in chains)
-    share = TRANSLATION_SHARE * tol / max(moving, 1)
-    translations = {int(i): joint_position(clip, int(i), share, method) for i in np.flatnonzero(clip.translating)}
-    moved = {i: r.report["max_distance"] for i, r in translations.items()}
-    budget = tol - max(sum(moved.get(a, 0.0) for a in chain) for chain in chains)
-    turning = max(max(sum(bool(clip.rotating[a]) for a in chain) for chain in chains), 1)
-    arm = sk.reach(clip.bones()) + shell
+    held = held_frames(clip, contacts)
+    held_chain = on_chains(clip, held.any(axis=0))
+    share = TRANSLATION_SHARE * tol / most_moving(clip, np.ones(len(clip.skeleton), bool))
+    translations = {int(i): joint_position(clip, int(i), share * (CONTACT_SHARE if held_chain[i] else 1.0), method)
+                    for i in np.flatnonzero(clip.translating)}
+    bound = np.where(held, CONTACT_SHARE * tol, tol)
     cap = np.radians(MAX_ANGLE_DEG)
-    angle = np.minimum(budget / np.maximum(arm, 1e-300), cap)
-    provable = np.minimum(budget / np.maximum(turning * arm, 1e-300), cap)
-    source = world_pose(sk, clip.rotations, clip.translations)
-    rotations, made = {}, {}
-    for round in range(ROUNDS + 2):
-        for i in np.flatnonzero(clip.rotating):
-            if made.get(int(i)) != angle[i]:
-                rotations[int(i)] = joint_rotation(clip, int(i), float(np.degrees(angle[i])), method)
-                made[int(i)] = angle[i]
-        reduced = clip_tracks(clip, rotations, translations)
-        worst = reduced.world_errors(clip, shell, source=source).max(axis=0)
-        over = np.flatnonzero(worst > tol)
-        if not over.size:
-            return reduced
-        if round >= ROUNDS:                          # the last resort: every chain provably within
-            angle = np.minimum(angle, provable)
-            continue
-        factor = np.ones(len(sk))                    # each joint tightened once, by its worst descendant
-        for d in over:
-            factor[chains[d]] = np.minimum(factor[chains[d]], np.clip(0.95 * tol / worst[d], 0.5, 0.95))
-        tight = factor < 1
-        if round < ROUNDS - 1:
-            angle[tight] *= factor[tight]
-        else:
-            angle[tight] = np.minimum(angle[tight], provable[tight])
-    raise AssertionError(f"world errors up to {worst.max():.6g} > {tol:.6g} after the provable angles")
+    start, provable = contact_angles(clip, translations, bound, shell)
+    return tighten(clip, translations, np.minimum(start, cap), np.minimum(provable, cap), bound, shell, method)

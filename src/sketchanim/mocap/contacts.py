@@ -1,0 +1,131 @@
+"""Contacts: where a clip holds an end joint (a leaf of the skeleton: a toe, a hand) still
+on the ground, and how much a clip's planted joints slide there.
+
+A leaf is planted at a frame when it is near its ground height and slow. The ground is
+flat and level, across the up axis (+y, as BVH, ASF/AMC and the walker hold it): a
+leaf's ground height is the lowest it goes (:data:`GROUND_PERCENTILE` of its heights, so
+that a stray frame does not set it), and only leaves whose ground height is within
+:data:`GROUND_REACH_M` of the lowest leaf's touch the ground at all (a hand that never
+comes down to the floor never plants). Near is within :data:`HEIGHT_M` above it, slow is
+under :data:`SPEED_M_S`, both in metres through the clip's unit (guessed from the
+figure's height where the clip does not say it; a figure of unknown unit is taken as
+:data:`FIGURE_M` tall).
+
+A planted joint's error reads as sliding: the reductions hold the planted joints of a
+clip within :data:`CONTACT_SHARE` of their world tolerance on the frames they are
+planted (:mod:`sketchanim.mocap.clip_reduction`, :mod:`sketchanim.mocap.world_reduction`).
+:func:`sliding` measures what is left: the median speed of the planted joints while
+planted, sampled at :data:`SLIDING_RATE` frames a second.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from sketchanim.anim.rigs import resampled
+from sketchanim.errors import ArgumentError
+from sketchanim.motion.skeleton import Clip
+
+#: Of the world tolerance, what a planted joint's world error may use on its planted frames.
+CONTACT_SHARE = 0.2
+
+#: A planted leaf is at most this far above its ground height, metres.
+HEIGHT_M = 0.05
+#: And slower than this, metres per second.
+SPEED_M_S = 0.3
+#: Leaves whose ground height is this far above the lowest leaf's never plant, metres.
+GROUND_REACH_M = 0.15
+#: The percentile of a leaf's heights taken as its ground height.
+GROUND_PERCENTILE = 2.0
+#: Height of a figure whose unit is unknown, metres (to scale the thresholds).
+FIGURE_M = 1.7
+#: Frames per second :func:`sliding` samples at.
+SLIDING_RATE = 60.0
+#: The up axis (y).
+UP = 1
+
+
+def leaves(clip: Clip) -> np.ndarray:
+    """Indices of the joints without children.
+
+    >>> from sketchanim.motion.skeleton import Skeleton
+    >>> leaves(Clip.still(Skeleton(("a", "b", "c"), (-1, 0, 0), np.zeros((3, 3))), [0.0])).tolist()
+    [1, 2]
+    """
+    parents = np.asarray(clip.skeleton.parents)
+    return np.setdiff1d(np.arange(len(parents)), parents[parents >= 0])
+
+
+def unit_m(clip: Clip) -> float:
+    """Metres per clip unit: the clip's own or guessed unit, else the one that makes the
+    rest figure :data:`FIGURE_M` tall (1 for a figure of no height)."""
+    unit = clip.guess_unit_m()
+    if unit is not None:
+        return unit
+    rest = clip.skeleton.rest_positions()
+    height = float(np.ptp(rest, axis=0).max()) if len(rest) > 1 else 0.0
+    return FIGURE_M / height if height > 0 else 1.0
+
+
+def planted(clip: Clip, world: np.ndarray | None = None) -> np.ndarray:
+    """Per frame and joint (n, J), whether the joint is a leaf held on the ground: near
+    its ground height and slow (the module's thresholds). ``world``: the clip's joint
+    positions (n, J, 3) where the caller has them.
+
+    >>> from sketchanim.motion.skeleton import Skeleton
+    >>> s = Skeleton(("hips", "toe"), (-1, 0), np.array([[0.0, 1.0, 0], [0, -1.0, 0]]))
+    >>> clip = Clip.still(s, np.arange(120) / 60)
+    >>> clip.translating[0] = True
+    >>> clip.translations[:, 0, 1] = 1 + 0.2 * np.clip(np.sin(np.pi * (clip.times - 1)), 0, 1)  # stands, hops
+    >>> p = planted(clip)
+    >>> bool(p[:, 0].any()), bool(p[30, 1]), bool(p[90, 1])
+    (False, True, False)
+    """
+    n = len(clip.times)
+    out = np.zeros((n, len(clip.skeleton)), bool)
+    ends = leaves(clip)
+    if n < 2 or not ends.size:
+        return out
+    points = (clip.world_positions() if world is None else world)[:, ends]
+    metre = 1.0 / unit_m(clip)
+    height = points[..., UP]
+    ground = np.percentile(height, GROUND_PERCENTILE, axis=0)
+    touching = ground <= ground.min() + GROUND_REACH_M * metre
+    speed = np.linalg.norm(np.gradient(points, clip.times, axis=0), axis=-1)
+    out[:, ends] = touching & (height <= ground + HEIGHT_M * metre) & (speed < SPEED_M_S * metre)
+    return out
+
+
+def sliding(clip: Clip, sample: Callable[[np.ndarray], Clip] | None = None, *,
+            contacts: np.ndarray | None = None, rate: float = SLIDING_RATE) -> float:
+    """The median speed (clip units per second) of ``clip``'s planted joints while they
+    are planted, measured between samples ``1 / rate`` s apart both at planted frames
+    (the source frame nearest each sample). ``sample`` gives the motion measured at
+    given times (``ReducedClip.sample``, a played file); by default ``clip`` itself,
+    its rotations slerped between frames. ``contacts``: :func:`planted` of ``clip``
+    where the caller has it. NaN if nothing is planted.
+
+    >>> from sketchanim.motion.skeleton import Skeleton
+    >>> s = Skeleton(("hips", "toe"), (-1, 0), np.array([[0.0, 1.0, 0], [0, -1.0, 0]]))
+    >>> clip = Clip.still(s, np.arange(121) / 120)
+    >>> clip.translating[0] = True
+    >>> clip.translations[:, 0, 0] = 0.02 * clip.times                  # creeps at 2 cm/s
+    >>> round(sliding(clip), 6)
+    0.02
+    """
+    if not np.isfinite(rate) or rate <= 0:
+        raise ArgumentError("rate", f"must be a positive number of samples per second, got {rate!r}")
+    held = planted(clip) if contacts is None else contacts
+    joints = np.flatnonzero(held.any(axis=0))
+    if len(clip.times) < 2 or not joints.size:
+        return float("nan")
+    at = clip.times[0] + np.arange(int(np.floor((clip.times[-1] - clip.times[0]) * rate + 1e-9)) + 1) / rate
+    nearest = np.clip(np.searchsorted(clip.times, at), 1, len(clip.times) - 1)
+    nearest -= at - clip.times[nearest - 1] < clip.times[nearest] - at
+    on = held[nearest][:, joints]
+    both = on[1:] & on[:-1]
+    moved = (sample(at) if sample is not None else resampled(clip, at)).world_positions()[:, joints]
+    speed = np.linalg.norm(np.diff(moved, axis=0), axis=-1) * rate
+    return float(np.median(speed[both])) if both.any() else float("nan")
