@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import pygltflib as gl
 from hypothesis import find
 
 from clips import clips, float32_shares, local_errors
@@ -17,8 +18,10 @@ from sketchanim.formats.c3d import read_c3d
 from sketchanim.mocap.markers import reduce_markers
 from sketchanim.export.files import write_reduced
 from sketchanim.formats.clip_files import read_clip
+from sketchanim.motion.kinematics import world_pose
 from sketchanim.reducer.metric import rotation_angle
-from threejs_client import three_play
+from threejs_client import three_play, three_play_world
+from web_peers import gltfpack
 
 
 def clip_errors(played: dict, clip: Clip) -> tuple[float, float]:
@@ -69,6 +72,51 @@ def test_threejs_plays_the_real_markers(real_c3d: list[Path], tmp_path: Path) ->
                 assert dist.max() <= tol, (keys, name, dist.max())
                 shown = played[name]["scale"][:, 0] > 0
                 assert np.array_equal(shown, seen), (keys, name)
+
+
+def _check_meshopt(clip: Clip, tol: float, folder: Path) -> None:
+    """gltfpack -cc (keys kept: -af 0) of our frames file plays in three.js with its meshopt
+    decoder: the local pose is the uncompressed file's within gltfpack's quantisation, and
+    the world pose (matrixWorld) is that local pose's forward kinematics."""
+    ours = write_reduced(folder / "clip.glb", reduce_clip(clip, tol, 0.5), keys="frames")
+    packed = folder / "clip.cc.glb"
+    gltfpack(ours, packed, "-cc", "-af", "0")
+    doc = gl.GLTF2().load_binary(str(packed))
+    filters = {v.extensions.get("EXT_meshopt_compression", {}).get("filter") for v in doc.bufferViews}
+    assert "EXT_meshopt_compression" in doc.extensionsRequired and {"QUATERNION", "EXPONENTIAL"} <= filters
+    names = clip.skeleton.names
+    plain, local, world = (play(path, clip.times) for play, path in ((three_play, ours), (three_play, packed),
+                                                                        (three_play_world, packed)))
+
+    def stack(played: dict, key: str) -> np.ndarray:
+        return np.stack([played[n][key] for n in names], axis=1)
+
+    # 12-bit quaternion filter: each of the three stored components within half a step,
+    # 1 / (2 sqrt 2 (2^11 - 1)); the rebuilt one within sqrt 3 times that; the angle is twice
+    # the quaternion's distance
+    step = 1 / (2 * np.sqrt(2) * (2**11 - 1))
+    angle = np.degrees(rotation_angle(stack(local, "quaternion").reshape(-1, 4), stack(plain, "quaternion").reshape(-1, 4)))
+    assert angle.max() <= np.degrees(2 * 2 * np.sqrt(3) * step), angle.max()
+    # 16-bit exponential filter: each component within 2^-15 of the largest it shares an exponent with
+    moved = np.linalg.norm(stack(local, "position") - stack(plain, "position"), axis=-1)
+    assert moved.max() <= np.sqrt(3) * np.abs(stack(plain, "position")).max() * 2.0**-15, moved.max()
+    unit = clip.unit_m or 1.0                  # our file is in metres where the clip's unit is known
+    turns, fk = world_pose(clip.skeleton, stack(local, "quaternion"), stack(local, "position"))
+    # three's quaternions, decoded from normalised shorts, are unit to about 1e-5 (scipy's are exactly)
+    assert np.abs(fk * unit - stack(world, "position")).max() <= 1e-4 * np.abs(fk * unit).max()
+    fk_turns = np.stack([r.as_quat() for r in turns], axis=1).reshape(-1, 4)
+    assert np.degrees(rotation_angle(fk_turns, stack(world, "quaternion").reshape(-1, 4))).max() <= 0.01
+
+
+def test_threejs_plays_gltfpack_meshopt_files(tmp_path: Path) -> None:
+    _check_meshopt(find(clips(), lambda c: len(c.times) > 100), 0.5, tmp_path)
+
+
+@pytest.mark.realdata
+def test_threejs_plays_gltfpack_meshopt_files_of_real_clips(real_clips: list[Path], tmp_path: Path) -> None:
+    for source in real_clips:
+        clip = read_clip(source)
+        _check_meshopt(clip, 0.005 / clip.guess_unit_m(), tmp_path)
 
 
 def test_threejs_and_blender_play_a_scene(tmp_path: Path) -> None:
