@@ -64,7 +64,7 @@ def _download(client: TestClient, folder: Path, fmt: str) -> Path:
 
 def test_glb_downloads_validate_and_three_js_plays_them_within_the_tolerances(exported) -> None:  # noqa: ANN001
     folder, client = exported
-    for fmt, name in (("glb", "show.glb"), ("glb-frames", "show.frames.glb")):
+    for fmt, name in (("glb", "show.glb"), ("glb-frames", "show.frames.glb"), ("glb-compact", "show.compact.glb")):
         path = _download(client, folder, fmt)
         assert path.name == name
         (report,) = validate(path)
@@ -99,15 +99,16 @@ def test_json_download_is_the_project_document(exported) -> None:  # noqa: ANN00
 def test_choices_say_what_each_client_plays_within(exported) -> None:  # noqa: ANN001
     _, client = exported
     choices = client.get("/api/export/choices").json()["choices"]
-    assert [c["format"] for c in choices] == ["glb", "glb-frames", "usd", "json"]
+    assert [c["format"] for c in choices] == ["glb", "glb-frames", "glb-compact", "usd", "json"]
     three = choices[0]["clients"][0]
     assert three["client"].startswith("three.js") and three["plays"] == "within 4 mm, 0.5°"
     assert "not within" in choices[0]["clients"][2]["plays"]          # Blender's importer and exact keys
     assert choices[1]["clients"][0]["plays"] == "within 4 mm, 0.5°"
-    assert choices[3]["file"] == "show.json" and choices[3]["clients"][0]["plays"].startswith("exact")
+    assert choices[2]["clients"][0]["plays"] == "within 4 mm, 0.5°" and "not at all" in choices[2]["clients"][2]["plays"]
+    assert choices[4]["file"] == "show.json" and choices[4]["clients"][0]["plays"].startswith("exact")
 
 
-@pytest.mark.parametrize("query, words", [("format=fbx", ["'fbx'", "glb, glb-frames, usd, bvh, json"]),
+@pytest.mark.parametrize("query, words", [("format=fbx", ["'fbx'", "glb, glb-frames, glb-compact, usd, bvh, json"]),
                                           ("format=", ["''", "not an export format"]),
                                           ("format=../x", ["'../x'"])])
 def test_a_bad_format_is_a_400_naming_it(exported, query: str, words: list[str]) -> None:  # noqa: ANN001

@@ -4,7 +4,8 @@ what each client plays from it, within which tolerance (the largest tolerance of
 tracks the file animates; docs/clients.md says what each promise rests on).
 
 Every format goes through the writers ``sketchanim export`` uses: glTF (exact
-CUBICSPLINE keys, or LINEAR keys at the takes' samples: ``--keys frames``), USD, BVH (the
+CUBICSPLINE keys, LINEAR keys at the takes' samples: ``--keys frames``, or the fewest of
+those quantised and compressed: ``--keys compact``), USD, BVH (the
 skeletons of imported clips, :mod:`sketchanim.export.scene_bvh`), and the project as JSON. Nothing is written beside the project: a file that has to be written
 to be made (USD) is made in a temporary folder.
 """
@@ -50,6 +51,11 @@ FORMATS = {
                          "model/gltf-binary", (
         ("Blender's own glTF importer, any importer that drops tangents", "tol"),
         ("three.js, Babylon.js", "tol"))),
+    "glb-compact": Format("glTF binary, compact: the fewest LINEAR keys, quantised and meshopt-compressed",
+                          ".compact.glb", "model/gltf-binary", (
+        ("three.js with its MeshoptDecoder, Babylon.js, any reader of EXT_meshopt_compression", "tol"),
+        ("Blender, through blender/sketchanim_import.py (with the meshopt package)", "tol"),
+        ("Blender's own glTF importer", "not at all: it cannot read EXT_meshopt_compression; use glTF frames"))),
     "usd": Format("USD, the curves as double-precision samples at the takes' times", ".usd",
                   "application/octet-stream", (
         ("usd-core, Omniverse: at every recorded sample (straight lines between)", "tol"),)),
@@ -200,4 +206,5 @@ def build(name: str, project: Path, scene: Scene, tracks: dict[str, Track], fps:
             out = Path(tmp) / file_name(project, fmt)
             scene_usd(out, scene, tracks, fps)
             return out.read_bytes()
-    return scene_glb(scene, tracks, name=project.stem, keys="frames" if name == "glb-frames" else "curves")[0]
+    keys = {"glb-frames": "frames", "glb-compact": "compact"}.get(name, "curves")
+    return scene_glb(scene, tracks, name=project.stem, keys=keys)[0]
