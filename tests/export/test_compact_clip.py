@@ -16,6 +16,7 @@ from scipy.spatial.transform import Rotation
 from typer.testing import CliRunner
 
 from clips import ROOT, clips, played_pose, samplers, validate
+from world_metric import file_world_error
 from sketchanim.cli import app
 from sketchanim.export.compact_clip import compact_clip
 from sketchanim.formats.bvh import write_bvh
@@ -101,7 +102,7 @@ def test_bad_arguments_are_named():
 
 @pytest.mark.skipif(not REAL, reason="../shared/data is not here")
 @pytest.mark.parametrize("source", REAL, ids=lambda p: p.name)
-def test_real_clips_play_within_half_a_centimetre_in_the_world(tmp_path, source):
+def test_real_clips_play_within_half_a_centimetre_in_the_world_here_and_in_three_js(tmp_path, source):
     clip = read_clip(source)
     clip = replace(clip, unit_m=clip.guess_unit_m())
     tol, shell = 0.005 / clip.unit_m, 0.03 / clip.unit_m
@@ -109,6 +110,8 @@ def test_real_clips_play_within_half_a_centimetre_in_the_world(tmp_path, source)
     path = tmp_path / "c.glb"
     path.write_bytes(made.glb)
     assert world_error(path, clip, shell).max() <= tol * (1 + 1e-6)
+    played = file_world_error(clip, path)                 # three.js with its meshopt decoder, in cm
+    assert max(played.joint_cm, played.point_cm) <= 0.5 * (1 + 1e-6), played
     report = validate(path)[0]
     assert report["numErrors"] == 0 and report["numWarnings"] == 0, report["messages"]
     raw = 4 * len(clip.times) * sum(len(c) for c in clip.channels)
