@@ -29,7 +29,7 @@ from sketchanim.errors import ArgumentError
 from sketchanim.motion.skeleton import Clip
 
 #: Of the world tolerance, what a planted joint's world error may use on its planted frames.
-CONTACT_SHARE = 0.2
+CONTACT_SHARE = 0.15
 
 #: A planted leaf is at most this far above its ground height, metres.
 HEIGHT_M = 0.05
