@@ -1,9 +1,10 @@
 """Sample tables in text: comma, tab or whitespace separated; first column time, the
 others channels; a header is optional (also as a ``#`` comment right above the data).
 
-Tables are read with pandas' C parser in chunks into arrays allocated once, so a
-10-million-row file takes little more memory than its numbers
-(``benchmarks/bench_read.py``). A file the fast path refuses is read again line by line
+Tables are read with pandas' C parser in chunks: into arrays allocated once, so a
+10-million-row file takes little more memory than its numbers (:func:`read_columns`),
+or handed out chunk by chunk with their lines, in a chunk's memory however long the file
+(:func:`iter_rows`; ``benchmarks/bench_read.py``). A file the fast path refuses is read again line by line
 to say where it is wrong: the file, the line and the column.
 """
 
