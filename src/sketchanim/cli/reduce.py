@@ -69,9 +69,9 @@ def reduce_command(ctx: typer.Context, input: Path, **values: Any) -> None:
 
 def _table(source: Path, output: Path | None, plot: Path | None, options: TableOptions) -> None:
     result = reduce_table(source, options, output=output, plot=plot)
-    for note in result.table.notes:
+    for note in result.notes:
         console.print(f"{source}: {note}", soft_wrap=True)
-    origin = float(result.table.times[0])
+    origin = result.span[0]
     if origin:
         console.print(f"times below are from the first sample, at {origin:.9g} s (the output keeps the original "
                       f"times)", soft_wrap=True)
@@ -103,7 +103,7 @@ def _print_groups(result: TableReduction, origin: float) -> None:
 def _print_rotation(result: TableReduction, options: TableOptions, origin: float) -> None:
     rotation = result.rotation
     assert rotation is not None
-    columns = ", ".join(result.table.channels[j] for j in result.rotation_columns)
+    columns = ", ".join(result.channels[j] for j in result.rotation_columns)
     console.print(f"rotation ({options.rot_mode}, {columns}): {summary_line(rotation, rotation.timings['total'])}")
     names = ["rotation"] if rotation.metric == "rotation" else [f"{axis} angle" for axis in options.seq]
     console.print(summary_table(rotation, [f"{n} (degrees)" for n in names], scale=180 / np.pi))

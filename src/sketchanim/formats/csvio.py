@@ -1,9 +1,10 @@
 """Sample tables in text: comma, tab or whitespace separated; first column time, the
 others channels; a header is optional (also as a ``#`` comment right above the data).
 
-Tables are read with pandas' C parser in chunks into arrays allocated once, so a
-10-million-row file takes little more memory than its numbers
-(``benchmarks/bench_read.py``). A file the fast path refuses is read again line by line
+Tables are read with pandas' C parser in chunks: into arrays allocated once, so a
+10-million-row file takes little more memory than its numbers (:func:`read_columns`),
+or handed out chunk by chunk with their lines, in a chunk's memory however long the file
+(:func:`iter_rows`; ``benchmarks/bench_read.py``). A file the fast path refuses is read again line by line
 to say where it is wrong: the file, the line and the column.
 """
 
@@ -12,6 +13,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+import re
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -294,10 +296,70 @@ def iter_columns(path: str | os.PathLike[str], layout: Layout, usecols: Sequence
         raise located from None
 
 
-def _row_lines(path: str | os.PathLike[str], first: int) -> np.ndarray:
-    """The 1-based lines of the rows of numbers from line ``first`` on."""
+#: A blank or ``#`` comment line right after a newline (what :func:`skipped_lines` looks for first).
+_SKIPPED = re.compile(rb"\n[ \t\r\f\v]*[#\n]")
+
+
+def skipped_lines(path: str | os.PathLike[str], first: int) -> np.ndarray:
+    """The 1-based numbers of the blank and ``#`` comment lines after line ``first``
+    (the first row of numbers), sorted: one quick scan of the bytes, and a line by
+    line pass only if it finds one.
+
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "s.csv"
+    >>> _ = p.write_text("t,x\\n0,1\\n\\n# c\\n1,2\\n")
+    >>> skipped_lines(p, 2).tolist()
+    [3, 4]
+    """
+    with Path(path).open("rb") as handle:
+        tail, ahead = b"", first                           # newlines before the newline ending line ``first``
+        while block := handle.read(1 << 22):
+            while ahead > 1 and block:                     # the lines up to ``first`` are not looked at
+                cut = block.find(b"\n")
+                block = b"" if cut < 0 else block[cut + 1 :]
+                ahead -= cut >= 0
+            if ahead == 1 and (cut := block.find(b"\n")) >= 0:
+                block, ahead = block[cut:], 0
+            if not ahead and _SKIPPED.search(tail + block):
+                break
+            tail = block[block.rfind(b"\n") :] if b"\n" in block else tail + block
+        else:
+            return np.zeros(0, dtype=np.int64)
     with Path(path).open(encoding="utf-8-sig", errors="strict", newline="") as handle:
-        return np.array([n for n, line in enumerate(handle, 1) if n >= first and not _skipped(line)])
+        return np.array([n for n, line in enumerate(handle, 1) if n > first and _skipped(line)], dtype=np.int64)
+
+
+def row_lines(rows: np.ndarray, first: int, skipped: np.ndarray) -> np.ndarray:
+    """The 1-based file lines of the rows of numbers ``rows`` (0-based), the first on
+    line ``first``, given the :func:`skipped_lines` among them.
+
+    >>> row_lines(np.arange(4), 2, np.array([4, 5])).tolist()
+    [2, 3, 6, 7]
+    """
+    before = skipped - first - np.arange(len(skipped))       # rows of numbers before each skipped line
+    return first + rows + np.searchsorted(before, rows, side="right")
+
+
+def iter_rows(path: str | os.PathLike[str], layout: Layout, usecols: Sequence[int],
+              chunk_rows: int = CHUNK_ROWS) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray | int]]:
+    """The table's rows in chunks, as :func:`read_columns` returns them whole: the
+    first of ``usecols`` as times (m,), the others as values (m, d), and the rows'
+    lines (an int for consecutive lines; see :attr:`SampleTable.lines`). Memory is a
+    chunk's, however long the file.
+
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "s.csv"
+    >>> _ = p.write_text("t,x\\n0,1\\n\\n1,2\\n2,3\\n")
+    >>> [(t.tolist(), lines.tolist()) for t, _, lines in iter_rows(p, sniff(p), [0, 1], chunk_rows=2)]
+    [([0.0, 1.0], [2, 4]), ([2.0], [5])]
+    """
+    skipped = skipped_lines(path, layout.first)
+    n = 0
+    for block in iter_columns(path, layout, usecols, chunk_rows):
+        rows = np.arange(n, n + len(block))
+        lines: np.ndarray | int = row_lines(rows, layout.first, skipped) if skipped.size else layout.first + n
+        yield block[:, 0], block[:, 1:], lines
+        n += len(block)
 
 
 def read_columns(path: str | os.PathLike[str], layout: Layout, usecols: Sequence[int]) -> tuple[
@@ -327,8 +389,9 @@ def read_columns(path: str | os.PathLike[str], layout: Layout, usecols: Sequence
         raise FileFormatError(str(path), "has no samples")
     lines: np.ndarray | int = layout.first
     if total - layout.first + 1 != n:                    # blank or comment lines among the rows
-        numbered = _row_lines(path, layout.first)
-        lines = numbered if len(numbered) == n else layout.first
+        skipped = skipped_lines(path, layout.first)
+        if total - layout.first + 1 - len(skipped) == n:
+            lines = row_lines(np.arange(n), layout.first, skipped)
     return times[:n], values[:n], lines
 
 
@@ -374,6 +437,22 @@ def read_samples_csv(path: str | os.PathLike[str], *, delimiter: str | None | bo
     >>> read_samples_csv(p, columns=["height=y"]).channels
     ['height']
     """
+    layout, usecols, channels = csv_columns(path, delimiter=delimiter, time=time, columns=columns)
+    times, values, lines = read_columns(path, layout, usecols)
+    return SampleTable(times, values, channels, lines)
+
+
+def csv_columns(path: str | os.PathLike[str], *, delimiter: str | None | bool = True, time: str | None = None,
+                columns: Sequence[str] | None = None) -> tuple[Layout, list[int], list[str]]:
+    """How :func:`read_samples_csv` reads a table: its layout, the columns (0-based:
+    the time, then the channels) and the channel names.
+
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "s.csv"
+    >>> _ = p.write_text("t,x,y\\n0,1,2\\n")
+    >>> csv_columns(p, columns=["h=y"])[1:]
+    ([0, 2], ['h'])
+    """
     layout = sniff(path, delimiter)
     names = layout.header or ["t"] + [f"x{i}" for i in range(1, layout.width)]
     try:
@@ -390,5 +469,4 @@ def read_samples_csv(path: str | os.PathLike[str], *, delimiter: str | None | bo
         raise FileFormatError(str(path), f"cols: {err}") from None
     if not picked:
         raise FileFormatError(str(path), "cols: no channel picked")
-    times, values, lines = read_columns(path, layout, [t_col] + [j for _, j in picked])
-    return SampleTable(times, values, [label for label, _ in picked], lines)
+    return layout, [t_col] + [j for _, j in picked], [label for label, _ in picked]

@@ -11,15 +11,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, InputError, SampleError
 from sketchanim.formats.csvio import SampleTable
 from sketchanim.formats.quirks import merged, ordered
-from sketchanim.formats.tables import read_table
+from sketchanim.formats.tables import STREAMED, read_table, stream_table, table_format
 from sketchanim.motion import reduce_rotations
 from sketchanim.pipeline.table_options import TableOptions
 from sketchanim.pipeline.table_outputs import Written, check_node, check_outputs, write_outputs
+from sketchanim.pipeline.table_stream import euler_quaternions, reduce_streamed
 from sketchanim.reducer import Reduction, reduce
 
 
@@ -31,16 +31,25 @@ class TableReduction:
     ----------
     source : str
         The table's path.
-    table : SampleTable
-        The samples reduced (in time order, one per time).
+    table : SampleTable or None
+        The samples reduced (in time order, one per time), when the table was read
+        whole; None when it was reduced while read (:mod:`.table_stream`).
+    channels : list of str
+        The table's channels (``parts`` and ``rotation_columns`` index them).
+    notes : tuple of str
+        What the reader recognised (the format, how the times were read).
+    rows : int
+        Samples reduced.
+    span : (float, float)
+        The first and the last sample's time.
     parts : tuple of list of int
-        The channel groups (columns of ``table``), each reduced on its own knots.
+        The channel groups, each reduced on its own knots.
     reductions : tuple of Reduction
         One per group.
     rotation : Reduction or None
         The rotation columns' curve.
     rotation_columns : tuple of int
-        Its columns of ``table``.
+        Its channels.
     moved, merged_away : int
         Samples sorted or dropped out of time order; samples merged at a time already
         sampled.
@@ -49,7 +58,11 @@ class TableReduction:
     """
 
     source: str
-    table: SampleTable
+    table: SampleTable | None
+    channels: list[str]
+    notes: tuple[str, ...]
+    rows: int
+    span: tuple[float, float]
     parts: tuple[list[int], ...]
     reductions: tuple[Reduction, ...]
     rotation: Reduction | None
@@ -58,38 +71,32 @@ class TableReduction:
     merged_away: int
     written: tuple[Written, ...] = ()
 
+    @property
+    def streamed(self) -> bool:
+        """Whether the table was reduced while read, a chunk of rows at a time."""
+        return self.table is None
+
     def names(self, part: list[int]) -> list[str]:
         """The channel names of a group."""
-        return [self.table.channels[j] for j in part]
+        return [self.channels[j] for j in part]
 
 
-def _rotation_columns(table: SampleTable, wanted: tuple[str, ...]) -> list[int]:
-    missing = [n for n in wanted if n not in table.channels]
+def _rotation_columns(channels: list[str], wanted: tuple[str, ...]) -> list[int]:
+    missing = [n for n in wanted if n not in channels]
     if missing or len(wanted) not in (3, 4) or len(set(wanted)) != len(wanted):
         raise ArgumentError("rot_cols", f"needs 4 distinct columns (a quaternion) or 3 (Euler angles in degrees) of "
-                                        f"{', '.join(table.channels)}; got {','.join(wanted)!r}"
+                                        f"{', '.join(channels)}; got {','.join(wanted)!r}"
                                         + (f" ({', '.join(missing)} not in the file)" if missing else ""))
-    return [table.channels.index(n) for n in wanted]
+    return [channels.index(n) for n in wanted]
 
 
-def _euler_to_quaternions(degrees: np.ndarray, seq: str) -> np.ndarray:
-    """Scalar-last quaternions of Euler angles given in degrees, in ``seq`` order."""
-    if not np.all(np.isfinite(degrees)):
-        row = int(np.flatnonzero(~np.isfinite(degrees).all(axis=1))[0])
-        raise SampleError("Euler angle is not finite", index=row, field="rot_cols")
-    try:
-        return Rotation.from_euler(seq, degrees, degrees=True).as_quat()
-    except ValueError as err:
-        raise ArgumentError("seq", f"{seq!r} is not an Euler sequence ({err})") from None
-
-
-def _groups(table: SampleTable, rest: list[int], groups: tuple[tuple[str, ...], ...] | None) -> list[list[int]]:
+def _groups(channels: list[str], rest: list[int], groups: tuple[tuple[str, ...], ...] | None) -> list[list[int]]:
     """The channel groups (column indices), each reduced with its own knot vector."""
     if not rest:
         return []
     if not groups:
         return [rest]
-    names = [table.channels[j] for j in rest]
+    names = [channels[j] for j in rest]
     parts: list[list[int]] = []
     for group in groups:
         part = []
@@ -104,11 +111,11 @@ def _groups(table: SampleTable, rest: list[int], groups: tuple[tuple[str, ...], 
     return parts + ([left] if left else [])
 
 
-def _tolerances(table: SampleTable, rest: list[int], tol: tuple[float, ...] | None) -> list[float]:
+def _tolerances(channels: list[str], rest: list[int], tol: tuple[float, ...] | None) -> list[float]:
     """One tolerance per channel of ``rest``."""
     if not rest:
         return []
-    names = ", ".join(table.channels[j] for j in rest)
+    names = ", ".join(channels[j] for j in rest)
     if tol is None:
         raise ArgumentError("tol", f"needed for {names}")
     if len(tol) not in (1, len(rest)):
@@ -139,7 +146,7 @@ def _reduce_rotation(table: SampleTable, rot: list[int], options: TableOptions, 
     values = table.values[:, rot]
     quaternion = len(rot) == 4
     return _on_lines(table, source, lambda: reduce_rotations(
-        table.times, values if quaternion else _euler_to_quaternions(values, options.seq), options.rot_tol_deg,
+        table.times, values if quaternion else euler_quaternions(values, options.seq), options.rot_tol_deg,
         scalar_first=options.scalar_first and quaternion and options.rot_cols is not None, mode=options.rot_mode,
         seq=options.seq, method=options.method, order=options.order, window=options.window,
         features=options.features))
@@ -187,21 +194,62 @@ def reduce_table(source: str | os.PathLike[str], options: TableOptions, *, outpu
     out = out / (Path(source).stem + ".json") if out is not None and out.is_dir() else out
     figure = None if plot is None else Path(plot)
     check_outputs(Path(source), out, figure, options.order)
+    fmt = table_format(source, options.format, options.time_col, options.cols)
+    if _streams(fmt, options, out, figure):
+        result = _reduce_streamed(source, fmt, options, out)
+        if result is not None:
+            return result if out is None else write_outputs(result, out, None, options)
     table, moved, merged_away = _read(source, options)
-    rot = (_rotation_columns(table, options.rot_cols) if options.rot_cols else
-           [table.channels.index(c) for c in table.orientation])
-    rest = [j for j in range(len(table.channels)) if j not in rot]
-    tols = _tolerances(table, rest, options.tol)
-    parts = _groups(table, rest, options.groups)
-    if figure is not None and not parts:
-        raise ArgumentError("plot", f"draws the channels reduced with tol; {source} has only an orientation "
-                                    f"({', '.join(table.channels[j] for j in rot)})")
+    channels = table.channels
+    rot, rest, tols, parts = _plan(source, channels, list(table.orientation), options, figure)
     if out is not None:
-        check_node(table, parts, rot, out.suffix.lower(), options.rot_mode)
+        check_node(channels, parts, rot, out.suffix.lower(), options.rot_mode)
     reductions = tuple(_on_lines(table, source, lambda part=part: reduce(
         table.times, table.values[:, part], [tols[rest.index(j)] for j in part], order=options.order,
         method=options.method, start=options.start, window=options.window, features=options.features))
         for part in parts)
     rotation = _reduce_rotation(table, rot, options, source) if rot else None
-    result = TableReduction(source, table, tuple(parts), reductions, rotation, tuple(rot), moved, merged_away)
+    result = TableReduction(source, table, channels, table.notes, len(table.times),
+                            (float(table.times[0]), float(table.times[-1])), tuple(parts), reductions, rotation,
+                            tuple(rot), moved, merged_away)
     return result if out is None and figure is None else write_outputs(result, out, figure, options)
+
+
+def _plan(source: str, channels: list[str], orientation: list[str], options: TableOptions, figure: Path | None
+          ) -> tuple[list[int], list[int], list[float], list[list[int]]]:
+    """The rotation's columns, the other channels, their tolerances and their groups."""
+    rot = _rotation_columns(channels, options.rot_cols) if options.rot_cols else \
+        [channels.index(c) for c in orientation]
+    rest = [j for j in range(len(channels)) if j not in rot]
+    tols = _tolerances(channels, rest, options.tol)
+    parts = _groups(channels, rest, options.groups)
+    if figure is not None and not parts:
+        raise ArgumentError("plot", f"draws the channels reduced with tol; {source} has only an orientation "
+                                    f"({', '.join(channels[j] for j in rot)})")
+    return rot, rest, tols, parts
+
+
+def _streams(fmt: str, options: TableOptions, out: Path | None, figure: Path | None) -> bool:
+    """Whether the table is reduced while read: the incremental method on a text table,
+    unless something needs every sample at once (sorting, the median interval of
+    ``gap``, a USD file or a plot, which take every sample's time)."""
+    return (options.method == "incremental" and fmt in STREAMED and options.unordered != "sort" and not options.gap
+            and figure is None and (out is None or out.suffix.lower() in (".json", ".glb")))
+
+
+def _reduce_streamed(source: str, fmt: str, options: TableOptions, out: Path | None) -> TableReduction | None:
+    """The table reduced while read (:mod:`.table_stream`); None where a curve misses
+    its tolerance after rounding (then the table is read whole, as
+    :func:`sketchanim.reduce` keeps the interpolant there)."""
+    stream = stream_table(source, fmt, time=options.time_col, columns=list(options.cols) if options.cols else None,
+                          time_unit=options.time_unit, rate=options.rate)
+    channels = stream.channels
+    rot, rest, tols, parts = _plan(source, channels, list(stream.orientation), options, None)
+    if out is not None:
+        check_node(channels, parts, rot, out.suffix.lower(), options.rot_mode)
+    done = reduce_streamed(stream, options, source, parts,
+                           [np.array([tols[rest.index(j)] for j in part]) for part in parts], rot)
+    if not done.within:
+        return None
+    return TableReduction(source, None, channels, stream.notes, done.rows, done.span, tuple(parts), done.reductions,
+                          done.rotation, tuple(rot), done.moved, done.merged_away)

@@ -13,7 +13,6 @@ import numpy as np
 
 from sketchanim.atomic import write_atomic
 from sketchanim.errors import ArgumentError, InputError
-from sketchanim.formats.csvio import SampleTable
 from sketchanim.reducer import Reduction
 
 if TYPE_CHECKING:
@@ -76,7 +75,7 @@ def check_outputs(source: Path, output: Path | None, plot: Path | None, order: i
                                         f"{', '.join('.' + k for k in sorted(kinds))}; got {plot.suffix or 'none'}")
 
 
-def check_node(table: SampleTable, parts: list[list[int]], rot: list[int], suffix: str, rot_mode: str) -> None:
+def check_node(channels: list[str], parts: list[list[int]], rot: list[int], suffix: str, rot_mode: str) -> None:
     """A .glb (or USD file) holds one animated node: a position of 2 or 3 channels
     and/or an orientation (a quaternion curve in a .glb; USD takes Euler columns and
     curves too, since it stores values at the samples). Other suffixes: no check."""
@@ -84,7 +83,7 @@ def check_node(table: SampleTable, parts: list[list[int]], rot: list[int], suffi
         return
     euler = bool(rot) and (len(rot) != 4 or rot_mode == "euler") and suffix == ".glb"
     if len(parts) > 1 or (parts and len(parts[0]) not in (2, 3)) or euler:
-        chans = ", ".join(table.channels[j] for p in parts for j in p)
+        chans = ", ".join(channels[j] for p in parts for j in p)
         raise ArgumentError("output", f"a {suffix} holds one animated node: a position of 2 or 3 channels (x, y[, z]) "
                                       f"and {'a quaternion' if suffix == '.glb' else 'an orientation'}; this take has "
                                       f"{chans or 'no position channels'}"
@@ -92,11 +91,11 @@ def check_node(table: SampleTable, parts: list[list[int]], rot: list[int], suffi
                                       + " (write .json, or pick the channels with cols=COLUMNS)")
 
 
-def _group_path(path: Path, table: SampleTable, part: list[int], k: int) -> Path:
+def _group_path(path: Path, channels: list[str], part: list[int], k: int) -> Path:
     """The first group's file is ``path``; the others STEM.<channels>.SUFFIX."""
     if k == 0:
         return path
-    return path.with_name(f"{path.stem}.{'+'.join(table.channels[j] for j in part)}{path.suffix}")
+    return path.with_name(f"{path.stem}.{'+'.join(channels[j] for j in part)}{path.suffix}")
 
 
 def _write_glb(path: Path, result: TableReduction, rot_tol_deg: float) -> Written:
@@ -104,8 +103,8 @@ def _write_glb(path: Path, result: TableReduction, rot_tol_deg: float) -> Writte
     the file's; a clock far from zero moved to start at zero)."""
     from sketchanim.export.table_gltf import table_glb, table_tracks
 
-    times = result.table.times
-    origin = float(times[0]) if abs(float(times[-1])) >= GLB_CLOCK else 0.0
+    first, last = result.span
+    origin = first if abs(last) >= GLB_CLOCK else 0.0
     tracks = table_tracks(result.reductions[0] if result.reductions else None, result.rotation, rot_tol_deg,
                           origin=origin)
     write_atomic(path, table_glb(tracks, name=path.stem))
@@ -123,6 +122,7 @@ def _write_usd(path: Path, result: TableReduction, rate: float | None) -> Writte
     from sketchanim.anim.tracks import held_values
     from sketchanim.formats.usd import write_usd_path
 
+    assert result.table is not None                     # a USD file takes every sample: the table is read whole
     t = result.table.times
     positions = None
     if result.reductions:
@@ -160,14 +160,15 @@ def write_outputs(result: TableReduction, output: Path | None, plot: Path | None
         written.append(_write_usd(output, result, options.rate))
     elif output is not None:
         for k, (part, reduction) in enumerate(zip(result.parts, result.reductions)):
-            written.append(_write_json(_group_path(output, result.table, part, k), reduction))
+            written.append(_write_json(_group_path(output, result.channels, part, k), reduction))
         if result.rotation is not None:
             written.append(_write_json(output.with_name(output.stem + ".rotation.json"), result.rotation))
     if plot is not None and result.reductions:
         from sketchanim.plot import plot_reduction
 
+        assert result.table is not None                 # a plot draws every sample: the table is read whole
         for k, (part, reduction) in enumerate(zip(result.parts, result.reductions)):
-            path = _group_path(plot, result.table, part, k)
+            path = _group_path(plot, result.channels, part, k)
             plot_reduction(result.table.times, result.table.values[:, part], reduction, path, result.names(part),
                            title=result.source)
             written.append(Written(path))

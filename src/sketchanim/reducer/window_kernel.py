@@ -244,15 +244,6 @@ def local_ranges(xs: np.ndarray, before: np.ndarray, widen: np.ndarray, low: np.
 
 
 @njit(cache=True, error_model="numpy")
-def _beyond(v: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
-    """How far the point ``v`` is outside the box ``[lo, hi]`` in its worst channel (0 inside)."""
-    e = 0.0
-    for c in range(len(v)):
-        e = max(e, v[c] - hi[c], lo[c] - v[c])
-    return e
-
-
-@njit(cache=True, error_model="numpy")
 def power_form(k: int) -> np.ndarray:
     """The matrix that takes a polynomial of order ``k``'s values at ``k`` equally spaced
     points of [0, 1] (ends included) to its coefficients in powers of the parameter."""
@@ -276,7 +267,6 @@ def interval_excess(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo:
     p = np.zeros((k, d))
     b = np.empty(k)
     scratch = np.empty((2, k))
-    v = np.empty(d)
     roots = np.empty(max(k - 2, 1) * d)                  # the derivative's roots on the span, in z
     nr = 0
     last = len(T) - k - 1
@@ -319,26 +309,26 @@ def interval_excess(T: np.ndarray, k: int, coef: np.ndarray, ts: np.ndarray, lo:
                 formed = span
             z0 = (u0 - a) / h
             z1 = (u1 - a) / h
-            worst = max(worst, _at(p, z0, lo[s], hi[s], v, -1.0, 2.0), _at(p, z1, lo[s], hi[s], v, -1.0, 2.0))
+            worst = max(worst, _at(p, z0, lo, hi, s), _at(p, z1, lo, hi, s))
             for q in range(nr):
-                worst = max(worst, _at(p, roots[q], lo[s], hi[s], v, z0, z1))
+                if z0 < roots[q] < z1:                     # (NaN: no root)
+                    worst = max(worst, _at(p, roots[q], lo, hi, s))
             u0 = u1
         out[s] = worst
     return out
 
 
 @njit(cache=True, error_model="numpy")
-def _at(p: np.ndarray, z: float, lo: np.ndarray, hi: np.ndarray, v: np.ndarray, z0: float, z1: float) -> float:
-    """How far the polynomial of power form ``p`` (k, d) is outside ``[lo, hi]`` at
-    ``z`` if ``z0 < z < z1`` (else 0; NaN: 0); ``v`` is workspace."""
-    if not z0 < z < z1:
-        return 0.0
+def _at(p: np.ndarray, z: float, lo: np.ndarray, hi: np.ndarray, s: int) -> float:
+    """How far the polynomial of power form ``p`` (k, d) is outside ``[lo[s], hi[s]]``
+    at ``z``, in its worst channel (0 inside)."""
+    e = 0.0
     for c in range(p.shape[1]):
         acc = 0.0
         for q in range(p.shape[0] - 1, -1, -1):
             acc = acc * z + p[q, c]
-        v[c] = acc
-    return _beyond(v, lo, hi)
+        e = max(e, acc - hi[s, c], lo[s, c] - acc)
+    return e
 
 
 @njit(cache=True, error_model="numpy")
