@@ -15,12 +15,20 @@ location less its rest offset); a rotation is four quaternion F-curves, which Bl
 normalises when it plays them, as glTF does. glTF's +Y up becomes Blender's +Z up by
 one rotation of the root, so no key is converted. STEP samplers become constant keys.
 
-Files this cannot play exactly are refused with a message: LINEAR rotations (glTF
-interpolates them spherically, F-curves per component: import ``--keys frames`` files
-with Blender's own glTF importer instead), nodes given as matrices, joints with a rest
-rotation, and files not written by sketchanim.
+LINEAR samplers (``--keys frames`` and ``--keys compact`` files) become linear keys.
+glTF turns LINEAR rotations spherically and F-curves interpolate the components; our
+writers choose LINEAR rotation keys so that both stay within the file's bound (the
+component-wise way after each key is put on the side of the one before, which this
+does: the quaternion filter may flip signs). A joint's rotation where no channel
+animates it is its pose (a compact file's constant track), held by a constant key.
+Compact files store their data compressed (``EXT_meshopt_compression``, decoded with
+the ``meshopt`` package, which Blender's Python needs then: the message says how to
+install it).
 
-Needs nothing beyond Blender (4.2 or later).
+Files this cannot play exactly are refused with a message: nodes given as matrices,
+joints with a rest scale, and files not written by sketchanim.
+
+Needs nothing beyond Blender (4.2 or later), and ``meshopt`` for compact files.
 """
 
 import json
@@ -45,8 +53,14 @@ bl_info = {
 SNAP = 1e-4
 
 _WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
-_DTYPE = {5126: np.float32, 5123: np.uint16, 5125: np.uint32, 5121: np.uint8}
+_DTYPE = {5126: np.float32, 5123: np.uint16, 5125: np.uint32, 5121: np.uint8, 5122: np.int16, 5120: np.int8}
 _PATHS = {"translation": ("location", 3), "rotation": ("rotation_quaternion", 4), "scale": ("scale", 3)}
+
+MESHOPT = "EXT_meshopt_compression"
+
+#: How to give Blender's Python the meshopt decoder (the version sketchanim writes with).
+MESHOPT_INSTALL = ("blender -b --python-expr \"import subprocess, sys; "
+                   "subprocess.check_call([sys.executable, '-m', 'pip', 'install', 'meshopt==0.1.0'])\"")
 
 
 class SketchanimImportError(Exception):
@@ -68,15 +82,66 @@ def read_glb(path: str) -> tuple[dict, bytes]:
     return doc, blob
 
 
-def _accessor(doc: dict, blob: bytes, index: int) -> np.ndarray:
-    acc = doc["accessors"][index]
-    view = doc["bufferViews"][acc["bufferView"]]
-    width = _WIDTH[acc["type"]]
-    start = view.get("byteOffset", 0) + acc.get("byteOffset", 0)
-    return np.frombuffer(blob, _DTYPE[acc["componentType"]], acc["count"] * width, start).reshape(acc["count"], width)
+def _meshopt(path: str):
+    """The meshopt module, or a refusal saying how to install it into Blender's Python."""
+    try:
+        import meshopt
+    except ImportError:
+        raise SketchanimImportError(
+            f"{path}: a compact file ({MESHOPT}) needs the meshopt package in Blender's Python; "
+            f"install it with: {MESHOPT_INSTALL}") from None
+    return meshopt
+
+
+class _Views:
+    """The bytes of each buffer view of a .glb: its slice of the binary chunk, or
+    (``EXT_meshopt_compression``) that slice decoded, filter undone, once."""
+
+    def __init__(self, path: str, doc: dict, blob: bytes) -> None:
+        self.path, self.doc, self.blob = path, doc, blob
+        self.decoded: dict[int, bytes] = {}
+
+    def view(self, index: int) -> tuple[bytes, int | None]:
+        """The view's bytes and its byte stride (None: tightly packed)."""
+        view = self.doc["bufferViews"][index]
+        ext = view.get("extensions", {}).get(MESHOPT)
+        if ext is None:
+            start = view.get("byteOffset", 0)
+            return self.blob[start:start + view["byteLength"]], view.get("byteStride")
+        if index not in self.decoded:
+            if ext.get("buffer", 0) != 0:
+                raise SketchanimImportError(f"{self.path}: buffer view {index} is compressed outside the binary chunk")
+            meshopt = _meshopt(self.path)
+            start = ext.get("byteOffset", 0)
+            try:
+                rows = meshopt.decode_gltf_buffer(self.blob[start:start + ext["byteLength"]], ext["count"],
+                                                  ext["byteStride"], ext["mode"], ext.get("filter", "NONE"))
+            except (ValueError, RuntimeError) as err:
+                raise SketchanimImportError(f"{self.path}: buffer view {index} does not decode: {err}") from None
+            self.decoded[index] = np.ascontiguousarray(rows).tobytes()
+        return self.decoded[index], ext["byteStride"]
+
+    def accessor(self, index: int) -> np.ndarray:
+        """An accessor's values (count, width); normalised integers as floats (glTF's rule:
+        x / max, at least -1)."""
+        acc = self.doc["accessors"][index]
+        data, stride = self.view(acc["bufferView"])
+        dtype = np.dtype(_DTYPE[acc["componentType"]])
+        width, count = _WIDTH[acc["type"]], acc["count"]
+        size = width * dtype.itemsize
+        start = acc.get("byteOffset", 0)
+        if count and start + (count - 1) * (stride or size) + size > len(data):
+            raise SketchanimImportError(f"{self.path}: accessor {index} runs past the end of its buffer view")
+        raw = np.frombuffer(data, np.uint8)
+        rows = raw[start + np.arange(count)[:, None] * (stride or size) + np.arange(size)]
+        out = rows.copy().view(dtype).reshape(count, width)
+        if acc.get("normalized") and dtype.kind in "iu":
+            out = np.maximum(out / float(np.iinfo(dtype).max), -1.0).astype(np.float32)
+        return out
 
 
 def _check(path: str, doc: dict) -> None:
+    """Refuse what this cannot play exactly, saying why."""
     if not str(doc.get("asset", {}).get("generator", "")).startswith("sketchanim"):
         raise SketchanimImportError(f"{path}: not written by sketchanim (generator "
                                     f"{doc.get('asset', {}).get('generator')!r}); use File > Import > glTF 2.0")
@@ -89,10 +154,9 @@ def _check(path: str, doc: dict) -> None:
             name = doc["nodes"][ch["target"]["node"]].get("name")
             if ch["target"]["path"] not in _PATHS or kind not in ("CUBICSPLINE", "LINEAR", "STEP"):
                 raise SketchanimImportError(f"{path}: node {name!r}: cannot play {kind} {ch['target']['path']}")
-            if kind == "LINEAR" and ch["target"]["path"] == "rotation":
-                raise SketchanimImportError(
-                    f"{path}: node {name!r} has LINEAR rotation keys (a --keys frames export): glTF turns them "
-                    "spherically, which F-curves cannot do exactly; import it with File > Import > glTF 2.0")
+    unknown = [e for e in doc.get("extensionsRequired", []) if e != MESHOPT]
+    if unknown:
+        raise SketchanimImportError(f"{path}: requires {', '.join(unknown)}, which this add-on cannot read")
 
 
 def _fcurves(obj: bpy.types.Object, action: bpy.types.Action, data_path: str, size: int, group: str) -> list:
@@ -138,6 +202,8 @@ def _animate(obj, action, channels: list, offset: dict, fps: float, group: str) 
             right = values + out[:, 2] * np.r_[gaps, gaps[-1:] if len(gaps) else [0.0]][:, None] / 3
         else:
             values = left = right = out.astype(float)
+        if path == "rotation" and kind == "LINEAR":
+            values = left = right = _continuous(values)
         if path == "rotation":                                    # glTF x, y, z, w -> Blender w, x, y, z
             values, left, right = (a[:, [3, 0, 1, 2]] for a in (values, left, right))
         if path in offset:
@@ -147,10 +213,17 @@ def _animate(obj, action, channels: list, offset: dict, fps: float, group: str) 
             _set_keys(fc, frames, values[:, i], left[:, i], right[:, i], kind)
 
 
-def _mesh(doc: dict, blob: bytes, index: int, name: str):
-    prim = doc["meshes"][index]["primitives"][0]
-    verts = _accessor(doc, blob, prim["attributes"]["POSITION"]).astype(float)
-    faces = _accessor(doc, blob, prim["indices"]).reshape(-1, 3).astype(int)
+def _continuous(q: np.ndarray) -> np.ndarray:
+    """Quaternion keys (m, 4), each on the side of the one before: interpolated
+    component-wise, every segment then turns the shorter way, as glTF's does."""
+    flips = np.cumsum(np.r_[0, np.sum(q[1:] * q[:-1], axis=1) < 0]) % 2
+    return np.where(flips[:, None] == 1, -q, q)
+
+
+def _mesh(views: _Views, index: int, name: str):
+    prim = views.doc["meshes"][index]["primitives"][0]
+    verts = views.accessor(prim["attributes"]["POSITION"]).astype(float)
+    faces = views.accessor(prim["indices"]).reshape(-1, 3).astype(int)
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata(verts.tolist(), [], faces.tolist())
     return mesh
@@ -168,15 +241,20 @@ def load(path: str, context=None, fps: float | None = None) -> list:
     parent = {c: i for i, n in enumerate(nodes) for c in n.get("children", [])}
     joints = {j for skin in doc.get("skins", []) for j in skin["joints"]}
     for j in joints:
-        if nodes[j].get("rotation", [0, 0, 0, 1]) != [0, 0, 0, 1] or nodes[j].get("scale", [1, 1, 1]) != [1, 1, 1]:
-            raise SketchanimImportError(f"{path}: joint {nodes[j].get('name')!r} has a rest rotation or scale")
+        if nodes[j].get("scale", [1, 1, 1]) != [1, 1, 1]:
+            raise SketchanimImportError(f"{path}: joint {nodes[j].get('name')!r} has a rest scale")
+    views = _Views(path, doc, blob)
     channels: dict[int, list] = {}
     for anim in doc.get("animations", [])[:1]:
         for ch in anim["channels"]:
             s = anim["samplers"][ch["sampler"]]
             channels.setdefault(ch["target"]["node"], []).append(
-                (ch["target"]["path"], s.get("interpolation", "LINEAR"), _accessor(doc, blob, s["input"])[:, 0],
-                 _accessor(doc, blob, s["output"])))
+                (ch["target"]["path"], s.get("interpolation", "LINEAR"), views.accessor(s["input"])[:, 0],
+                 views.accessor(s["output"])))
+    for j in joints:           # a joint's rotation that no channel animates is its pose: a constant key
+        turned = nodes[j].get("rotation", [0, 0, 0, 1]) != [0, 0, 0, 1]
+        if turned and all(c[0] != "rotation" for c in channels.get(j, [])):
+            channels.setdefault(j, []).append(("rotation", "STEP", np.zeros(1), np.array([nodes[j]["rotation"]])))
     name = doc.get("animations", [{}])[0].get("name", "sketchanim") if doc.get("animations") else "sketchanim"
     collection = context.collection
     root = bpy.data.objects.new(f"{name} (glTF Y up)", None)
@@ -189,7 +267,7 @@ def load(path: str, context=None, fps: float | None = None) -> list:
             continue
         data = None
         if node.get("mesh") is not None:
-            data = _mesh(doc, blob, node["mesh"], node.get("name", f"node{i}"))
+            data = _mesh(views, node["mesh"], node.get("name", f"node{i}"))
         elif node.get("camera") is not None:
             cam = doc["cameras"][node["camera"]]
             data = bpy.data.cameras.new(cam.get("name", "camera"))

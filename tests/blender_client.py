@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import subprocess
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -28,17 +29,29 @@ def blender_play(mode: str, glb: Path, times: np.ndarray) -> dict[str, np.ndarra
     """World matrices (n, 4, 4) of every pose bone (``bone:NAME``, with ``rest:bone:NAME``)
     and object (``object:NAME``) at ``times``, imported by ``mode`` (addon or gltf) into
     a scene running at the rate of ``times``."""
-    rate = 1.0 / float(np.median(np.diff(times))) if len(times) > 1 else 24.0
+    return blender_play_all(mode, [(glb, times)])[0]
+
+
+def blender_play_all(mode: str, files: Sequence[tuple[Path, np.ndarray]]) -> list[dict[str, np.ndarray]]:
+    """:func:`blender_play` of each (file, times), in one Blender run (each file in a new
+    scene)."""
     with tempfile.TemporaryDirectory() as tmp:
-        np.save(Path(tmp) / "t.npy", np.asarray(times, dtype=float))
-        run = subprocess.run([str(PYTHON), str(ROOT / "scripts" / "blender_probe.py"), mode, str(glb),
-                              str(Path(tmp) / "t.npy"), repr(rate), str(Path(tmp) / "out.npz")], capture_output=True, text=True)
+        args = []
+        for k, (glb, times) in enumerate(files):
+            rate = 1.0 / float(np.median(np.diff(times))) if len(times) > 1 else 24.0
+            np.save(Path(tmp) / f"t{k}.npy", np.asarray(times, dtype=float))
+            args += [str(glb), str(Path(tmp) / f"t{k}.npy"), repr(rate), str(Path(tmp) / f"out{k}.npz")]
+        run = subprocess.run([str(PYTHON), str(ROOT / "scripts" / "blender_probe.py"), mode, *args],
+                             capture_output=True, text=True)
         if run.returncode == 3:
             raise Refused(run.stdout.strip().splitlines()[-1])
         if run.returncode:
             raise RuntimeError(f"blender probe failed:\n{run.stdout[-2000:]}\n{run.stderr[-3000:]}")
-        with np.load(Path(tmp) / "out.npz") as z:
-            return dict(z)
+        out = []
+        for k in range(len(files)):
+            with np.load(Path(tmp) / f"out{k}.npz") as z:
+                out.append(dict(z))
+        return out
 
 
 def _rotations(m: np.ndarray) -> np.ndarray:
