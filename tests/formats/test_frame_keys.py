@@ -21,7 +21,7 @@ from sketchanim.cli import app
 from sketchanim.formats.bvh import write_bvh
 from sketchanim.export.files import write_reduced
 from sketchanim.formats.clip_files import read_clip
-from sketchanim.formats.gltf_frames import thin_keys
+from sketchanim.reducer.linear_keys import linear_keys
 from sketchanim.reducer.metric import rotation_angle
 
 TOL, ROT_TOL = 0.5, 0.5
@@ -67,7 +67,7 @@ def test_thinned_keys_reproduce_every_frame(n: int, seed: int, allowance: float,
     if rotation:
         values[:, 3] += 1
         values /= np.linalg.norm(values, axis=1, keepdims=True)
-    keep = thin_keys(times, values, allowance, rotation)
+    keep = np.flatnonzero(linear_keys(times, values[None], allowance, rotation=rotation)[0])
     assert keep[0] == 0 and keep[-1] == n - 1 and np.all(np.diff(keep) > 0)
     for spherical in (True, False):
         played = linear_play32(times[keep], values[keep], times, rotation, spherical).astype(float)
