@@ -14,6 +14,7 @@ import pygltflib as gl
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
+from sketchanim.motion.kinematics import world_pose
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer.metric import rotation_angle
 
@@ -152,6 +153,18 @@ def played_pose(path: Path, skeleton: Skeleton, t: np.ndarray) -> tuple[np.ndarr
             out = rotations if what == "rotation" else translations
             out[:, skeleton.index(name)] = linear_play(times, values, t, what == "rotation")
     return rotations, translations
+
+
+def world_misses(clip: Clip, rotations: np.ndarray, translations: np.ndarray, shell: float) -> np.ndarray:
+    """Per frame and joint (n, J): how far local ``rotations`` and ``translations`` of
+    ``clip``'s skeleton put each joint from the source's in the world, plus the most a
+    point ``shell`` from it moves by their world rotations' difference."""
+    turns, positions = world_pose(clip.skeleton, rotations, translations)
+    source_turns, source = world_pose(clip.skeleton, clip.rotations, clip.translations)
+    out = np.linalg.norm(positions - source, axis=-1)
+    for j in range(len(clip.skeleton)):
+        out[:, j] += 2 * shell * np.sin((turns[j] * source_turns[j].inv()).magnitude() / 2)
+    return out
 
 
 def hermite_channels(path: Path) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:

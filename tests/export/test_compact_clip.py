@@ -15,14 +15,13 @@ from scipy.spatial.transform import Rotation
 
 from typer.testing import CliRunner
 
-from clips import ROOT, clips, played_pose, samplers, validate
+from clips import ROOT, clips, played_pose, samplers, validate, world_misses
 from world_metric import file_world_error
 from sketchanim.cli import app
 from sketchanim.export.compact_clip import compact_clip
 from sketchanim.formats.bvh import write_bvh
 from sketchanim.formats.clip_files import read_clip
 from sketchanim.formats.gltf_compact import MESHOPT
-from sketchanim.motion.kinematics import world_pose
 from sketchanim.motion.skeleton import Clip, Skeleton
 
 DATA = ROOT.parent / "shared" / "data"
@@ -32,13 +31,7 @@ REAL = sorted((DATA / "bvh").glob("*.bvh")) + sorted((DATA / "amc").glob("*.amc"
 def world_error(path: Path, clip: Clip, shell: float) -> np.ndarray:
     """Per frame and joint, the file's played joint distance from the source's in the
     world plus the largest move of a point ``shell`` from the joint (any direction)."""
-    rot, trans = played_pose(path, clip.skeleton, clip.times)
-    turns, positions = world_pose(clip.skeleton, rot, trans)
-    source_turns, source = world_pose(clip.skeleton, clip.rotations, clip.translations)
-    out = np.linalg.norm(positions - source, axis=-1)
-    for j in range(len(clip.skeleton)):
-        out[:, j] += 2 * shell * np.sin((turns[j] * source_turns[j].inv()).magnitude() / 2)
-    return out
+    return world_misses(clip, *played_pose(path, clip.skeleton, clip.times), shell)
 
 
 @settings(max_examples=40, deadline=None)

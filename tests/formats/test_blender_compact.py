@@ -19,10 +19,9 @@ from hypothesis import given, settings, strategies as st
 from scipy.spatial.transform import Rotation
 
 from blender_client import PYTHON, ROOT, blender_play_all, joint_locals
-from clips import clips, samplers
+from clips import clips, samplers, world_misses
 from sketchanim.export.compact_clip import compact_clip
 from sketchanim.formats.clip_files import read_clip
-from sketchanim.motion.kinematics import world_pose
 from sketchanim.motion.skeleton import Clip, Skeleton
 
 ADDON = ROOT / "blender" / "sketchanim_import.py"
@@ -36,13 +35,9 @@ def blender_errors(files: list[tuple[Path, Clip, float]]) -> list[tuple[np.ndarr
     played = blender_play_all("addon", [(path, clip.times) for path, clip, _ in files])
     out = []
     for (_, clip, shell), poses in zip(files, played):
-        rot, trans = joint_locals(poses, clip.skeleton, clip.unit_m)
-        turns, positions = world_pose(clip.skeleton, rot, trans)
-        source_turns, source = world_pose(clip.skeleton, clip.rotations, clip.translations)
-        errors = np.linalg.norm(positions - source, axis=-1)
-        for j in range(len(clip.skeleton)):
-            errors[:, j] += 2 * shell * np.sin((turns[j] * source_turns[j].inv()).magnitude() / 2)
-        out.append((errors, 64 * float(np.finfo(np.float32).eps) * (float(np.abs(source).max()) + shell)))
+        errors = world_misses(clip, *joint_locals(poses, clip.skeleton, clip.unit_m), shell)
+        size = float(np.abs(clip.world_positions()).max())
+        out.append((errors, 64 * float(np.finfo(np.float32).eps) * (size + shell)))
     return out
 
 
