@@ -16,12 +16,15 @@ from scipy.spatial.transform import Rotation
 from typer.testing import CliRunner
 
 from clips import ROOT, clips, played_pose, samplers, validate, world_misses
+from mocap.test_contacts import WALKS, walker_clip
+from walk_paths import segments
 from world_metric import file_world_error
 from sketchanim.cli import app
 from sketchanim.export.compact_clip import compact_clip
 from sketchanim.formats.bvh import write_bvh
 from sketchanim.formats.clip_files import read_clip
 from sketchanim.formats.gltf_compact import MESHOPT
+from sketchanim.mocap.contacts import CONTACT_SHARE, planted, sliding
 from sketchanim.motion.skeleton import Clip, Skeleton
 
 DATA = ROOT.parent / "shared" / "data"
@@ -122,3 +125,37 @@ def test_the_command_line_writes_compact_files_and_refuses_other_formats(tmp_pat
                                    "--units", "cm"])
     assert run.exit_code == 2 and "--keys: compact files are .glb" in run.output, run.output
     assert not (tmp_path / "w.bvh").exists()
+
+
+def assert_compact_contacts_kept(tmp_path: Path, clip: Clip, tol: float, shell: float, unit: float) -> None:
+    """A compact file's planted joints: within the contact bound on their frames, and
+    sliding (played from the file, at 60 Hz) no more than the source's plus 1 cm/s."""
+    path = tmp_path / "walk.glb"
+    made = compact_clip(clip, tol, shell)
+    path.write_bytes(made.glb)
+    held = planted(clip)
+    assert held.any() and made.report.planted == held.sum()
+    assert world_error(path, clip, shell)[held].max() <= CONTACT_SHARE * tol * (1 + 1e-3)
+
+    def sample(t: np.ndarray) -> Clip:
+        return replace(clip, times=t, rotations=(pose := played_pose(path, clip.skeleton, t))[0], translations=pose[1])
+
+    source, export = sliding(clip, contacts=held) * unit, sliding(clip, sample, contacts=held) * unit
+    assert export <= source + 0.01, (source, export)
+
+
+@pytest.mark.parametrize("name", WALKS)
+def test_real_walks_planted_feet_slide_no_more_in_compact_files(tmp_path, name):
+    source = DATA / name
+    if not source.exists():
+        pytest.skip("../shared/data is not here")
+    clip = read_clip(source)
+    clip = replace(clip, unit_m=clip.guess_unit_m())
+    assert_compact_contacts_kept(tmp_path, clip, 0.005 / clip.unit_m, 0.03 / clip.unit_m, clip.unit_m)
+
+
+@settings(max_examples=3, deadline=None)
+@given(st.floats(0.8, 1.8), st.floats(-0.4, 0.4))
+def test_generated_walks_planted_feet_slide_no_more_in_compact_files(tmp_path_factory, speed, turn):
+    clip, _ = walker_clip(segments([(1.0, 0.0, 0.0), (2.0, speed, 0.0), (2.0, speed, turn)]))
+    assert_compact_contacts_kept(tmp_path_factory.mktemp("w"), clip, 0.005, 0.03, 1.0)
