@@ -37,6 +37,7 @@ from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, comp
 from sketchanim.mocap.contacts import CONTACT_SHARE, planted
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG, TRANSLATION_SHARE
 from sketchanim.motion.kinematics import world_matrices
+from sketchanim.motion.rotations import continuous_quaternions
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer.linear_keys import linear_keys, misses, played
 from sketchanim.reducer.metric import rotation_angle
@@ -135,13 +136,6 @@ class _Tracks:
     @property
     def rotation(self) -> bool:
         return self.path == "rotation"
-
-
-def _continuous(q: np.ndarray) -> np.ndarray:
-    """Quaternions (T, n, 4), each on the side of the one before."""
-    flips = np.cumsum(np.concatenate([np.zeros(q.shape[:1] + (1,)), np.sum(q[:, 1:] * q[:, :-1], axis=-1) < 0],
-                                     axis=1), axis=1) % 2
-    return np.where(flips[..., None] == 1, -q, q)
 
 
 def _tracks(path: str, joints: np.ndarray, values: np.ndarray, bound: np.ndarray, share: float) -> _Tracks:
@@ -320,7 +314,8 @@ def _compact(clip: Clip, world_bound: np.ndarray, shell: float, sharing: str, sh
     provable = np.minimum(below / np.maximum(turning * arm, 1e-300), cap)
     r_joints = np.flatnonzero(clip.rotating)
     t_joints = np.flatnonzero(clip.translating)
-    rotations = _tracks("rotation", r_joints, _continuous(np.swapaxes(clip.rotations[:, r_joints], 0, 1)),
+    quats = np.stack([continuous_quaternions(clip.rotations[:, j]) for j in r_joints]).reshape(len(r_joints), n, 4)
+    rotations = _tracks("rotation", r_joints, quats,
                         angle.T[r_joints].copy(), share_q)
     translations = _tracks("translation", t_joints, np.swapaxes(clip.translations[:, t_joints], 0, 1),
                            np.broadcast_to(share.min(axis=1), (len(t_joints), n)).copy(), share_q)
