@@ -101,7 +101,7 @@ def check_format(name: str) -> Format:
     >>> check_format("fbx")
     Traceback (most recent call last):
     ...
-    sketchanim.errors.ArgumentError: format: 'fbx' is not an export format; one of glb, glb-frames, usd, bvh, json
+    sketchanim.errors.ArgumentError: format: 'fbx' is not an export format; one of glb, glb-frames, glb-compact, usd, bvh, json
     """
     if name not in FORMATS:
         raise ArgumentError("format", f"{name!r} is not an export format; one of {', '.join(FORMATS)}")
@@ -166,7 +166,7 @@ def choices(project: Path, scene: Scene, tracks: dict[str, Track]) -> ExportChoi
     >>> scene = Scene(); _ = scene.add("box")
     >>> c = choices(Path("show.sketchanim"), scene, {}).choices
     >>> [x.format for x in c], c[0].file, c[0].clients[0].plays
-    (['glb', 'glb-frames', 'usd', 'json'], 'show.glb', 'exact: nothing is animated, the current values are written')
+    (['glb', 'glb-frames', 'glb-compact', 'usd', 'json'], 'show.glb', 'exact: nothing is animated, the current values are written')
     """
     tol = within(tracks, scene)
     skipped = left_out(scene, tracks)
