@@ -34,9 +34,15 @@ def test_property_quirks_in_chunks_resolve_as_the_whole(times, cuts, values, uno
         whole, moved = ordered(table, unordered, "f")
         whole, merged_away = merged(whole, duplicates, "f")
     except FileFormatError as err:
+        lines = {err.line}
+        if duplicates == "error":            # read as it streams, a repeated time before a step back is met first
+            try:
+                merged(table, duplicates, "f")
+            except FileFormatError as first:
+                lines.add(first.line)
         with pytest.raises(FileFormatError) as caught:
             _chunked(table, cuts, unordered, duplicates)
-        assert caught.value.line == err.line
+        assert caught.value.line in lines, (caught.value.line, lines)
         return
     got, got_moved, got_merged = _chunked(table, cuts, unordered, duplicates)
     np.testing.assert_array_equal(got.times, whole.times)
