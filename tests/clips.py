@@ -114,34 +114,11 @@ def _view_bytes(view: gl.BufferView, blob: bytes) -> bytes:
                                       ext.get("filter", "NONE")).tobytes()
 
 
-def linear_play(times: np.ndarray, values: np.ndarray, t: np.ndarray, rotation: bool) -> np.ndarray:
-    """A LINEAR sampler played at ``t`` (clamped to its keys): translations linearly,
-    rotations spherically the shorter way and normalised, as glTF's spec has it."""
-    t = np.clip(t, times[0], times[-1])
-    if len(times) == 1:
-        return np.repeat(values[:1], len(t), axis=0)
-    seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)
-    u = ((t - times[seg]) / (times[seg + 1] - times[seg]))[:, None]
-    a, b = values[seg], values[seg + 1]
-    if not rotation:
-        return a + u * (b - a)
-    a = a / np.linalg.norm(a, axis=1, keepdims=True)
-    b = b / np.linalg.norm(b, axis=1, keepdims=True)
-    dot = np.sum(a * b, axis=1, keepdims=True)
-    b = np.where(dot < 0, -b, b)
-    angle = np.arccos(np.clip(np.abs(dot), -1, 1))
-    sin = np.sin(angle)
-    small = sin < 1e-9
-    wa = np.where(small, 1 - u, np.sin((1 - u) * angle) / np.where(small, 1, sin))
-    wb = np.where(small, u, np.sin(u * angle) / np.where(small, 1, sin))
-    q = wa * a + wb * b
-    return q / np.linalg.norm(q, axis=1, keepdims=True)
-
-
 def played_pose(path: Path, skeleton: Skeleton, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Local rotations (n, J, 4) and translations (n, J, 3) of ``skeleton``'s joints as a
-    .glb of LINEAR samplers plays at ``t``: each node's own transform where it has no
-    channel (read from the file independently of the writer)."""
+    .glb of LINEAR samplers plays at ``t`` in float32 (:func:`linear_play32`): each node's
+    own transform where it has no channel (read from the file independently of the
+    writer)."""
     doc = gl.GLTF2().load_binary(str(path))
     nodes = {n.name: n for n in doc.nodes}
     rot = np.array([nodes[name].rotation or [0.0, 0, 0, 1] for name in skeleton.names], dtype=float)
@@ -151,7 +128,7 @@ def played_pose(path: Path, skeleton: Skeleton, t: np.ndarray) -> tuple[np.ndarr
         if name in nodes and what in ("rotation", "translation"):
             assert kind == "LINEAR", (name, what, kind)
             out = rotations if what == "rotation" else translations
-            out[:, skeleton.index(name)] = linear_play(times, values, t, what == "rotation")
+            out[:, skeleton.index(name)] = linear_play32(times, values, t, what == "rotation").astype(float)
     return rotations, translations
 
 
