@@ -93,7 +93,8 @@ def compact_table(report: CompactReport, row: ClipOutcome) -> Table:
                           f"{report.planted:,} / {report.planted_error:.4g}"),
                          ("tracks written / as their node's value", f"{report.tracks - report.constant_tracks} / "
                                                                    f"{report.constant_tracks}"),
-                         ("keys (of frames x tracks)", f"{report.keys:,} ({report.keys / max(report.frames * report.tracks, 1):.1%})"),
+                         ("keys (of frames x tracks)",
+                          f"{report.keys:,} ({report.keys / max(report.frames * report.tracks, 1):.1%})"),
                          ("key times", "one array" if report.sharing == "skeleton" else "per track"),
                          ("bytes", f"{report.bytes:,}")):
         table.add_row(label, value)

@@ -35,7 +35,8 @@ from sketchanim.float32 import float32_margin
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
 from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held
 from sketchanim.mocap.contacts import CONTACT_SHARE, planted
-from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG, TRANSLATION_SHARE
+from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, most_moving
+from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG
 from sketchanim.motion.kinematics import world_matrices
 from sketchanim.motion.rotations import continuous_quaternions
 from sketchanim.motion.skeleton import Clip, Skeleton
@@ -251,15 +252,16 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
             raise ArgumentError(what, f"must be a positive distance, got {value!r}")
     if sharing is not None and sharing not in SHARING:
         raise ArgumentError("sharing", f"one of {', '.join(SHARING)}, got {sharing!r}")
-    world_bound = np.full((len(clip.times), len(clip.skeleton)), _budget(clip, float(tol), shell))
+    source = world_matrices(clip.skeleton, clip.rotations, clip.translations)
+    world_bound = np.full((len(clip.times), len(clip.skeleton)), _budget(clip, source, float(tol), shell))
     if contacts:
-        world_bound[planted(clip)] *= CONTACT_SHARE
+        world_bound[planted(clip, source[1])] *= CONTACT_SHARE
     best = None
     for s in ("skeleton", "track") if sharing is None else (sharing,):
         if sharing is None and s == "track" and best.report.keys > SPARSE * best.report.frames * best.report.tracks:
             break                                    # keys at most frames: one time array is the smaller file
         for q in QUANTISATION_SHARES:
-            made = _compact(clip, world_bound, shell, s, q, mesh, name)
+            made = _compact(clip, source, world_bound, shell, s, q, mesh, name)
             best = made if best is None or len(made.glb) < len(best.glb) else best
     return replace(best, report=replace(best.report, tol=float(tol)))
 
@@ -274,12 +276,12 @@ def compact_clip_glb(clip: Clip, tol: float, shell: float, *, mesh: bool = True)
     return compact_clip(clip, tol, shell, mesh=mesh).glb
 
 
-def _budget(clip: Clip, tol: float, shell: float) -> float:
+def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, shell: float) -> float:
     """What the keys and the filters may use of ``tol``, less what float32 key times and
     a client's float32 arithmetic may move the world's points
     (:func:`~sketchanim.float32.float32_margin`, at the clip's largest world position and
     the largest speed of a joint or a point ``shell`` from one); never less than half."""
-    turns, positions = world_matrices(clip.skeleton, clip.rotations, clip.translations)
+    turns, positions = source
     if len(clip.times) < 2:
         return tol
     dt = np.diff(clip.times)[:, None]
@@ -290,8 +292,8 @@ def _budget(clip: Clip, tol: float, shell: float) -> float:
     return max(tol - float32_margin(clip.times, size, float(speed.max())), tol / 2)
 
 
-def _compact(clip: Clip, world_bound: np.ndarray, shell: float, sharing: str, share_q: float, mesh: bool,
-             name: str) -> CompactClip:
+def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], world_bound: np.ndarray, shell: float, sharing: str,
+             share_q: float, mesh: bool, name: str) -> CompactClip:
     """The compact file with key times shared as ``sharing`` says, the quantisation given
     ``share_q`` of each joint's bound, every joint within ``world_bound`` (n, J) in the
     world at every frame."""
@@ -300,8 +302,7 @@ def _compact(clip: Clip, world_bound: np.ndarray, shell: float, sharing: str, sh
     chains = sk.chains()
     tol = float(world_bound.max(initial=0.0))
     varying = clip.translating & np.any(np.ptp(clip.translations, axis=0) > 0, axis=-1)
-    moving = max(sum(bool(varying[a]) for a in chain) for chain in chains)
-    share = TRANSLATION_SHARE * world_bound / max(moving, 1)                   # (n, J)
+    share = TRANSLATION_SHARE * world_bound / most_moving(clip, np.ones(len(sk), bool))      # (n, J)
     budget = world_bound - share * np.array([sum(bool(varying[a]) for a in c) for c in chains])
     turning = max(max(sum(bool(clip.rotating[a]) for a in chain) for chain in chains), 1)
     arm = sk.reach(clip.bones()) + shell
@@ -319,7 +320,6 @@ def _compact(clip: Clip, world_bound: np.ndarray, shell: float, sharing: str, sh
                         angle.T[r_joints].copy(), share_q)
     translations = _tracks("translation", t_joints, np.swapaxes(clip.translations[:, t_joints], 0, 1),
                            np.broadcast_to(share.min(axis=1), (len(t_joints), n)).copy(), share_q)
-    source = world_matrices(sk, clip.rotations, clip.translations)
     for round in range(ROUNDS + 3):
         for tracks in (rotations, translations):
             _keyed(clip.times, tracks, sharing)
@@ -342,7 +342,7 @@ def _compact(clip: Clip, world_bound: np.ndarray, shell: float, sharing: str, sh
                 limit = provable.T[tracks.joints]
                 now = np.minimum(now, np.where(tight.T[tracks.joints], limit, np.inf) if round == ROUNDS else limit)
             _tighten(tracks, now)
-    return _written(clip, rotations, translations, errors, world_bound, shell, sharing, share_q, mesh, name)
+    return _written(clip, source, rotations, translations, errors, world_bound, shell, sharing, share_q, mesh, name)
 
 
 def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
@@ -363,8 +363,9 @@ def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
             tracks.bound[i] = np.maximum(tracks.bound[i], 2 * _error(tracks, i, tracks.held[i]))
 
 
-def _written(clip: Clip, rotations: _Tracks, translations: _Tracks, errors: np.ndarray, world_bound: np.ndarray,
-             shell: float, sharing: str, share_q: float, mesh: bool, name: str) -> CompactClip:
+def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Tracks, translations: _Tracks,
+             errors: np.ndarray, world_bound: np.ndarray, shell: float, sharing: str, share_q: float, mesh: bool,
+             name: str) -> CompactClip:
     """The .glb of the keyed tracks, and its report."""
     tol = float(world_bound.max(initial=0.0))
     held_still = world_bound < tol
@@ -392,10 +393,11 @@ def _written(clip: Clip, rotations: _Tracks, translations: _Tracks, errors: np.n
             nodes.append(Node("bones", mesh=0, skin=0))
             extra = {"meshes": [bones], "skins": [Skin(list(range(len(sk))), inverse)]}
     glb = compact_glb(nodes, channels, animation=name, unit_m=clip.unit_m, **extra)
-    quantisation = _quantisation_error(clip, rotations, translations, shell)
+    quantisation = _quantisation_error(clip, source, rotations, translations, shell)
     report = CompactReport(tol, float(shell), share_q, _range(rotations), _range(translations),
                            quantisation, float(errors.max(initial=0.0)),
-                           float(np.degrees(rotations.error.max(initial=0.0))), float(translations.error.max(initial=0.0)),
+                           float(np.degrees(rotations.error.max(initial=0.0))),
+                           float(translations.error.max(initial=0.0)),
                            len(clip.times),
                            len(rotations.joints) + len(translations.joints),
                            int(rotations.constant.sum() + translations.constant.sum()), keys, sharing,
@@ -409,11 +411,11 @@ def _range(tracks: _Tracks) -> tuple[int, ...]:
     return (int(bits.min()), int(bits.max())) if len(bits) else ()
 
 
-def _quantisation_error(clip: Clip, rotations: _Tracks, translations: _Tracks, shell: float) -> float:
+def _quantisation_error(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Tracks, translations: _Tracks,
+                        shell: float) -> float:
     """The largest world error of the decoded values alone, held at every frame."""
     rot, trans = clip.rotations.copy(), clip.translations.copy()
     for tracks, out in ((rotations, rot), (translations, trans)):
         for i in np.flatnonzero(~tracks.constant):
             out[:, tracks.joints[i]] = tracks.held[i]
-    source = world_matrices(clip.skeleton, clip.rotations, clip.translations)
     return float(_world_errors(clip.skeleton, source, rot, trans, shell).max(initial=0.0))

@@ -164,7 +164,8 @@ def glb_bytes(nodes: Sequence[Node], channels: Sequence[Channel] = (), *, animat
         anim = gl.Animation(name=animation)
         for ch in channels:
             width = ch.values.shape[-1]
-            anim.samplers.append(gl.AnimationSampler(input=buf.add(key_times(ch.times, last_key_free(ch.interpolation, ch.values)), 1, bounds=True),
+            times = key_times(ch.times, last_key_free(ch.interpolation, ch.values))
+            anim.samplers.append(gl.AnimationSampler(input=buf.add(times, 1, bounds=True),
                                                      output=buf.add(ch.values, width), interpolation=ch.interpolation))
             anim.channels.append(gl.AnimationChannel(sampler=len(anim.samplers) - 1,
                                                      target=gl.AnimationChannelTarget(node=ch.node, path=ch.path)))
