@@ -23,7 +23,8 @@ from sketchanim.cli import app
 from sketchanim.export.compact_clip import compact_clip
 from sketchanim.formats.bvh import write_bvh
 from sketchanim.formats.clip_files import read_clip
-from sketchanim.formats.gltf_compact import MESHOPT
+from sketchanim.formats.gltf import Node
+from sketchanim.formats.gltf_compact import MESHOPT, CompactChannel, compact_glb, held
 from sketchanim.mocap.contacts import CONTACT_SHARE, planted, sliding
 from sketchanim.motion.skeleton import Clip, Skeleton
 
@@ -86,6 +87,27 @@ def test_files_require_meshopt_and_pass_the_validator(tmp_path):
     assert doc.extensionsRequired == [MESHOPT]
     filters = {v.extensions[MESHOPT].get("filter") for v in doc.bufferViews if v.extensions}
     assert filters == {None, "QUATERNION", "EXPONENTIAL"}
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(2, 40), st.integers(0, 2**32 - 1))
+def test_keys_of_one_channel_may_each_have_their_own_bits(tmp_path_factory, count, seed):
+    rng = np.random.default_rng(seed)
+    t = np.arange(count) / 30.0
+    q = Rotation.random(count, random_state=seed).as_quat()
+    move = rng.normal(0, 10, (count, 3))
+    bits = {"rotation": rng.integers(4, 17, count), "translation": rng.integers(2, 25, count)}
+    channels = [CompactChannel(0, "rotation", t, q, bits["rotation"]),
+                CompactChannel(0, "translation", t, move, bits["translation"])]
+    path = tmp_path_factory.mktemp("bits") / "b.glb"
+    path.write_bytes(compact_glb([Node("a")], channels))
+    read = samplers(path)
+    for ch in channels:
+        _, times, values = read[("a", ch.path)]
+        assert np.allclose(times, t, rtol=0, atol=1e-6)
+        one = np.stack([held(v[None], ch.path, int(k))[0] for v, k in zip(ch.values, ch.bits)])
+        assert np.array_equal(held(ch.values, ch.path, ch.bits), one)          # each key decoded at its own bits
+        assert np.allclose(values, one, rtol=1e-6, atol=1e-6)                  # as the file gives them
 
 
 def test_bad_arguments_are_named():

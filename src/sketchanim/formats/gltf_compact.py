@@ -44,58 +44,80 @@ _ROWS = {"rotation": 8}                  # bytes a key takes in its view (others
 @dataclass(frozen=True)
 class CompactChannel:
     """A LINEAR (or STEP) channel to store compactly: node index, glTF path, key
-    times (m,), the values (m, d) it should hold, and the filter's bits."""
+    times (m,), the values (m, d) it should hold, and the filter's bits: one number for
+    every key, or one per key (m,) (both filters keep what decoding needs in each key)."""
 
     node: int
     path: str
     times: np.ndarray
     values: np.ndarray
-    bits: int
+    bits: int | np.ndarray
     interpolation: str = "LINEAR"
 
     def __post_init__(self) -> None:
         low, high = BITS[self.path]
-        if not low <= self.bits <= high:
-            raise ArgumentError("bits", f"{self.path} takes {low} to {high} bits, got {self.bits}")
+        bits = np.asarray(self.bits)
+        if bits.size and not (low <= bits.min() and bits.max() <= high):
+            raise ArgumentError("bits", f"{self.path} takes {low} to {high} bits, got {bits.min()} to {bits.max()}")
 
 
-def bits_for(path: str, allowed: float, scale: float) -> int:
-    """The fewest bits whose rounding stays within ``allowed``: an angle (radians) for
-    rotations, each of three components rounded to a step of ``1 / sqrt(2) / (2^(bits-1) - 1)``
-    (doubled for the angle, with the shorts' rounding); else a distance, for values up to
-    ``scale`` in size. The most bits if none do.
+def bits_for(path: str, allowed: float | np.ndarray, scale: float) -> int | np.ndarray:
+    """The fewest bits whose rounding stays within ``allowed`` (a number, or an array of
+    them: then the bits of each): an angle (radians) for rotations, each of three
+    components rounded to a step of ``1 / sqrt(2) / (2^(bits-1) - 1)`` (doubled for the
+    angle, with the shorts' rounding); else a distance, for values up to ``scale`` in
+    size. The most bits if none do.
 
     >>> bits_for("rotation", np.radians(0.05), 1.0), bits_for("translation", 1e-4, 1.0)
     (13, 16)
+    >>> bits_for("rotation", np.radians([0.05, 1.0, 1e-9]), 1.0).tolist()
+    [13, 8, 16]
     """
     low, high = BITS[path]
-    for bits in range(low, high + 1):
-        if path == "rotation":
-            error = 1.5 * np.sqrt(3) / np.sqrt(2) / (2 ** (bits - 1) - 1)
-        else:
-            error = max(scale, 1e-300) * 2.0 ** (2 - bits)
-        if error <= allowed:
-            return bits
-    return high
+    bits = np.arange(low, high + 1)
+    if path == "rotation":
+        error = 1.5 * np.sqrt(3) / np.sqrt(2) / (2.0 ** (bits - 1) - 1)
+    else:
+        error = max(scale, 1e-300) * 2.0 ** (2 - bits)
+    fewest = bits[np.minimum(np.searchsorted(-error, -np.asarray(allowed, dtype=float)), len(bits) - 1)]
+    return int(fewest) if fewest.ndim == 0 else fewest
 
 
-def _encoded(values: np.ndarray, path: str, bits: int) -> np.ndarray:
-    """Rows of bytes the filter makes of ``values`` (m, d)."""
+def _encoded(values: np.ndarray, path: str, bits: int | np.ndarray) -> np.ndarray:
+    """Rows of bytes the filter makes of ``values`` (m, d) at ``bits`` (one, or one per row)."""
+    each = np.broadcast_to(np.asarray(bits, dtype=int), (len(values),))
+    kinds = np.unique(each)
+    if len(kinds) <= 1:
+        return _filtered(values, path, int(kinds[0]) if len(kinds) else BITS[path][1])
+    parts = [_filtered(np.asarray(values)[each == b], path, int(b)) for b in kinds]
+    rows = np.empty((len(values), parts[0].shape[1]), dtype=parts[0].dtype)
+    for b, part in zip(kinds, parts):
+        rows[each == b] = part
+    return rows
+
+
+def _filtered(values: np.ndarray, path: str, bits: int) -> np.ndarray:
+    """Rows of bytes the filter makes of ``values`` (m, d) at ``bits``."""
     if path == "rotation":
         q = np.asarray(values, dtype=float).reshape(-1, 4)
         return meshopt.encode_filter_quat(q / np.linalg.norm(q, axis=1, keepdims=True), 8, bits)
     return meshopt.encode_filter_exp(np.ascontiguousarray(values, dtype=np.float32), bits, "SharedVector")
 
 
-def held(values: np.ndarray, path: str, bits: int) -> np.ndarray:
+def held(values: np.ndarray, path: str, bits: int | np.ndarray) -> np.ndarray:
     """What a client holds after decoding ``values`` (m, d) stored for ``path`` at
-    ``bits`` bits: the filter's rounding, then (rotations) normalised shorts as floats.
+    ``bits`` bits (one number, or one per row): the filter's rounding, then (rotations)
+    normalised shorts as floats.
 
     >>> q = np.array([[0.0, 0.0, np.sin(0.3), np.cos(0.3)]])
     >>> bool(np.abs(held(q, "rotation", 12) - q).max() < 1e-3)
     True
     >>> held(np.array([[1.0, 0.5, -3.0]]), "translation", 10).tolist()
     [[1.0, 0.5, -3.0]]
+    >>> two = np.repeat(q, 2, axis=0)
+    >>> coarse, fine = np.abs(held(two, "rotation", np.array([5, 14])) - two).max(axis=1)
+    >>> bool(fine < coarse)
+    True
     """
     rows = _encoded(values, path, bits)
     size = rows.shape[1]
