@@ -15,23 +15,38 @@ import numpy as np
 #: float32's unit roundoff: storing a number as float32 moves it by at most this, relative.
 EPS32 = 2.0**-24
 
-#: float32 roundings a played curve may gather: its keys, its key times, a client's own
-#: float32 arithmetic.
+#: float32 roundings a played value may gather: its keys, a client's own float32
+#: arithmetic (a joint's world position, down its chain).
 ROUNDINGS = 16
 
+#: float32 roundings of time a played value may gather, each moving it by its speed times
+#: the rounding: the key times on either side, the time played, the fraction between keys.
+TIME_ROUNDINGS = 4
 
-def float32_margin(times: np.ndarray, size: float, speed: float) -> float:
+
+def float32_margin(times: np.ndarray, size: float, speed: float | np.ndarray) -> float | np.ndarray:
     """How far a curve of values up to ``size`` (a norm), moving at up to ``speed`` per
     second over ``times``, may move once stored and played in float32: ``ROUNDINGS``
-    roundings of its values, and of its times (a time rounded moves the value by the
-    speed times the rounding).
+    roundings of its values, and ``TIME_ROUNDINGS`` of its times (a time rounded moves
+    the value by the speed times the rounding).
+
+    ``speed`` is one number for the whole curve (the margin then holds at its latest
+    time), or one per time (n, ...): the margin at each time, from that time's speed and
+    how late it is.
 
     >>> m = float32_margin(np.array([0.0, 30.0]), 200.0, 300.0)     # a hips in cm, 30 s
     >>> bool(1e-4 < m < 1e-2)
     True
+    >>> per = float32_margin(np.array([0.0, 30.0]), 200.0, np.array([300.0, 300.0]))
+    >>> bool(per[1] == m and per[0] < m)
+    True
     """
-    span = float(np.abs(np.asarray(times, dtype=float)).max()) if len(times) else 0.0
-    return ROUNDINGS * EPS32 * (size + speed * span)
+    late = np.abs(np.asarray(times, dtype=float))
+    if np.ndim(speed):
+        late = late.reshape(late.shape + (1,) * (np.ndim(speed) - 1))
+    else:
+        late = float(late.max()) if len(late) else 0.0
+    return EPS32 * (ROUNDINGS * size + TIME_ROUNDINGS * speed * late)
 
 
 def position_budget(times: np.ndarray, points: np.ndarray, tol: float) -> float:

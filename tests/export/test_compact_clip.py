@@ -4,6 +4,7 @@ constant tracks as their node's values, the Khronos validator, the command line.
 
 from __future__ import annotations
 
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -20,6 +21,7 @@ from mocap.test_contacts import WALKS, walker_clip
 from walk_paths import segments
 from world_metric import file_world_error
 from sketchanim.cli import app
+from sketchanim.errors import ArgumentError
 from sketchanim.export.compact_clip import compact_clip
 from sketchanim.formats.bvh import write_bvh
 from sketchanim.formats.clip_files import read_clip
@@ -48,6 +50,34 @@ def test_the_file_as_written_plays_within_the_world_distance(tmp_path_factory, c
     assert errors.max() <= tol * (1 + 1e-6) + 1e-9, (errors.max(), tol)
     assert made.report.max_world_error <= tol
     assert errors.max() <= made.report.max_world_error + 1e-3 * tol   # the report: what plays, to float32 times
+
+
+@settings(max_examples=40, deadline=None)
+@given(clips(), st.floats(0.01, 0.05), st.floats(0.0, 600.0), st.integers(0, 2**32 - 1))
+def test_a_jump_into_the_first_pose_and_late_times_play_within_the_world_distance_or_are_refused(
+        tmp_path_factory, clip, tol, start, seed):
+    """A take that jumps into its first pose from another (a T-pose), late in a long
+    recording: float32 key times move fast points most. The file plays within ``tol`` in
+    float32, or the tolerance is refused, naming the frame and the joint it cannot be kept
+    at (float32 times may take half of it there, or 16-bit rotations cannot hold it)."""
+    clip.rotations[0, clip.rotating] = Rotation.random(int(clip.rotating.sum()), random_state=seed).as_quat()
+    clip = replace(clip, times=clip.times + start)
+    try:
+        made = compact_clip(clip, tol, 3.0)
+    except ArgumentError as refused:
+        assert re.match(r"tol: .* at frame \d+ .* joint '|tol: .* of joint '.* at frame \d+", str(refused)), refused
+        return
+    path = tmp_path_factory.mktemp("late") / "c.glb"
+    path.write_bytes(made.glb)
+    assert world_error(path, clip, 3.0).max() <= tol * (1 + 1e-6), tol
+
+
+def test_a_tolerance_float32_cannot_keep_is_refused_naming_the_frame_and_joint():
+    clip = still_joints()
+    late = replace(clip, times=clip.times + 600.0)            # ten minutes into a recording
+    with pytest.raises(ArgumentError, match=r"tol: .* at frame \d+ \(60\d.* s\) of joint '(root|arm|hand)'.*float32"):
+        compact_clip(late, 0.001, 3.0)
+    assert compact_clip(late, 0.5, 3.0).report.max_world_error <= 0.5          # a tolerance it keeps there
 
 
 def still_joints() -> Clip:

@@ -25,7 +25,7 @@ says which.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.ndimage import minimum_filter1d
@@ -240,6 +240,12 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
     mesh : bool
         Add the skinned bone mesh (as :func:`~sketchanim.export.mocap_gltf.clip_glb`).
 
+    Raises
+    ------
+    ArgumentError
+        A ``tol`` or ``shell`` that is not a positive distance, an unknown ``sharing``,
+        or a ``tol`` float32 cannot keep at some frame (a clip late in time, moving fast).
+
     Examples
     --------
     >>> s = Skeleton(("hips", "knee", "toe"), (-1, 0, 1), np.array([[0.0, 90, 0], [0, -45, 0], [0, -45, 0]]))
@@ -256,16 +262,15 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
     if sharing is not None and sharing not in SHARING:
         raise ArgumentError("sharing", f"one of {', '.join(SHARING)}, got {sharing!r}")
     source = world_matrices(clip.skeleton, clip.rotations, clip.translations)
-    world_bound = np.full((len(clip.times), len(clip.skeleton)), _budget(clip, source, float(tol), shell))
-    if contacts:
-        world_bound[planted(clip, source[1])] *= CONTACT_SHARE
+    still = planted(clip, source[1]) if contacts else np.zeros((len(clip.times), len(clip.skeleton)), bool)
+    world_bound = _budget(clip, source, np.where(still, CONTACT_SHARE * tol, float(tol)), shell)
     best = None
     for s in ("skeleton", "track") if sharing is None else (sharing,):
         if sharing is None and s == "track" and best.report.keys > SPARSE * best.report.frames * best.report.tracks:
             break                                    # keys at most frames: one time array is the smaller file
-        made = _compact(clip, source, world_bound, shell, s, mesh, name)
+        made = _compact(clip, source, float(tol), world_bound, still, shell, s, mesh, name)
         best = made if best is None or len(made.glb) < len(best.glb) else best
-    return replace(best, report=replace(best.report, tol=float(tol)))
+    return best
 
 
 def compact_clip_glb(clip: Clip, tol: float, shell: float, *, mesh: bool = True) -> bytes:
@@ -278,30 +283,44 @@ def compact_clip_glb(clip: Clip, tol: float, shell: float, *, mesh: bool = True)
     return compact_clip(clip, tol, shell, mesh=mesh).glb
 
 
-def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, shell: float) -> float:
-    """What the keys and the filters may use of ``tol``, less what float32 key times and
-    a client's float32 arithmetic may move the world's points
-    (:func:`~sketchanim.float32.float32_margin`, at the clip's largest world position and
-    the largest speed of a joint or a point ``shell`` from one); never less than half."""
+def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], asked: np.ndarray, shell: float) -> np.ndarray:
+    """What the keys and the filters may use of the world bound ``asked`` (n, J) at each
+    frame and joint, less what float32 key times and a client's float32 arithmetic may
+    move the joint's points there (:func:`~sketchanim.float32.float32_margin` at the
+    frame's time, the clip's largest world position, and the speed on either side of the
+    frame of the joint or a point ``shell`` from it, played up to ``asked`` away at both
+    ends). A jump into the first pose costs only the first frame's margin.
+
+    Raises :class:`~sketchanim.errors.ArgumentError` where the margin is more than half
+    of what was asked, naming the frame and the joint."""
     turns, positions = source
     if len(clip.times) < 2:
-        return tol
+        return asked
     dt = np.diff(clip.times)[:, None]
-    speed = np.linalg.norm(np.diff(positions, axis=0), axis=-1) / dt
+    step = np.linalg.norm(np.diff(positions, axis=0), axis=-1)
     cos = (np.einsum("njab,njab->nj", turns[1:], turns[:-1]) - 1) / 2
-    speed += shell * np.arccos(np.clip(cos, -1.0, 1.0)) / dt
+    step = (step + shell * np.arccos(np.clip(cos, -1.0, 1.0)) + asked[1:] + asked[:-1]) / dt
+    speed = np.maximum(np.concatenate([step[:1], step]), np.concatenate([step, step[-1:]]))
     size = float(np.linalg.norm(positions, axis=-1).max()) + shell
-    return max(tol - float32_margin(clip.times, size, float(speed.max())), tol / 2)
+    margin = float32_margin(clip.times, size, speed)
+    short = np.argwhere(margin > asked / 2)
+    if len(short):
+        f, j = short[0]
+        raise ArgumentError("tol", f"{asked[f, j]:.6g} at frame {f} ({clip.times[f]:.6g} s) of joint "
+                                   f"{clip.skeleton.names[j]!r} is less than twice what float32 may move it there "
+                                   f"({margin[f, j]:.3g}, moving up to {speed[f, j]:.3g} per s): ask for a larger "
+                                   f"tolerance, or start the clip's times nearer 0")
+    return asked - margin
 
 
-def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], world_bound: np.ndarray, shell: float, sharing: str,
-             mesh: bool, name: str) -> CompactClip:
+def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, world_bound: np.ndarray,
+             still: np.ndarray, shell: float, sharing: str, mesh: bool, name: str) -> CompactClip:
     """The compact file with key times shared as ``sharing`` says, every joint within
-    ``world_bound`` (n, J) in the world at every frame."""
+    ``world_bound`` (n, J) in the world at every frame (the budget of ``tol``, less where
+    ``still`` holds it on the ground)."""
     sk = clip.skeleton
     n = len(clip.times)
     chains = sk.chains()
-    tol = float(world_bound.max(initial=0.0))
     varying = clip.translating & np.any(np.ptp(clip.translations, axis=0) > 0, axis=-1)
     share = TRANSLATION_SHARE * world_bound / most_moving(clip, np.ones(len(sk), bool))      # (n, J)
     budget = world_bound - share * np.array([sum(bool(varying[a]) for a in c) for c in chains])
@@ -321,6 +340,8 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], world_bound: np.
                         angle.T[r_joints].copy(), JOINT_QUANTISATION_SHARE)
     translations = _tracks("translation", t_joints, np.swapaxes(clip.translations[:, t_joints], 0, 1),
                            np.broadcast_to(share.min(axis=1), (len(t_joints), n)).copy(), JOINT_QUANTISATION_SHARE)
+    for tracks in (rotations, translations):
+        _fit_bits(clip, tracks, tol)
     for round in range(ROUNDS + 3):
         for tracks in (rotations, translations):
             _keyed(clip.times, tracks, sharing)
@@ -330,7 +351,9 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], world_bound: np.
         if not over.any():
             break
         if round == ROUNDS + 2:
-            raise AssertionError(f"world errors up to {errors.max():.6g} > {tol:.6g} after the provable bounds")
+            f, d = np.unravel_index(np.argmax(errors - world_bound), errors.shape)
+            raise AssertionError(f"world error {errors[f, d]:.6g} > {world_bound[f, d]:.6g} at frame {f} of joint "
+                                 f"{sk.names[d]!r} after the provable bounds")
         factor = np.ones((n, len(sk)))               # each joint tightened where a descendant misses, once
         for f, d in np.argwhere(over):
             ratio = np.clip(0.95 * world_bound[f, d] / errors[f, d], 0.5, 0.95)
@@ -343,7 +366,24 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], world_bound: np.
                 limit = provable.T[tracks.joints]
                 now = np.minimum(now, np.where(tight.T[tracks.joints], limit, np.inf) if round == ROUNDS else limit)
             _tighten(tracks, now)
-    return _written(clip, source, rotations, translations, errors, world_bound, shell, sharing, mesh, name)
+    return _written(clip, source, rotations, translations, errors, tol, still, shell, sharing, mesh, name)
+
+
+def _fit_bits(clip: Clip, tracks: _Tracks, tol: float) -> None:
+    """More bits where a track's decoded value misses its bound; raises
+    :class:`~sketchanim.errors.ArgumentError` where the most bits cannot hold it (the
+    bound ``tol`` asks of a joint there is too fine), naming the frame and the joint."""
+    most = BITS[tracks.path][1]
+    for i in np.flatnonzero(~tracks.constant):
+        while (coarse := (_error(tracks, i, tracks.held[i]) > tracks.bound[i]) & (tracks.bits[i] < most)).any():
+            tracks.bits[i, coarse] += 1
+            tracks.held[i, coarse] = held(tracks.values[i, coarse], tracks.path, tracks.bits[i, coarse])
+        short = np.flatnonzero(_error(tracks, i, tracks.held[i]) > tracks.bound[i])
+        if len(short):
+            f, j = short[0], tracks.joints[i]
+            raise ArgumentError("tol", f"{tol:.6g} asks the {tracks.path} of joint {clip.skeleton.names[j]!r} to "
+                                       f"{tracks.bound[i, f]:.3g} at frame {f} ({clip.times[f]:.6g} s), finer than "
+                                       f"{most} bits hold it: ask for a larger tolerance")
 
 
 def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
@@ -367,11 +407,10 @@ def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
 
 
 def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Tracks, translations: _Tracks,
-             errors: np.ndarray, world_bound: np.ndarray, shell: float, sharing: str, mesh: bool,
+             errors: np.ndarray, tol: float, still: np.ndarray, shell: float, sharing: str, mesh: bool,
              name: str) -> CompactClip:
-    """The .glb of the keyed tracks, and its report."""
-    tol = float(world_bound.max(initial=0.0))
-    held_still = world_bound < tol
+    """The .glb of the keyed tracks, and its report (``still``: the frames and joints held
+    on the ground)."""
     sk = clip.skeleton
     nodes = [Node(n, p, translation=o.tolist()) for n, p, o in zip(sk.names, sk.parents, sk.offsets)]
     channels = []
@@ -404,7 +443,7 @@ def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Trac
                            len(clip.times),
                            len(rotations.joints) + len(translations.joints),
                            int(rotations.constant.sum() + translations.constant.sum()), keys, sharing,
-                           int(held_still.sum()), float(errors[held_still].max(initial=0.0)), len(glb))
+                           int(still.sum()), float(errors[still].max(initial=0.0)), len(glb))
     return CompactClip(glb, report)
 
 
