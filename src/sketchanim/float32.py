@@ -43,10 +43,10 @@ def float32_margin(times: np.ndarray, size: float, speed: float | np.ndarray) ->
     """
     late = np.abs(np.asarray(times, dtype=float))
     if np.ndim(speed):
-        late = late.reshape(late.shape + (1,) * (np.ndim(speed) - 1))
+        span = late.reshape(late.shape + (1,) * (np.ndim(speed) - 1))
     else:
-        late = float(late.max()) if len(late) else 0.0
-    return EPS32 * (ROUNDINGS * size + TIME_ROUNDINGS * speed * late)
+        span = float(late.max()) if len(late) else 0.0
+    return EPS32 * (ROUNDINGS * size + TIME_ROUNDINGS * speed * span)
 
 
 def position_budget(times: np.ndarray, points: np.ndarray, tol: float) -> float:
