@@ -244,7 +244,9 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
     ------
     ArgumentError
         A ``tol`` or ``shell`` that is not a positive distance, an unknown ``sharing``,
-        or a ``tol`` float32 cannot keep at some frame (a clip late in time, moving fast).
+        or a ``tol`` the file cannot keep at some frame: float32 times late in a fast
+        clip, or a bound finer than the most bits of a key hold (named with the frame
+        and the joint).
 
     Examples
     --------
