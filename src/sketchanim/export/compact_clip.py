@@ -308,10 +308,12 @@ def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], asked: np.ndarray
     short = np.argwhere(margin > asked / 2)
     if len(short):
         f, j = short[0]
+        late = margin[f, j] > 2 * float32_margin(clip.times[:0], size, 0.0)     # more from its time than its size
         raise ArgumentError("tol", f"{asked[f, j]:.6g} at frame {f} ({clip.times[f]:.6g} s) of joint "
                                    f"{clip.skeleton.names[j]!r} is less than twice what float32 may move it there "
-                                   f"({margin[f, j]:.3g}, moving up to {speed[f, j]:.3g} per s): ask for a larger "
-                                   f"tolerance, or start the clip's times nearer 0")
+                                   f"({margin[f, j]:.3g}: points up to {size:.4g} from the origin, moving up to "
+                                   f"{speed[f, j]:.3g} per s): ask for a larger tolerance"
+                                   + (", or start the clip's times nearer 0" if late else ""))
     return asked - margin
 
 
