@@ -345,7 +345,7 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, worl
     translations = _tracks("translation", t_joints, np.swapaxes(clip.translations[:, t_joints], 0, 1),
                            np.broadcast_to(share.min(axis=1), (len(t_joints), n)).copy(), JOINT_QUANTISATION_SHARE)
     for tracks in (rotations, translations):
-        _fit_bits(clip, tracks, tol)
+        _refuse_finer_than_bits(clip, tracks, tol)
     for round in range(ROUNDS + 3):
         for tracks in (rotations, translations):
             _keyed(clip.times, tracks, sharing)
@@ -373,18 +373,16 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, worl
     return _written(clip, source, rotations, translations, errors, tol, still, shell, sharing, mesh, name)
 
 
-def _fit_bits(clip: Clip, tracks: _Tracks, tol: float) -> None:
-    """More bits where a track's decoded value misses its bound; raises
-    :class:`~sketchanim.errors.ArgumentError` where the most bits cannot hold it (the
-    bound ``tol`` asks of a joint there is too fine), naming the frame and the joint."""
+def _refuse_finer_than_bits(clip: Clip, tracks: _Tracks, tol: float) -> None:
+    """Raises :class:`~sketchanim.errors.ArgumentError` where a track's decoded value
+    misses its bound at its most bits (the bound ``tol`` asks of a joint there is too
+    fine), naming the frame and the joint. Below the most bits, ``bits_for`` holds it."""
     most = BITS[tracks.path][1]
     for i in np.flatnonzero(~tracks.constant):
-        while (coarse := (_error(tracks, i, tracks.held[i]) > tracks.bound[i]) & (tracks.bits[i] < most)).any():
-            tracks.bits[i, coarse] += 1
-            tracks.held[i, coarse] = held(tracks.values[i, coarse], tracks.path, tracks.bits[i, coarse])
         short = np.flatnonzero(_error(tracks, i, tracks.held[i]) > tracks.bound[i])
         if len(short):
             f, j = short[0], tracks.joints[i]
+            assert tracks.bits[i, f] == most, "bits_for gave too few bits"
             raise ArgumentError("tol", f"{tol:.6g} asks the {tracks.path} of joint {clip.skeleton.names[j]!r} to "
                                        f"{tracks.bound[i, f]:.3g} at frame {f} ({clip.times[f]:.6g} s), finer than "
                                        f"{most} bits hold it: ask for a larger tolerance")
