@@ -22,7 +22,7 @@ from sketchanim.anim.layers import reduce_samples
 from sketchanim.anim.rigs import LEAD, rig_clip, ticks
 from sketchanim.anim.scene import Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
-from sketchanim.export.rig_bake import CONTACT_SHARE, SHELL, bake
+from sketchanim.export.rig_bake import WALKER_SHARE, SHELL, bake
 from sketchanim.export.scene_bvh import skeleton_clip
 from sketchanim.export.scene_gltf import left_out, scene_glb
 from sketchanim.formats.bvh import read_bvh, write_bvh
@@ -89,7 +89,7 @@ def test_rigs_bake_into_a_valid_glb_that_three_js_plays_within_tolerance(tmp_pat
         for name in ("arm", "walker"):
             clip = rig_clip(scene, tracks, name)
             miss = np.linalg.norm(played_world(played, clip, name) - clip.world_positions(), axis=-1)
-            within = POSITION.tol * (CONTACT_SHARE if name == "walker" else 1.0)
+            within = POSITION.tol * (WALKER_SHARE if name == "walker" else 1.0)
             assert miss.max() <= within + FLOAT32, (file, name, float(miss.max()))
             keyed = slice(None) if file == "rigs.glb" else np.isclose(at * 30, np.round(at * 30))   # frames: at 30 Hz
             goal = played[f"{name}.goal"]["position"][keyed] - tracks[f"{name}.goal"].evaluate(at[keyed])
@@ -203,4 +203,4 @@ def test_blender_plays_the_baked_rigs(tmp_path: Path) -> None:
         rotations, translations = joint_locals(poses, named.skeleton, 1.0)
         got = world_pose(clip.skeleton, rotations, translations)[1]
         miss = np.linalg.norm(got - clip.world_positions(), axis=-1)
-        assert miss.max() <= POSITION.tol * (CONTACT_SHARE if name == "walker" else 1.0) + FLOAT32, name
+        assert miss.max() <= POSITION.tol * (WALKER_SHARE if name == "walker" else 1.0) + FLOAT32, name

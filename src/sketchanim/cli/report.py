@@ -89,8 +89,10 @@ def compact_table(report: CompactReport, row: ClipOutcome) -> Table:
                          ("largest world error of the decoded values alone", f"{report.quantisation_error:.4g}"),
                          ("largest world error as played", f"{report.max_world_error:.4g}"),
                          ("largest rotation error (deg)", f"{report.max_rotation_error_deg:.4f}"),
-                         ("joint frames held on the ground / their largest world error",
-                          f"{report.planted:,} / {report.planted_error:.4g}"),
+                         ("joint frames held on the ground / their bound / their largest world error",
+                          f"{report.planted:,} / {report.planted_bound:.4g} / {report.planted_error:.4g}"),
+                         ("their sliding, source / as played (units/s)",
+                          " / ".join(f"{v:.4g}" for v in report.sliding) or "none planted"),
                          ("tracks written / as their node's value", f"{report.tracks - report.constant_tracks} / "
                                                                    f"{report.constant_tracks}"),
                          ("keys (of frames x tracks)",

@@ -10,8 +10,10 @@ reaches). Of each joint's bound, a share (:data:`JOINT_QUANTISATION_SHARE`) is t
 filters' (it sets their bits, key by key), and the keys take what the decoded values leave: keys are
 chosen on the values the file will hold (:func:`~sketchanim.reducer.linear_keys.linear_keys`).
 Where the source holds an end joint still (a foot on the ground:
-:func:`~sketchanim.mocap.contacts.planted`), the world bound there is
-:data:`~sketchanim.mocap.contacts.CONTACT_SHARE` of ``tol``. The decoded clip is then
+:func:`~sketchanim.mocap.contacts.planted`), the world bound there is the first of
+:data:`PLANTED_M` (at most ``tol``) whose file keeps the planted joints' sliding (their
+median speed over the steps :func:`~sketchanim.mocap.contacts.sliding` measures, as
+played) within :data:`~sketchanim.mocap.contacts.SLIDING_SLACK_M_S` of the source's. The decoded clip is then
 played (spherically as glTF clients do, and component-wise as Blender's F-curves do) and
 measured in the world
 at every frame; the joints above any miss are tightened at that frame and keyed again,
@@ -35,7 +37,7 @@ from sketchanim.errors import ArgumentError
 from sketchanim.float32 import float32_margin
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
 from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held
-from sketchanim.mocap.contacts import CONTACT_SHARE, planted
+from sketchanim.mocap.contacts import SLIDING_SLACK_M_S, nearest_frames, planted, planted_steps, unit_m
 from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, most_moving
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG
 from sketchanim.motion.kinematics import world_matrices
@@ -57,6 +59,13 @@ SPARSE = 0.5
 
 #: Rounds of measuring in the world and tightening before the provable bounds.
 ROUNDS = 6
+
+#: The world bounds tried on planted frames (metres, through the clip's unit; at most
+#: ``tol``), in turn, until one keeps the planted joints' sliding within the slack of the
+#: source's; the last is taken regardless. Sliding is a speed, so the bound that keeps it
+#: is a distance whatever ``tol`` is: 1.5 mm kept it on every clip of the project's shared
+#: data at 0.5 and 1 cm (as 0.75 mm held on all).
+PLANTED_M = (0.0015, 0.00075)
 
 #: Key times per track, or one array for the whole skeleton.
 SHARING = ("track", "skeleton")
@@ -87,9 +96,14 @@ class CompactReport:
         written over all tracks.
     sharing : str
         One of :data:`SHARING`.
-    planted, planted_error : int, float
-        Frames of joints held on the ground (summed over joints), and their largest world
-        error there, as played.
+    planted, planted_bound, planted_error : int, float, float
+        Frames of joints held on the ground (summed over joints), their world bound there
+        (of :data:`PLANTED_M`, clip units; ``tol`` where nothing is planted), and their
+        largest world error there, as played.
+    sliding : tuple of float
+        The planted joints' median speed over the planted steps in the source and as
+        played (the faster of the two ways), clip units per second; empty where nothing
+        is planted.
     bytes : int
         Of the .glb.
     """
@@ -109,7 +123,9 @@ class CompactReport:
     keys: int
     sharing: str
     planted: int
+    planted_bound: float
     planted_error: float
+    sliding: tuple[float, ...]
     bytes: int
 
 
@@ -209,16 +225,17 @@ def _pose(clip: Clip, rotations: _Tracks, translations: _Tracks, variant: int) -
 
 
 def _world_errors(skeleton: Skeleton, source: tuple[np.ndarray, np.ndarray], rot: np.ndarray, trans: np.ndarray,
-                  shell: float) -> np.ndarray:
+                  shell: float) -> tuple[np.ndarray, np.ndarray]:
     """Per frame and joint (n, J): the joint's distance from the source's in the world,
     plus the most a point ``shell`` from it moves by their rotations' difference
-    (``source``: :func:`~sketchanim.motion.kinematics.world_matrices` of the source)."""
+    (``source``: :func:`~sketchanim.motion.kinematics.world_matrices` of the source);
+    and the joints' world positions (n, J, 3)."""
     turns, positions = world_matrices(skeleton, rot, trans)
     out = np.linalg.norm(positions - source[1], axis=-1)
     if shell:
         cos = (np.einsum("njab,njab->nj", turns, source[0]) - 1) / 2       # the trace of one turned back by the other
         out += 2 * shell * np.sin(np.arccos(np.clip(cos, -1.0, 1.0)) / 2)
-    return out
+    return out, positions
 
 
 def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True, sharing: str | None = None,
@@ -233,8 +250,9 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
         Clip units.
     contacts : bool
         Where the source holds an end joint on the ground
-        (:func:`~sketchanim.mocap.contacts.planted`), bound it there by
-        :data:`~sketchanim.mocap.contacts.CONTACT_SHARE` of ``tol``.
+        (:func:`~sketchanim.mocap.contacts.planted`), bound it there by the first of
+        :data:`PLANTED_M` that keeps its sliding within
+        :data:`~sketchanim.mocap.contacts.SLIDING_SLACK_M_S` of the source's.
     sharing : one of :data:`SHARING`, optional
         Key times per track or for the skeleton; the smaller file if omitted.
     mesh : bool
@@ -265,12 +283,18 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
         raise ArgumentError("sharing", f"one of {', '.join(SHARING)}, got {sharing!r}")
     source = world_matrices(clip.skeleton, clip.rotations, clip.translations)
     still = planted(clip, source[1]) if contacts else np.zeros((len(clip.times), len(clip.skeleton)), bool)
-    world_bound = _budget(clip, source, np.where(still, CONTACT_SHARE * tol, float(tol)), shell)
+    steps = _steps(clip, still)
+    metre = 1.0 / unit_m(clip)
+    bounds = [min(m * metre, float(tol)) for m in PLANTED_M] if len(steps[0]) else [float(tol)]
     best = None
     for s in ("skeleton", "track") if sharing is None else (sharing,):
         if sharing is None and s == "track" and best.report.keys > SPARSE * best.report.frames * best.report.tracks:
             break                                    # keys at most frames: one time array is the smaller file
-        made = _compact(clip, source, float(tol), world_bound, still, shell, s, mesh, name)
+        for bound in bounds[bounds.index(best.report.planted_bound):] if best else bounds:
+            world_bound = _budget(clip, source, np.where(still, bound, float(tol)), shell)
+            made = _compact(clip, source, float(tol), world_bound, still, steps, bound, shell, s, mesh, name)
+            if not made.report.sliding or made.report.sliding[1] <= made.report.sliding[0] + SLIDING_SLACK_M_S * metre:
+                break
         best = made if best is None or len(made.glb) < len(best.glb) else best
     return best
 
@@ -317,11 +341,32 @@ def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], asked: np.ndarray
     return asked - margin
 
 
+def _steps(clip: Clip, still: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The planted steps :func:`~sketchanim.mocap.contacts.sliding` measures, each as two
+    frames ``f`` and ``g`` and its joint ``d``: the frames nearest the step's samples,
+    or where both are nearest one frame (a source slower than the samples), the two
+    frames about the step's first sample."""
+    at, first, d = planted_steps(clip.times, still)
+    f, g = nearest_frames(clip.times, at[first]), nearest_frames(clip.times, at[first + 1])
+    f = np.where(f == g, np.clip(np.searchsorted(clip.times, at[first], side="right") - 1, 0, len(clip.times) - 2), f)
+    return f, np.where(f == g, f + 1, g), d
+
+
+def _sliding(clip: Clip, steps: tuple[np.ndarray, np.ndarray, np.ndarray], *positions: np.ndarray) -> float:
+    """The median over ``steps`` of the joint's speed (clip units per second), each step
+    the fastest of ``positions`` (n, J, 3)."""
+    f, g, d = steps
+    moved = np.max([np.linalg.norm(p[g, d] - p[f, d], axis=-1) for p in positions], axis=0)
+    return float(np.median(moved / (clip.times[g] - clip.times[f])))
+
+
 def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, world_bound: np.ndarray,
-             still: np.ndarray, shell: float, sharing: str, mesh: bool, name: str) -> CompactClip:
+             still: np.ndarray, steps: tuple[np.ndarray, np.ndarray, np.ndarray], planted_bound: float, shell: float,
+             sharing: str, mesh: bool, name: str) -> CompactClip:
     """The compact file with key times shared as ``sharing`` says, every joint within
-    ``world_bound`` (n, J) in the world at every frame (the budget of ``tol``, less where
-    ``still`` holds it on the ground)."""
+    ``world_bound`` (n, J) in the world at every frame (the budget of ``tol``, of
+    ``planted_bound`` where ``still`` holds it on the ground), and its planted
+    ``steps``' sliding."""
     sk = clip.skeleton
     n = len(clip.times)
     chains = sk.chains()
@@ -349,8 +394,8 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, worl
     for round in range(ROUNDS + 3):
         for tracks in (rotations, translations):
             _keyed(clip.times, tracks, sharing)
-        errors = np.maximum(*(_world_errors(sk, source, *_pose(clip, rotations, translations, v), shell)
-                              for v in (0, 1)))
+        played = [_world_errors(sk, source, *_pose(clip, rotations, translations, v), shell) for v in (0, 1)]
+        errors = np.maximum(played[0][0], played[1][0])
         over = errors > world_bound
         if not over.any():
             break
@@ -370,7 +415,10 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, worl
                 limit = provable.T[tracks.joints]
                 now = np.minimum(now, np.where(tight.T[tracks.joints], limit, np.inf) if round == ROUNDS else limit)
             _tighten(tracks, now)
-    return _written(clip, source, rotations, translations, errors, tol, still, shell, sharing, mesh, name)
+    sliding = ((_sliding(clip, steps, source[1]), _sliding(clip, steps, played[0][1], played[1][1]))
+               if len(steps[0]) else ())
+    return _written(clip, source, rotations, translations, errors, tol, still, planted_bound, sliding, shell,
+                    sharing, mesh, name)
 
 
 def _refuse_finer_than_bits(clip: Clip, tracks: _Tracks, tol: float) -> None:
@@ -409,10 +457,10 @@ def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
 
 
 def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Tracks, translations: _Tracks,
-             errors: np.ndarray, tol: float, still: np.ndarray, shell: float, sharing: str, mesh: bool,
-             name: str) -> CompactClip:
+             errors: np.ndarray, tol: float, still: np.ndarray, planted_bound: float, sliding: tuple[float, ...],
+             shell: float, sharing: str, mesh: bool, name: str) -> CompactClip:
     """The .glb of the keyed tracks, and its report (``still``: the frames and joints held
-    on the ground)."""
+    on the ground, within ``planted_bound`` there, sliding as ``sliding`` says)."""
     sk = clip.skeleton
     nodes = [Node(n, p, translation=o.tolist()) for n, p, o in zip(sk.names, sk.parents, sk.offsets)]
     channels = []
@@ -445,7 +493,8 @@ def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Trac
                            len(clip.times),
                            len(rotations.joints) + len(translations.joints),
                            int(rotations.constant.sum() + translations.constant.sum()), keys, sharing,
-                           int(still.sum()), float(errors[still].max(initial=0.0)), len(glb))
+                           int(still.sum()), planted_bound, float(errors[still].max(initial=0.0)), sliding,
+                           len(glb))
     return CompactClip(glb, report)
 
 
@@ -462,4 +511,4 @@ def _quantisation_error(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotat
     for tracks, out in ((rotations, rot), (translations, trans)):
         for i in np.flatnonzero(~tracks.constant):
             out[:, tracks.joints[i]] = tracks.held[i]
-    return float(_world_errors(clip.skeleton, source, rot, trans, shell).max(initial=0.0))
+    return float(_world_errors(clip.skeleton, source, rot, trans, shell)[0].max(initial=0.0))

@@ -7,7 +7,7 @@ and laid out as glTF nodes: a group node named for the object, its joints under 
 
 The tolerance is the goal's: the figure keeps the distance its goal was recorded within
 (the goal track's tolerance, :data:`~sketchanim.anim.attributes.POSITION`'s without one);
-a walker keeps :data:`CONTACT_SHARE` of it, so its planted feet stay planted.
+a walker keeps :data:`WALKER_SHARE` of it, so its planted feet stay planted.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ SHELL = 0.03
 #: the pace of the steps and reads as sliding: within the whole 5 mm, a planted toe of a
 #: brisk walk slides 5 to 7 cm/s (median); within a fifth, about 1 cm/s, under the 2 cm/s a
 #: walker promises (tests/export/test_rig_export.py measures it in the file).
-CONTACT_SHARE = 0.2
+WALKER_SHARE = 0.2
 
 #: The reducer's method for a bake: the incremental one, about 10 times faster than the
 #: global one on a walk for a quarter more bytes (benchmarks/bench_bake.py), since an
@@ -83,7 +83,7 @@ def bake(scene: Scene, tracks: dict[str, Track], name: str, tol: float | None = 
         goal = tracks.get(f"{name}.goal")
         tol = float(goal.tol) if isinstance(goal, ContinuousTrack) else POSITION.tol
         if scene.objects[name].kind == "walker":
-            tol *= CONTACT_SHARE
+            tol *= WALKER_SHARE
     clip = rig_clip(scene, tracks, name)
     return BakedRig(name, clip, reduce_clip_world(clip, tol, SHELL, method=METHOD), tol)
 

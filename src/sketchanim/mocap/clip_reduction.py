@@ -11,7 +11,9 @@ tolerance less what that can move the curve.
 
 Where the source plants an end joint on the ground (:mod:`sketchanim.mocap.contacts`),
 the joints above it are tightened until it stays within ``CONTACT_SHARE`` of the
-tolerance in the world on those frames (:func:`tighten`, which the world mode shares).
+tolerance in the world on those frames (:func:`tighten`, which the world mode shares),
+and within half that where it would still slide more than the source's plus
+``SLIDING_SLACK_M_S`` (:func:`sliding_kept`).
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.float32 import position_budget, rotation_budget
-from sketchanim.mocap.contacts import CONTACT_SHARE, planted
+from sketchanim.mocap.contacts import CONTACT_SHARE, SLIDING_SLACK_M_S, planted, sliding, unit_m
 from sketchanim.mocap.tracks import FLOAT32, ReducedTrack, curve_bytes, split_path, track_path
 from sketchanim.motion import reduce_rotations
 from sketchanim.motion.kinematics import world_pose
@@ -259,7 +261,8 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
     units), at every frame; and where the source plants an end joint on the ground
     (:func:`~sketchanim.mocap.contacts.planted`), that joint within
     ``CONTACT_SHARE * tol`` of the source in the world on those frames, the joints above
-    it tightened as they need (:func:`tighten`).
+    it tightened as they need (:func:`tighten`; half that where it still slides:
+    :func:`sliding_kept`).
 
     Parameters
     ----------
@@ -294,13 +297,36 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
     held = held_frames(clip, contacts)
     held_chain = on_chains(clip, held.any(axis=0))
     moving = most_moving(clip, held_chain)
-    translations = {int(i): joint_position(clip, int(i), TRANSLATION_SHARE * CONTACT_SHARE * tol / moving
-                                           if held_chain[i] else tol, method)
-                    for i in np.flatnonzero(clip.translating)}
-    angle = np.full(len(clip.skeleton), np.radians(rot_tol_deg))
-    bound = np.where(held, CONTACT_SHARE * tol, np.inf)
-    start, provable = contact_angles(clip, translations, bound, 0.0)
-    return tighten(clip, translations, np.minimum(angle, start), np.minimum(angle, provable), bound, 0.0, method)
+
+    def reduced(share: float) -> ReducedClip:
+        translations = {int(i): joint_position(clip, int(i), TRANSLATION_SHARE * share * tol / moving
+                                               if held_chain[i] else tol, method)
+                        for i in np.flatnonzero(clip.translating)}
+        angle = np.full(len(clip.skeleton), np.radians(rot_tol_deg))
+        bound = np.where(held, share * tol, np.inf)
+        start, provable = contact_angles(clip, translations, bound, 0.0)
+        return tighten(clip, translations, np.minimum(angle, start), np.minimum(angle, provable), bound, 0.0, method)
+
+    return sliding_kept(clip, held, reduced)
+
+
+def sliding_kept(clip: Clip, held: np.ndarray, reduced: Callable[[float], ReducedClip]) -> ReducedClip:
+    """``reduced(CONTACT_SHARE)``, or where its joints planted at ``held`` (n, J) slide
+    more than the source's plus ``SLIDING_SLACK_M_S``
+    (:func:`~sketchanim.mocap.contacts.sliding`), ``reduced(CONTACT_SHARE / 2)``.
+
+    >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
+    >>> clip = Clip.still(s, [0.0, 0.1])
+    >>> asked = []                                  # nothing planted: the first share only
+    >>> out = sliding_kept(clip, np.zeros((2, 1), bool), lambda share: asked.append(share) or reduce_clip(clip, 1, 1))
+    >>> asked == [CONTACT_SHARE]
+    True
+    """
+    out = reduced(CONTACT_SHARE)
+    if held.any() and sliding(clip, out.sample, contacts=held) > (sliding(clip, contacts=held) +
+                                                                  SLIDING_SLACK_M_S / unit_m(clip)):
+        return reduced(CONTACT_SHARE / 2)
+    return out
 
 
 def held_frames(clip: Clip, contacts: np.ndarray | None) -> np.ndarray:

@@ -43,6 +43,9 @@ GROUND_PERCENTILE = 2.0
 FIGURE_M = 1.7
 #: Frames per second :func:`sliding` samples at.
 SLIDING_RATE = 60.0
+#: How much faster than the source's the planted joints of a reduced clip or a compact
+#: file may slide (:func:`sliding`, as played), metres per second.
+SLIDING_SLACK_M_S = 0.01
 #: The up axis (y).
 UP = 1
 
@@ -98,11 +101,43 @@ def planted(clip: Clip, world: np.ndarray | None = None) -> np.ndarray:
     return out
 
 
+def nearest_frames(times: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """For each of the times ``at``, the index of the nearest of ``times`` (at least two,
+    increasing; a time halfway takes the later).
+
+    >>> nearest_frames(np.array([0.0, 1.0, 2.0]), np.array([0.2, 0.5, 1.9, 7.0])).tolist()
+    [0, 1, 2, 2]
+    """
+    nearest = np.clip(np.searchsorted(times, at), 1, len(times) - 1)
+    return nearest - (at - times[nearest - 1] < times[nearest] - at)
+
+
+def planted_steps(times: np.ndarray, held: np.ndarray, rate: float = SLIDING_RATE
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The steps :func:`sliding` measures: sample times ``1 / rate`` s apart from the
+    first frame (m,), and for each step between consecutive samples both at planted
+    frames (the source frame nearest each sample, ``held``: (n, J) of ``times``), its
+    first sample's index and its joint.
+
+    >>> held = np.zeros((5, 2), bool); held[1:4, 1] = True
+    >>> at, first, joint = planted_steps(np.arange(5) / 30, held, 60.0)
+    >>> len(at), first.tolist(), joint.tolist()
+    (9, [1, 2, 3, 4, 5], [1, 1, 1, 1, 1])
+    """
+    if not np.isfinite(rate) or rate <= 0:
+        raise ArgumentError("rate", f"must be a positive number of samples per second, got {rate!r}")
+    if len(times) < 2:
+        return np.asarray(times[:1], float), np.zeros(0, int), np.zeros(0, int)
+    at = times[0] + np.arange(int(np.floor((times[-1] - times[0]) * rate + 1e-9)) + 1) / rate
+    on = held[nearest_frames(times, at)]
+    first, joint = np.nonzero(on[1:] & on[:-1])
+    return at, first, joint
+
+
 def sliding(clip: Clip, sample: Callable[[np.ndarray], Clip] | None = None, *,
             contacts: np.ndarray | None = None, rate: float = SLIDING_RATE) -> float:
     """The median speed (clip units per second) of ``clip``'s planted joints while they
-    are planted, measured between samples ``1 / rate`` s apart both at planted frames
-    (the source frame nearest each sample). ``sample`` gives the motion measured at
+    are planted, over :func:`planted_steps`. ``sample`` gives the motion measured at
     given times (``ReducedClip.sample``, a played file); by default ``clip`` itself,
     its rotations slerped between frames. ``contacts``: :func:`planted` of ``clip``
     where the caller has it. NaN if nothing is planted.
@@ -115,17 +150,10 @@ def sliding(clip: Clip, sample: Callable[[np.ndarray], Clip] | None = None, *,
     >>> round(sliding(clip), 6)
     0.02
     """
-    if not np.isfinite(rate) or rate <= 0:
-        raise ArgumentError("rate", f"must be a positive number of samples per second, got {rate!r}")
     held = planted(clip) if contacts is None else contacts
-    joints = np.flatnonzero(held.any(axis=0))
-    if len(clip.times) < 2 or not joints.size:
+    at, first, joint = planted_steps(clip.times, held, rate)
+    if not len(first):
         return float("nan")
-    at = clip.times[0] + np.arange(int(np.floor((clip.times[-1] - clip.times[0]) * rate + 1e-9)) + 1) / rate
-    nearest = np.clip(np.searchsorted(clip.times, at), 1, len(clip.times) - 1)
-    nearest -= at - clip.times[nearest - 1] < clip.times[nearest] - at
-    on = held[nearest][:, joints]
-    both = on[1:] & on[:-1]
-    moved = (sample(at) if sample is not None else resampled(clip, at)).world_positions()[:, joints]
-    speed = np.linalg.norm(np.diff(moved, axis=0), axis=-1) * rate
-    return float(np.median(speed[both])) if both.any() else float("nan")
+    moved = (sample(at) if sample is not None else resampled(clip, at)).world_positions()
+    speed = np.linalg.norm(moved[first + 1, joint] - moved[first, joint], axis=-1) * rate
+    return float(np.median(speed))

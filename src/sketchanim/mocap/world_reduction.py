@@ -23,8 +23,7 @@ import numpy as np
 
 from sketchanim.errors import ArgumentError
 from sketchanim.mocap.clip_reduction import (TRANSLATION_SHARE, ReducedClip, held_frames, most_moving, contact_angles,
-                                             joint_position, on_chains, tighten)
-from sketchanim.mocap.contacts import CONTACT_SHARE
+                                             joint_position, on_chains, sliding_kept, tighten)
 from sketchanim.motion.skeleton import Clip
 
 #: The largest angle any joint is given, degrees (a joint that reaches nothing, a leaf).
@@ -36,7 +35,8 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "in
     """Reduce ``clip`` so that every joint, and every point ``shell`` from a joint, is
     within the distance ``tol`` (clip units) of the source in the world at every frame,
     and within ``CONTACT_SHARE * tol`` where the source plants an end joint on the ground
-    (``contacts``, by default :func:`~sketchanim.mocap.contacts.planted`).
+    (``contacts``, by default :func:`~sketchanim.mocap.contacts.planted`; half that
+    where it still slides: :func:`~sketchanim.mocap.clip_reduction.sliding_kept`).
 
     Examples
     --------
@@ -57,9 +57,13 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "in
     held = held_frames(clip, contacts)
     held_chain = on_chains(clip, held.any(axis=0))
     share = TRANSLATION_SHARE * tol / most_moving(clip, np.ones(len(clip.skeleton), bool))
-    translations = {int(i): joint_position(clip, int(i), share * (CONTACT_SHARE if held_chain[i] else 1.0), method)
-                    for i in np.flatnonzero(clip.translating)}
-    bound = np.where(held, CONTACT_SHARE * tol, tol)
     cap = np.radians(MAX_ANGLE_DEG)
-    start, provable = contact_angles(clip, translations, bound, shell)
-    return tighten(clip, translations, np.minimum(start, cap), np.minimum(provable, cap), bound, shell, method)
+
+    def reduced(planted_share: float) -> ReducedClip:
+        translations = {int(i): joint_position(clip, int(i), share * (planted_share if held_chain[i] else 1.0), method)
+                        for i in np.flatnonzero(clip.translating)}
+        bound = np.where(held, planted_share * tol, tol)
+        start, provable = contact_angles(clip, translations, bound, shell)
+        return tighten(clip, translations, np.minimum(start, cap), np.minimum(provable, cap), bound, shell, method)
+
+    return sliding_kept(clip, held, reduced)
