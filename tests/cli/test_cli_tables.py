@@ -87,6 +87,24 @@ def test_tum_finds_its_quaternion_and_writes_glb(tmp_path):
     assert angle.max() <= 0.5 * (1 + KEY_SHARE) + 1e-3
 
 
+def test_keys_frames_and_compact_write_a_glb_of_linear_keys(tmp_path):
+    t, x = motion()
+    f = tmp_path / "gt.txt"
+    np.savetxt(f, np.c_[t + 1.3e9, x, quats(t)], header="timestamp tx ty tz qx qy qz qw")
+    sizes = {}
+    for keys in ("curves", "frames", "compact"):
+        out = tmp_path / f"cam.{keys}.glb"
+        res = runner.invoke(app, ["reduce", str(f), "--tol", "0.005", "-o", str(out), "--keys", keys])
+        assert res.exit_code == 0, res.output
+        assert ("LINEAR keys" in res.output) == (keys != "curves") and "glTF keeps float32 times" in res.output
+        doc = gl.GLTF2.load_from_bytes(out.read_bytes())
+        kinds = {doc.animations[0].samplers[c.sampler].interpolation for c in doc.animations[0].channels}
+        assert kinds == ({"CUBICSPLINE"} if keys == "curves" else {"LINEAR"})
+        assert ("EXT_meshopt_compression" in (doc.extensionsRequired or [])) == (keys == "compact")
+        sizes[keys] = out.stat().st_size
+    assert sizes["compact"] < sizes["frames"]
+
+
 def test_scalar_first_quaternions_play_in_glb_and_euler_curves_are_refused(tmp_path):
     t, x = motion()
     q = quats(t)
@@ -212,6 +230,9 @@ def test_text_column_named_and_cols_and_groups(tmp_path):
     (["--duplicates", "last"], ["--duplicates", "error, first, mean"]),
     (["--time-unit", "h"], ["--time-unit", "s, ms, us, ns"]),
     (["--gap", "0.5"], ["--gap"]),
+    (["-o", "{d}/x.json", "--keys", "compact"], ["--keys: compact files are .glb, not .json"]),
+    (["-o", "{d}/x.usda", "--keys", "frames"], ["--keys: frames files are .glb, not .usda"]),
+    (["-o", "{d}/x.glb", "--keys", "bezier"], ["--keys", "curves, frames, compact", "'bezier'"]),
 ])
 def test_bad_arguments_are_refused_before_any_work(tmp_path, args, words):
     t, x = motion(50)

@@ -41,6 +41,7 @@ def clip(tmp_path: Path, name: str = "c.bvh") -> Path:
     (lambda: TableOptions(rate=1e9), "rate"),
     (lambda: TableOptions(time_unit="h"), "time_unit"),
     (lambda: TableOptions(duplicates="last"), "duplicates"),
+    (lambda: TableOptions(keys="bezier"), "keys"),
     (lambda: ClipOptions(rate=5000), "rate"),
     (lambda: ClipOptions(keys="bezier"), "keys"),
     (lambda: ClipOptions(units="furlong"), "units"),
@@ -100,8 +101,8 @@ def test_reduce_clip_file_and_a_folder(tmp_path) -> None:
 
 
 def test_flags_apply_where_the_options_have_the_field() -> None:
-    assert {"plot", "cols", "order", "tol", "rate"} <= INPUT_KINDS["sample table"]
-    assert not {"world", "units", "workers", "keys"} & INPUT_KINDS["sample table"]
+    assert {"plot", "cols", "order", "tol", "rate", "keys"} <= INPUT_KINDS["sample table"]
+    assert not {"world", "units", "workers", "shell_cm"} & INPUT_KINDS["sample table"]
     assert {"world", "units", "keys", "tol", "rate", "output"} <= INPUT_KINDS["clip"]
     assert not {"plot", "order", "workers", "format"} & INPUT_KINDS["clip"]
     assert {"workers", "scheduler", "format", "world"} <= INPUT_KINDS["folder of clips"]

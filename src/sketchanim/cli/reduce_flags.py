@@ -95,11 +95,12 @@ REDUCE_PARAMETERS = [
     _option("gap", float, 0.0, "Tables: also bridge every interval longer than this many median sampling "
             "intervals (0: only jumps and intervals the curve would swing across, always bridged; "
             f"{_range('gap')})."),
-    _option("keys", str, "curves", "Clips as .glb: 'curves' (exact, few keys: three.js, Babylon, our Blender "
-            "add-on), 'frames' (LINEAR keys at every frame or --rate: importers that ignore tangents, such as "
-            "Blender's own) or 'compact' (the smallest file, quantised and meshopt-compressed, that plays every "
-            "joint and every point --shell cm from one within --tol in the world: three.js with its meshopt "
-            "decoder, our Blender add-on)."),
+    _option("keys", str, "curves", "Clips and tables as .glb: 'curves' (exact, few keys: three.js, Babylon, our "
+            "Blender add-on), 'frames' (LINEAR keys at every frame or --rate, a table's at its samples: importers "
+            "that ignore tangents, such as Blender's own) or 'compact' (the smallest file, quantised and "
+            "meshopt-compressed, that plays every joint and every point --shell cm from one within --tol in the "
+            "world, a table's every sample within --tol and --rot-tol-deg: three.js with its meshopt decoder, our "
+            "Blender add-on)."),
 ]
 
 

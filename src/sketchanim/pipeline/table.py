@@ -18,7 +18,7 @@ from sketchanim.formats.quirks import merged, ordered
 from sketchanim.formats.tables import STREAMED, read_table, stream_table, table_format
 from sketchanim.motion import reduce_rotations
 from sketchanim.pipeline.table_options import TableOptions
-from sketchanim.pipeline.table_outputs import Written, check_node, check_outputs, write_outputs
+from sketchanim.pipeline.table_outputs import USD_TABLE, Written, check_node, check_outputs, write_outputs
 from sketchanim.pipeline.table_stream import euler_quaternions, reduce_streamed
 from sketchanim.reducer import Reduction, reduce
 
@@ -193,7 +193,7 @@ def reduce_table(source: str | os.PathLike[str], options: TableOptions, *, outpu
     out = None if output is None else Path(output)
     out = out / (Path(source).stem + ".json") if out is not None and out.is_dir() else out
     figure = None if plot is None else Path(plot)
-    check_outputs(Path(source), out, figure, options.order)
+    check_outputs(Path(source), out, figure, options.order, options.keys)
     fmt = table_format(source, options.format, options.time_col, options.cols)
     if _streams(fmt, options, out, figure):
         result = _reduce_streamed(source, fmt, options, out)
@@ -232,9 +232,12 @@ def _plan(source: str, channels: list[str], orientation: list[str], options: Tab
 def _streams(fmt: str, options: TableOptions, out: Path | None, figure: Path | None) -> bool:
     """Whether the table is reduced while read: the incremental method on a text table,
     unless something needs every sample at once (sorting, the median interval of
-    ``gap``, a USD file or a plot, which take every sample's time)."""
+    ``gap``, a USD file, a plot or a .glb of ``keys`` other than curves, which take every
+    sample's time)."""
+    suffix = "" if out is None else out.suffix.lower()
+    whole = suffix in USD_TABLE or (suffix == ".glb" and options.keys != "curves")
     return (options.method == "incremental" and fmt in STREAMED and options.unordered != "sort" and not options.gap
-            and figure is None and (out is None or out.suffix.lower() in (".json", ".glb")))
+            and figure is None and not whole)
 
 
 def _reduce_streamed(source: str, fmt: str, options: TableOptions, out: Path | None) -> TableReduction | None:

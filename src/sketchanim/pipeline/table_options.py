@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from sketchanim.formats.gltf_frames import KEYS
 from sketchanim.formats.quirks import DUPLICATES, UNORDERED
 from sketchanim.formats.tables import FORMATS
 from sketchanim.formats.time_units import TIME_UNITS
@@ -56,6 +57,12 @@ class TableOptions:
         one more group.
     duplicates, unordered
         Real-data quirks (:mod:`sketchanim.formats.quirks`).
+    keys : {"curves", "frames", "compact"}
+        How a .glb holds the path (:mod:`sketchanim.export.table_gltf`): the curves
+        exactly; the curves as LINEAR keys at the sample times (for importers that
+        ignore tangents); or ``"compact"``, the fewest LINEAR keys picked from the
+        samples, quantised and meshopt-compressed. Either of the last two plays within
+        the tolerance of every sample; they need a .glb output and the table read whole.
 
     ``cols``, ``rot_cols`` and ``groups`` also take text as the command line writes
     them (``"x,y"``, ``"x,y:pressure"``); ``tol`` one number for every channel.
@@ -67,6 +74,9 @@ class TableOptions:
     >>> TableOptions(tol=0.01, window=2)
     Traceback (most recent call last):
     sketchanim.errors.ArgumentError: window: the incremental method's window must be 4 to 1000 knots, got 2
+    >>> TableOptions(tol=0.01, keys="bezier")
+    Traceback (most recent call last):
+    sketchanim.errors.ArgumentError: keys: one of curves, frames, compact, got 'bezier'
     """
 
     tol: tuple[float, ...] | None = None
@@ -91,6 +101,7 @@ class TableOptions:
     duplicates: str = "error"
     unordered: str = "error"
     rate: float | None = None
+    keys: str = "curves"
 
     def __post_init__(self) -> None:
         if self.tol is not None:
@@ -106,6 +117,7 @@ class TableOptions:
         one_of("duplicates", self.duplicates, DUPLICATES)
         one_of("unordered", self.unordered, UNORDERED)
         one_of("format", self.format, FORMATS)
+        one_of("keys", self.keys, KEYS)
         if self.time_unit is not None:
             one_of("time_unit", self.time_unit, tuple(TIME_UNITS))
         object.__setattr__(self, "cols", _names(self.cols))

@@ -42,10 +42,16 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
-def check_outputs(source: Path, output: Path | None, plot: Path | None, order: int) -> None:
+def check_outputs(source: Path, output: Path | None, plot: Path | None, order: int, keys: str = "curves") -> None:
     """Outputs a table can be written as, never the input itself; checked before any
-    work (an :class:`~sketchanim.errors.ArgumentError` naming ``output``, ``plot`` or
-    ``order``)."""
+    work (an :class:`~sketchanim.errors.ArgumentError` naming ``output``, ``plot``,
+    ``order`` or ``keys``: keys other than ``"curves"`` are a .glb's, and only curves
+    written exactly are limited to glTF's orders).
+
+    >>> check_outputs(Path("t.csv"), Path("t.json"), None, 4, "compact")
+    Traceback (most recent call last):
+    sketchanim.errors.ArgumentError: keys: compact files are .glb, not .json
+    """
     if output is not None:
         for path in (output, output.with_name(output.stem + ".rotation.json")):
             if _same_file(source, path):
@@ -55,6 +61,8 @@ def check_outputs(source: Path, output: Path | None, plot: Path | None, order: i
             raise ArgumentError("output", f"a sample table is written as .json (the spline), or .glb or "
                                           f".usd/.usda/.usdc (an animated node), not "
                                           f"{suffix or 'a file without an extension'}")
+        if keys != "curves" and suffix != ".glb":
+            raise ArgumentError("keys", f"{keys} files are .glb, not {suffix}")
         if suffix in USD_TABLE:
             from sketchanim.formats.usd import pxr_modules
 
@@ -62,7 +70,7 @@ def check_outputs(source: Path, output: Path | None, plot: Path | None, order: i
                 pxr_modules()
             except InputError as err:
                 raise ArgumentError("output", str(err)) from None
-        if suffix == ".glb" and order > 4:
+        if suffix == ".glb" and order > 4 and keys == "curves":
             raise ArgumentError("order", f"glTF plays orders 2 to 4, got {order} (write .json for higher orders)")
     if plot is not None:
         from matplotlib.backend_bases import FigureCanvasBase
@@ -98,19 +106,31 @@ def _group_path(path: Path, channels: list[str], part: list[int], k: int) -> Pat
     return path.with_name(f"{path.stem}.{'+'.join(channels[j] for j in part)}{path.suffix}")
 
 
-def _write_glb(path: Path, result: TableReduction, rot_tol_deg: float) -> Written:
-    """One animated node: the position and orientation curves, exactly (scene units as
-    the file's; a clock far from zero moved to start at zero)."""
+#: What each ``keys`` choice writes, as the report says it.
+GLB_KEYS = {"curves": "", "frames": "; LINEAR keys at the sample times",
+            "compact": "; LINEAR keys picked from the samples, quantised and compressed (EXT_meshopt_compression)"}
+
+
+def _write_glb(path: Path, result: TableReduction, rot_tol_deg: float, keys: str = "curves") -> Written:
+    """One animated node: the position and orientation curves, exactly or as ``keys``
+    (keyed against the samples: the table is read whole then; scene units as the file's;
+    a clock far from zero moved to start at zero)."""
     from sketchanim.export.table_gltf import table_glb, table_tracks
 
     first, last = result.span
     origin = first if abs(last) >= GLB_CLOCK else 0.0
+    samples: dict[str, np.ndarray | None] = {}
+    if keys != "curves":
+        assert result.table is not None                 # keys against the samples: the table is read whole
+        values = result.table.values
+        samples = dict(times=result.table.times, positions=values[:, result.parts[0]] if result.parts else None,
+                       orientations=values[:, list(result.rotation_columns)] if result.rotation_columns else None)
     tracks = table_tracks(result.reductions[0] if result.reductions else None, result.rotation, rot_tol_deg,
-                          origin=origin)
-    write_atomic(path, table_glb(tracks, name=path.stem))
-    return Written(path, f"one node, {', '.join(t.path.split('.')[1] for t in tracks)}; the file's units written as "
-                         f"metres" + (f"; times from the first sample, at {origin:.9g} s: glTF keeps float32 times"
-                                      if origin else ""))
+                          origin=origin, **samples)
+    write_atomic(path, table_glb(tracks, name=path.stem, keys=keys))
+    return Written(path, f"one node, {', '.join(t.path.split('.')[1] for t in tracks)}{GLB_KEYS[keys]}; the file's "
+                         f"units written as metres" + (f"; times from the first sample, at {origin:.9g} s: glTF keeps "
+                                                       f"float32 times" if origin else ""))
 
 
 def _write_usd(path: Path, result: TableReduction, rate: float | None) -> Written:
@@ -155,7 +175,7 @@ def write_outputs(result: TableReduction, output: Path | None, plot: Path | None
     written: list[Written] = []
     suffix = output.suffix.lower() if output is not None else ""
     if output is not None and suffix == ".glb":
-        written.append(_write_glb(output, result, options.rot_tol_deg))
+        written.append(_write_glb(output, result, options.rot_tol_deg, options.keys))
     elif output is not None and suffix in USD_TABLE:
         written.append(_write_usd(output, result, options.rate))
     elif output is not None:
