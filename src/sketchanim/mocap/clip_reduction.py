@@ -13,21 +13,22 @@ Where the source plants an end joint on the ground (:mod:`sketchanim.mocap.conta
 the joints above it are tightened until it stays within ``CONTACT_SHARE`` of the
 tolerance in the world on those frames (:func:`tighten`, which the world mode shares),
 and within half that where it would still slide more than the source's plus
-``SLIDING_SLACK_M_S`` (:func:`sliding_kept`).
+``SLIDING_SLACK_M_S``; a clip slower than the rate sliding is seen at is held between
+its frames too (:func:`sliding_kept`).
 """
 
 from __future__ import annotations
 
 import json
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.float32 import position_budget, rotation_budget
-from sketchanim.mocap.contacts import CONTACT_SHARE, SLIDING_SLACK_M_S, planted, sliding, unit_m
+from sketchanim.mocap.contacts import CONTACT_SHARE, SLIDING_SLACK_M_S, between_frames, planted, sliding, unit_m
 from sketchanim.mocap.tracks import FLOAT32, ReducedTrack, curve_bytes, split_path, track_path
 from sketchanim.motion import reduce_rotations
 from sketchanim.motion.kinematics import world_pose
@@ -298,7 +299,7 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
     held_chain = on_chains(clip, held.any(axis=0))
     moving = most_moving(clip, held_chain)
 
-    def reduced(share: float) -> ReducedClip:
+    def reduced(clip: Clip, held: np.ndarray, share: float) -> ReducedClip:
         translations = {int(i): joint_position(clip, int(i), TRANSLATION_SHARE * share * tol / moving
                                                if held_chain[i] else tol, method)
                         for i in np.flatnonzero(clip.translating)}
@@ -310,22 +311,29 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
     return sliding_kept(clip, held, reduced)
 
 
-def sliding_kept(clip: Clip, held: np.ndarray, reduced: Callable[[float], ReducedClip]) -> ReducedClip:
-    """``reduced(CONTACT_SHARE)``, or where its joints planted at ``held`` (n, J) slide
-    more than the source's plus ``SLIDING_SLACK_M_S``
-    (:func:`~sketchanim.mocap.contacts.sliding`), ``reduced(CONTACT_SHARE / 2)``.
+def sliding_kept(clip: Clip, held: np.ndarray, reduced: Callable[[Clip, np.ndarray, float], ReducedClip]
+                 ) -> ReducedClip:
+    """``reduced(clip, held, CONTACT_SHARE)``: ``clip`` reduced with its joints planted at
+    ``held`` (n, J) within that share of the tolerance; or where they then slide more
+    than the source's plus ``SLIDING_SLACK_M_S`` (:func:`~sketchanim.mocap.contacts.sliding`),
+    within half of it. A clip slower than ``SLIDING_RATE`` that plants anything is
+    reduced with samples between its frames (:func:`~sketchanim.mocap.contacts.between_frames`),
+    so that the curves hold the planted joints between frames as well (the result keeps
+    the clip's own frames).
 
     >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
     >>> clip = Clip.still(s, [0.0, 0.1])
     >>> asked = []                                  # nothing planted: the first share only
-    >>> out = sliding_kept(clip, np.zeros((2, 1), bool), lambda share: asked.append(share) or reduce_clip(clip, 1, 1))
+    >>> out = sliding_kept(clip, np.zeros((2, 1), bool), lambda c, h, share: asked.append(share) or reduce_clip(c, 1, 1))
     >>> asked == [CONTACT_SHARE]
     True
     """
-    out = reduced(CONTACT_SHARE)
-    if held.any() and sliding(clip, out.sample, contacts=held) > (sliding(clip, contacts=held) +
-                                                                  SLIDING_SLACK_M_S / unit_m(clip)):
-        return reduced(CONTACT_SHARE / 2)
+    fine, fine_held = between_frames(clip, held)
+    for share in (CONTACT_SHARE, CONTACT_SHARE / 2):
+        out = replace(reduced(fine, fine_held, share), frame_time=clip.frame_time, n_frames=len(clip.times))
+        if not held.any() or sliding(clip, out.sample, contacts=held) <= (sliding(clip, contacts=held) +
+                                                                          SLIDING_SLACK_M_S / unit_m(clip)):
+            break
     return out
 
 

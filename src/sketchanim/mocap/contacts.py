@@ -112,6 +112,28 @@ def nearest_frames(times: np.ndarray, at: np.ndarray) -> np.ndarray:
     return nearest - (at - times[nearest - 1] < times[nearest] - at)
 
 
+def between_frames(clip: Clip, held: np.ndarray, rate: float = SLIDING_RATE) -> tuple[Clip, np.ndarray]:
+    """``clip`` and its planted frames ``held`` (n, J), with samples between its frames
+    at ``rate`` where it is slower and plants anything: the source as :func:`sliding`
+    sees it there (rotations slerped, translations lerped), each sample planted as the
+    frame nearest it. ``clip`` and ``held`` themselves otherwise.
+
+    >>> from sketchanim.motion.skeleton import Skeleton
+    >>> s = Skeleton(("hips", "toe"), (-1, 0), np.array([[0.0, 1.0, 0], [0, -1.0, 0]]))
+    >>> clip = Clip.still(s, np.arange(4) / 30)
+    >>> fine, held = between_frames(clip, np.ones((4, 2), bool))
+    >>> (fine.times * 60).round(6).tolist(), held.shape
+    ([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0], (7, 2))
+    """
+    steps = np.diff(clip.times)
+    if not held.any() or not len(steps) or steps.max() * rate <= 1 + 1e-9:
+        return clip, held
+    parts = np.maximum(np.ceil(steps * rate - 1e-9), 1).astype(int)
+    at = np.concatenate([t + step * np.arange(k) / k for t, step, k in zip(clip.times[:-1], steps, parts)]
+                        + [clip.times[-1:]])
+    return resampled(clip, at), held[nearest_frames(clip.times, at)]
+
+
 def planted_steps(times: np.ndarray, held: np.ndarray, rate: float = SLIDING_RATE
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The steps :func:`sliding` measures: sample times ``1 / rate`` s apart from the

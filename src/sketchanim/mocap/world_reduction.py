@@ -59,7 +59,7 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "in
     share = TRANSLATION_SHARE * tol / most_moving(clip, np.ones(len(clip.skeleton), bool))
     cap = np.radians(MAX_ANGLE_DEG)
 
-    def reduced(planted_share: float) -> ReducedClip:
+    def reduced(clip: Clip, held: np.ndarray, planted_share: float) -> ReducedClip:
         translations = {int(i): joint_position(clip, int(i), share * (planted_share if held_chain[i] else 1.0), method)
                         for i in np.flatnonzero(clip.translating)}
         bound = np.where(held, planted_share * tol, tol)
