@@ -40,7 +40,7 @@ from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, comp
 from sketchanim.mocap.contacts import SLIDING_SLACK_M_S, nearest_frames, planted, planted_steps, unit_m
 from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, most_moving
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG
-from sketchanim.motion.kinematics import world_matrices
+from sketchanim.motion.kinematics import chord, world_matrices
 from sketchanim.motion.rotations import continuous_quaternions
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer.linear_keys import linear_keys, misses, played
@@ -233,8 +233,7 @@ def _world_errors(skeleton: Skeleton, source: tuple[np.ndarray, np.ndarray], rot
     turns, positions = world_matrices(skeleton, rot, trans)
     out = np.linalg.norm(positions - source[1], axis=-1)
     if shell:
-        cos = (np.einsum("njab,njab->nj", turns, source[0]) - 1) / 2       # the trace of one turned back by the other
-        out += 2 * shell * np.sin(np.arccos(np.clip(cos, -1.0, 1.0)) / 2)
+        out += shell * chord(turns, source[0])
     return out, positions
 
 

@@ -24,14 +24,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, InputError
 from sketchanim.float32 import position_budget, rotation_budget
 from sketchanim.mocap.contacts import CONTACT_SHARE, SLIDING_SLACK_M_S, between_frames, planted, sliding, unit_m
 from sketchanim.mocap.tracks import FLOAT32, ReducedTrack, curve_bytes, split_path, track_path
 from sketchanim.motion import reduce_rotations
-from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.kinematics import chord, world_matrices
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer import Reduction, reduce
 from sketchanim.reducer.result import load_versioned
@@ -174,25 +173,24 @@ class ReducedClip:
         return rows
 
     def world_errors(self, clip: Clip, shell: float = 0.0, *,
-                     source: tuple[list[Rotation], np.ndarray] | None = None) -> np.ndarray:
+                     source: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
         """Per frame and joint (n, J), at ``clip``'s times: how far these curves put the
         joint from ``clip``'s in the world, plus the most a point ``shell`` from the joint
         moves by the difference of their world rotations (``2 shell sin(angle / 2)``).
-        ``source``: ``clip``'s :func:`~sketchanim.motion.kinematics.world_pose`, where the
-        caller has it already.
+        ``source``: ``clip``'s :func:`~sketchanim.motion.kinematics.world_matrices`, where
+        the caller has it already.
 
         >>> s = Skeleton(("a",), (-1,), np.zeros((1, 3)))
         >>> clip = Clip.still(s, np.arange(5) / 30)
         >>> float(reduce_clip(clip, 0.1, 0.1).world_errors(clip, 3.0).max())
         0.0
         """
-        source_rot, source_pos = source or world_pose(clip.skeleton, clip.rotations, clip.translations)
+        source_turns, source_pos = source or world_matrices(clip.skeleton, clip.rotations, clip.translations)
         frames = self.sample(clip.times)
-        rot, pos = world_pose(clip.skeleton, frames.rotations, frames.translations)
+        turns, pos = world_matrices(clip.skeleton, frames.rotations, frames.translations)
         out = np.linalg.norm(pos - source_pos, axis=-1)
         if shell:
-            for j in range(len(clip.skeleton)):
-                out[:, j] += 2 * shell * np.sin((rot[j] * source_rot[j].inv()).magnitude() / 2)
+            out += shell * chord(turns, source_turns)
         return out
 
     def to_json(self) -> str:
@@ -437,7 +435,7 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     chains = sk.chains()
     angle = np.array(angle, dtype=float)
     watched = np.isfinite(bound).any(axis=0)
-    source = world_pose(sk, clip.rotations, clip.translations)
+    source = world_matrices(sk, clip.rotations, clip.translations)
     rotations: dict[int, Reduction] = {}
     made: dict[int, float] = {}
     for round in range(ROUNDS + 2):

@@ -66,3 +66,15 @@ def world_matrices(skeleton: Skeleton, rotations: np.ndarray, translations: np.n
             turns[:, i] = turns[:, p] @ local[:, i]
             out[:, i] = out[:, p] + np.einsum("nab,nb->na", turns[:, p], translations[:, i])
     return turns, out
+
+
+def chord(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """How far a point a unit from the origin moves between rotation matrices ``a`` and
+    ``b`` (..., 3, 3) at most: ``2 sin(angle / 2)`` of the turn from one to the other,
+    computed without cancellation for small angles (``|a - b|`` over root 2).
+
+    >>> z = Rotation.from_euler("z", [[0.0], [60.0]], degrees=True).as_matrix()
+    >>> round(float(chord(z[0], z[1])), 12)
+    1.0
+    """
+    return np.sqrt(np.sum((a - b) ** 2, axis=(-2, -1)) / 2)

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sketchanim.errors import ArgumentError
-from sketchanim.motion.kinematics import world_pose
+from sketchanim.motion.kinematics import world_matrices
 
 #: Figure heights (metres) the unit guess accepts: a person standing, within reason.
 FIGURE_HEIGHT_M = (0.9, 2.6)
@@ -194,7 +194,7 @@ class Clip:
 
     def world_positions(self) -> np.ndarray:
         """Joint positions in the world, shape (n, J, 3) (forward kinematics)."""
-        return world_pose(self.skeleton, self.rotations, self.translations)[1]
+        return world_matrices(self.skeleton, self.rotations, self.translations)[1]
 
     def guess_unit_m(self) -> float | None:
         """Metres per clip unit: ``unit_m`` if known, else the unit of :data:`UNITS_M` in
