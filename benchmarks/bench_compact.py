@@ -15,6 +15,9 @@ figure's height), at two bounds on the max world error (0.5 cm and 1 cm):
   translations ``-at`` (the fewest rotation bits within the bound, then for each of a few
   rotation bits above it the fewest translation bits, by bisection). ``-as`` has nothing
   to act on (no scale tracks) and ``-ac`` only keeps tracks;
+- **gltfpack feet kept**: the same search where a file also has to keep the clip's planted
+  feet as ours promises to (their sliding at most the source's plus
+  ``contacts.SLIDING_SLACK_M_S``);
 - **glTF-Transform** (npm 4.x CLI): ``resample --tolerance T`` then ``meshopt --level L``
   (high: its quaternion filter, 16 bits, and exponential filter, 12 bits; medium: no
   filters), or ``resample`` alone; the smallest file within the bound over L and T (T by
@@ -28,7 +31,9 @@ Bytes are whole .glb files (skeleton nodes and animation only). Every file's max
 error is measured the same way (``world_metric``: three.js with its meshopt decoder plays
 it at every source frame; the largest distance of a point 3 cm from each joint along each
 of its local axes, ACL's metric, and of the joints themselves, both in cm), and a file
-counts as within the bound by the first.
+counts as within the bound by the first. Sliding (``world_metric.file_sliding``): the median
+speed of the joints the source plants (``contacts.planted``) over the planted 60 Hz steps
+``contacts.sliding`` measures, as three.js plays the file, cm/s.
 
 CPU: for a peer, the user + system time of its command processes (``RUSAGE_CHILDREN``
 deltas, node's start included; glTF-Transform's two commands summed), median of 3 runs at
@@ -57,9 +62,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 from web_peers import gltf_transform, gltfpack, source_glb  # noqa: E402
-from world_metric import SHELL_M, WorldError, file_world_error  # noqa: E402
+from world_metric import SHELL_M, WorldError, file_sliding, file_world_error  # noqa: E402
 
 from sketchanim.formats.clip_files import read_clip  # noqa: E402
+from sketchanim.mocap.contacts import SLIDING_SLACK_M_S, planted, sliding  # noqa: E402
 from sketchanim.motion.skeleton import Clip, Skeleton  # noqa: E402
 
 BOUNDS_CM = (0.5, 1.0)
@@ -93,6 +99,20 @@ class Peers:
     def __init__(self, clip: Clip, source: Path, folder: Path) -> None:
         self.clip, self.source, self.folder = clip, source, folder
         self.trials: dict[tuple, Trial] = {}
+        self.held = planted(clip)
+        self.source_sliding = 100 * sliding(clip, contacts=self.held) * clip.unit_m if self.held.any() else math.nan
+        self.slid: dict[Path, float] = {}
+
+    def sliding(self, path: Path) -> float:
+        """How much the clip's planted joints slide in the file ``path``, cm/s (cached)."""
+        if path not in self.slid:
+            self.slid[path] = file_sliding(self.clip, path, self.held)
+        return self.slid[path]
+
+    def feet_kept(self, trial: Trial) -> bool:
+        """Whether ``trial``'s planted joints slide no more than the source's plus
+        ``SLIDING_SLACK_M_S`` (true where nothing is planted)."""
+        return not self.held.any() or self.sliding(trial.path) <= self.source_sliding + 100 * SLIDING_SLACK_M_S
 
     def _measure(self, key: tuple, settings: str, make: Callable[[Path], None]) -> Trial:
         if key not in self.trials:
@@ -150,19 +170,21 @@ def fewest(lo: int, hi: int, ok: Callable[[int], bool]) -> int | None:
     return hi
 
 
-def best_gltfpack(peers: Peers, bound: float) -> Trial | None:
-    """gltfpack's smallest file within ``bound`` (cm, ACL's metric): its settings searched
-    at the first of :data:`LEVELS` (for each rate in :data:`RATES`: the fewest rotation
-    bits within the bound with 24 translation bits, then for it and up to
-    :data:`ROTATION_STEPS` more rotation bits the fewest translation bits), the other
-    levels tried at the best settings found."""
+def best_gltfpack(peers: Peers, bound: float, feet: bool = False) -> Trial | None:
+    """gltfpack's smallest file within ``bound`` (cm, ACL's metric), and with ``feet``
+    whose planted joints slide no more than the source's plus the slack
+    (:meth:`Peers.feet_kept`): its settings searched at the first of :data:`LEVELS` (for
+    each rate in :data:`RATES`: the fewest rotation bits within the bound with 24
+    translation bits, then for it and up to :data:`ROTATION_STEPS` more rotation bits the
+    fewest translation bits), the other levels tried at the best settings found."""
     within: list[Trial] = []
 
     def ok(level: str, rate: int, rot: int, trans: int) -> bool:
         trial = peers.gltfpack(level, rate, rot, trans)
-        if trial.error.point_cm <= bound:
+        good = trial.error.point_cm <= bound and (not feet or peers.feet_kept(trial))
+        if good:
             within.append(trial)
-        return trial.error.point_cm <= bound
+        return good
 
     level = LEVELS[0]
     for rate in RATES:
@@ -256,12 +278,14 @@ class Row:
     source_cpu: float
     source_error: WorldError
     gltfpack: Trial | None = None
+    gltfpack_feet: Trial | None = None
     gltfpack_cpu: float = math.nan
     transform: Trial | None = None
     transform_cpu: float = math.nan
     ours_size: int | None = None
     ours_cpu: float = math.nan
     ours_error: WorldError | None = None
+    sliding: tuple[float, float, float, float] = (math.nan,) * 4   # source, gltfpack, gltfpack feet kept, ours
     trials: int = 0
 
 
@@ -281,6 +305,7 @@ def clip_rows(path: Path, folder: Path, ours: Callable[..., bytes] | None, conso
         row = Row(path.stem, len(clip.times), sum(len(c) for c in clip.channels), raw_bytes(clip), source.stat().st_size,
                   source_cpu, source_error)
         row.gltfpack = best_gltfpack(peers, bound)
+        row.gltfpack_feet = best_gltfpack(peers, bound, feet=True)
         row.transform = best_transform(peers, bound)
         row.trials = len(peers.trials)
         if row.gltfpack:
@@ -294,6 +319,10 @@ def clip_rows(path: Path, folder: Path, ours: Callable[..., bytes] | None, conso
                                              for _ in range(RUNS))
             row.ours_size = out.stat().st_size
             row.ours_error = file_world_error(clip, out)
+        if peers.held.any():
+            row.sliding = (peers.source_sliding, *(peers.sliding(t.path) if t else math.nan
+                                                   for t in (row.gltfpack, row.gltfpack_feet)),
+                           peers.sliding(folder / "ours.glb") if ours is not None else math.nan)
         console.log(f"{path.stem} at {bound} cm: {row.trials} peer files so far, {time.perf_counter() - start:.0f} s")
         rows.append(row)
     return rows
@@ -332,19 +361,23 @@ def print_tables(rows: list[Row], have_ours: bool, startup: tuple[float, float],
     for bound in BOUNDS_CM:
         at = rows[BOUNDS_CM.index(bound)::len(BOUNDS_CM)]
         size = Table(title=f"bytes (kB) within {bound} cm max world error (ACL's metric: points 3 cm from each joint)")
-        for col in ("clip", "frames x ch", "raw f32", "source", "gltfpack", "glTF-T", "ours", "ours / gltfpack",
-                    "ours / glTF-T", "raw / gltfpack", "raw / glTF-T", "raw / ours"):
+        for col in ("clip", "frames x ch", "raw f32", "source", "gltfpack", "gltfpack feet kept", "glTF-T", "ours",
+                    "ours / gltfpack", "ours / gltfpack feet kept", "ours / glTF-T", "raw / gltfpack", "raw / glTF-T",
+                    "raw / ours"):
             size.add_column(col, justify="left" if col == "clip" else "right")
-        sizes = {k: _sum([getattr(r, k).size if getattr(r, k) else None for r in at]) for k in ("gltfpack", "transform")}
+        sizes = {k: _sum([getattr(r, k).size if getattr(r, k) else None for r in at])
+                 for k in ("gltfpack", "gltfpack_feet", "transform")}
         ours = _sum([r.ours_size for r in at])
         for r in [*at, None]:
             name, frames, raw, source = (r.name, f"{r.frames} x {r.channels}", r.raw, r.source) if r else (
                 "total", "", sum(r.raw for r in at), sum(r.source for r in at))
             pack = (r.gltfpack.size if r.gltfpack else None) if r else sizes["gltfpack"]
+            feet = (r.gltfpack_feet.size if r.gltfpack_feet else None) if r else sizes["gltfpack_feet"]
             trans = (r.transform.size if r.transform else None) if r else sizes["transform"]
             mine = r.ours_size if r else ours
-            size.add_row(name, frames, _kb(raw), _kb(source), _kb(pack), _kb(trans), _kb(mine), _ratio(mine, pack),
-                         _ratio(mine, trans), _ratio(raw, pack, 1), _ratio(raw, trans, 1), _ratio(raw, mine, 1))
+            size.add_row(name, frames, _kb(raw), _kb(source), _kb(pack), _kb(feet), _kb(trans), _kb(mine),
+                         _ratio(mine, pack), _ratio(mine, feet), _ratio(mine, trans), _ratio(raw, pack, 1),
+                         _ratio(raw, trans, 1), _ratio(raw, mine, 1))
         console.print(size)
         cpu = Table(title=f"CPU seconds within {bound} cm (peers: their processes, node's start included, "
                           f"median of {RUNS}; ours: in-process)")
@@ -365,13 +398,21 @@ def print_tables(rows: list[Row], have_ours: bool, startup: tuple[float, float],
             err.add_row(r.name, _err(r.source_error), _err(r.gltfpack.error if r.gltfpack else None),
                         _err(r.transform.error if r.transform else None), _err(r.ours_error))
         console.print(err)
+        slide = Table(title=f"planted joints' sliding, cm/s (median speed over planted 60 Hz steps, as three.js plays "
+                            f"each file), within {bound} cm; feet kept: at most the source's + "
+                            f"{100 * SLIDING_SLACK_M_S:g}")
+        for col in ("clip", "source", "gltfpack", "gltfpack feet kept", "ours"):
+            slide.add_column(col, justify="left" if col == "clip" else "right")
+        for r in at:
+            slide.add_row(r.name, *(f"{v:.2f}" if v == v else "-" for v in r.sliding))
+        console.print(slide)
     best = Table(title="the peers' best settings (smallest file within the bound); files: peer files made and measured "
                        "for the clip by then (shared by the bounds)")
-    for col in ("clip", "bound cm", "gltfpack", "glTF-Transform", "files"):
+    for col in ("clip", "bound cm", "gltfpack", "gltfpack feet kept", "glTF-Transform", "files"):
         best.add_column(col)
     for r, bound in zip(rows, BOUNDS_CM * (len(rows) // len(BOUNDS_CM))):
-        best.add_row(r.name, f"{bound}", r.gltfpack.settings if r.gltfpack else "none within",
-                     r.transform.settings if r.transform else "none within", str(r.trials))
+        best.add_row(r.name, f"{bound}", *(t.settings if t else "none within"
+                                           for t in (r.gltfpack, r.gltfpack_feet, r.transform)), str(r.trials))
     console.print(best)
     if not have_ours:
         console.print("ours: not available (sketchanim.export.compact_clip.compact_clip_glb cannot be imported)")

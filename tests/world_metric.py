@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from sketchanim.mocap.contacts import planted_steps
 from sketchanim.motion.kinematics import world_pose
 from sketchanim.motion.skeleton import Clip
 from threejs_client import three_play_world
@@ -92,6 +93,19 @@ def world_error(clip: Clip, played: dict[str, dict[str, np.ndarray]], file_unit_
     joint = np.linalg.norm(got_p - positions, axis=-1).max()
     point = np.linalg.norm(shell_points(got_q, got_p) - shell_points(quaternions, positions), axis=-1).max()
     return WorldError(100 * float(joint), 100 * float(point))
+
+
+def file_sliding(clip: Clip, glb: Path, held: np.ndarray, file_unit_m: float = 1.0) -> float:
+    """How much the joints of ``clip`` planted at ``held`` (n, J) slide as three.js plays
+    the .glb ``glb``, cm/s: their median speed over the steps
+    :func:`sketchanim.mocap.contacts.sliding` measures (NaN where nothing is planted)."""
+    at, first, joint = planted_steps(clip.times, held)
+    if not len(first):
+        return float("nan")
+    played = three_play_world(glb, at)
+    positions = np.stack([played[n]["position"] for n in clip.skeleton.names], axis=1) * file_unit_m
+    speed = np.linalg.norm(positions[first + 1, joint] - positions[first, joint], axis=-1) / np.diff(at)[first]
+    return 100 * float(np.median(speed))
 
 
 def file_world_error(clip: Clip, glb: Path, file_unit_m: float = 1.0) -> WorldError:

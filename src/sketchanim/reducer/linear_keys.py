@@ -70,11 +70,14 @@ def played(times: np.ndarray, held: np.ndarray, keep: np.ndarray, rotation: bool
     >>> played(t, np.c_[t, t][None], keep, False)[0, :, 0].tolist()
     [0.0, 1.0, 2.0, 3.0, 4.0]
     """
-    rows, frames = np.indices(keep.shape).reshape(2, -1)
-    left, right = _ends(keep)
-    out = _played(np.asarray(times, float), np.asarray(held, float), rows, frames, left.ravel(), right.ravel(),
-                  rotation)
-    return out.reshape(*keep.shape, *out.shape[1:])
+    held = np.asarray(held, float)
+    out = np.repeat(held[..., None, :], 2, axis=-2) if rotation else held.copy()   # a key plays as held
+    rows, frames = np.nonzero(~keep)
+    if len(rows):
+        left, right = _ends(keep)
+        out[rows, frames] = _played(np.asarray(times, float), held, rows, frames, left[rows, frames],
+                                    right[rows, frames], rotation)
+    return out
 
 
 def misses(times: np.ndarray, values: np.ndarray, held: np.ndarray, keep: np.ndarray, rotation: bool) -> np.ndarray:
@@ -87,11 +90,17 @@ def misses(times: np.ndarray, values: np.ndarray, held: np.ndarray, keep: np.nda
     >>> misses(t, v, v, np.array([[True, False, True]]), False).tolist()
     [[0.0, 1.0, 0.0]]
     """
-    rows, frames = np.indices(keep.shape).reshape(2, -1)
-    left, right = _ends(keep)
-    out = _errors(np.asarray(times, float), np.asarray(values, float), np.asarray(held, float), rows, frames,
-                  left.ravel(), right.ravel(), rotation)
-    return out.reshape(keep.shape)
+    values, held = np.asarray(values, float), np.asarray(held, float)
+    out = np.zeros(keep.shape)
+    rows, frames = np.nonzero(keep)               # a key plays as held
+    out[rows, frames] = (rotation_angle(held[rows, frames], values[rows, frames]) if rotation else
+                         np.linalg.norm(held[rows, frames] - values[rows, frames], axis=-1))
+    rows, frames = np.nonzero(~keep)
+    if len(rows):
+        left, right = _ends(keep)
+        out[rows, frames] = _errors(np.asarray(times, float), values, held, rows, frames, left[rows, frames],
+                                    right[rows, frames], rotation)
+    return out
 
 
 def linear_keys(times: np.ndarray, values: np.ndarray, bound: np.ndarray, *, held: np.ndarray | None = None,
