@@ -65,8 +65,9 @@ ROUNDS = 6
 #: ``tol``), in turn, until one keeps the planted joints' sliding within the slack of the
 #: source's; the last is taken regardless. Sliding is a speed, so the bound that keeps it
 #: is a distance whatever ``tol`` is: 1.5 mm kept it on every clip of the project's shared
-#: data at 0.5 and 1 cm; 2 mm kept it on half of them.
-PLANTED_M = (0.0015, 0.00075)
+#: data at 0.5 and 1 cm (2 mm on half of them); generated walks, whose source does not
+#: slide at all, take 0.75 mm.
+PLANTED_M = (0.0015, 0.00075, 0.000375)
 
 #: Key times per track, or one array for the whole skeleton.
 SHARING = ("track", "skeleton")

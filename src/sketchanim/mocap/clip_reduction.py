@@ -12,8 +12,8 @@ tolerance less what that can move the curve.
 Where the source plants an end joint on the ground (:mod:`sketchanim.mocap.contacts`),
 the joints above it are tightened until it stays within ``CONTACT_SHARE`` of the
 tolerance in the world on those frames (:func:`tighten`, which the world mode shares),
-and within half that where it would still slide more than the source's plus
-``SLIDING_SLACK_M_S``; a clip slower than the rate sliding is seen at is held between
+and within half that (then a quarter) where it would still slide more than the source's
+plus ``SLIDING_SLACK_M_S``; a clip slower than the rate sliding is seen at is held between
 its frames too (:func:`sliding_kept`).
 """
 
@@ -260,7 +260,7 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
     units), at every frame; and where the source plants an end joint on the ground
     (:func:`~sketchanim.mocap.contacts.planted`), that joint within
     ``CONTACT_SHARE * tol`` of the source in the world on those frames, the joints above
-    it tightened as they need (:func:`tighten`; half that where it still slides:
+    it tightened as they need (:func:`tighten`; less where it still slides:
     :func:`sliding_kept`).
 
     Parameters
@@ -313,11 +313,12 @@ def sliding_kept(clip: Clip, held: np.ndarray, reduced: Callable[[Clip, np.ndarr
                  ) -> ReducedClip:
     """``reduced(clip, held, CONTACT_SHARE)``: ``clip`` reduced with its joints planted at
     ``held`` (n, J) within that share of the tolerance; or where they then slide more
-    than the source's plus ``SLIDING_SLACK_M_S`` (:func:`~sketchanim.mocap.contacts.sliding`),
-    within half of it. A clip slower than ``SLIDING_RATE`` that plants anything is
-    reduced with samples between its frames (:func:`~sketchanim.mocap.contacts.between_frames`),
-    so that the curves hold the planted joints between frames as well (the result keeps
-    the clip's own frames).
+    than the source's plus ``SLIDING_SLACK_M_S``
+    (:func:`~sketchanim.mocap.contacts.sliding`), within half of it, then a quarter (taken
+    regardless). A clip slower than ``SLIDING_RATE`` that plants anything is reduced with
+    samples between its frames (:func:`~sketchanim.mocap.contacts.between_frames`), so that
+    the curves hold the planted joints between frames as well (the result keeps the
+    clip's own frames).
 
     >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
     >>> clip = Clip.still(s, [0.0, 0.1])
@@ -327,7 +328,7 @@ def sliding_kept(clip: Clip, held: np.ndarray, reduced: Callable[[Clip, np.ndarr
     True
     """
     fine, fine_held = between_frames(clip, held)
-    for share in (CONTACT_SHARE, CONTACT_SHARE / 2):
+    for share in (CONTACT_SHARE, CONTACT_SHARE / 2, CONTACT_SHARE / 4):
         out = replace(reduced(fine, fine_held, share), frame_time=clip.frame_time, n_frames=len(clip.times))
         if not held.any() or sliding(clip, out.sample, contacts=held) <= (sliding(clip, contacts=held) +
                                                                           SLIDING_SLACK_M_S / unit_m(clip)):

@@ -35,7 +35,7 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "in
     """Reduce ``clip`` so that every joint, and every point ``shell`` from a joint, is
     within the distance ``tol`` (clip units) of the source in the world at every frame,
     and within ``CONTACT_SHARE * tol`` where the source plants an end joint on the ground
-    (``contacts``, by default :func:`~sketchanim.mocap.contacts.planted`; half that
+    (``contacts``, by default :func:`~sketchanim.mocap.contacts.planted`; less
     where it still slides: :func:`~sketchanim.mocap.clip_reduction.sliding_kept`).
 
     Examples
