@@ -21,6 +21,7 @@ from sketchanim.formats.tables import TableStream, stream_table
 from sketchanim.motion import continuous_quaternions
 from sketchanim.pipeline import TableOptions, reduce_table
 from sketchanim.pipeline.table import TableReduction
+from sketchanim.pipeline import table_stream
 from sketchanim.pipeline.table_stream import reduce_streamed
 
 
@@ -184,7 +185,7 @@ def _take_block(rows: int) -> SampleTable:
     return SampleTable(np.round(t, 3), np.round(x, 6), ["x", "y", "z"], 2)
 
 
-def _traced_peak(block: SampleTable, chunk_rows: int) -> int:
+def _traced_peak(block: SampleTable) -> int:
     """Peak of the Python allocations (numpy's included) while ``block`` is reduced
     through :func:`reduce_streamed`, above what was allocated before (the block itself)."""
     options = TableOptions(tol=1e-3, method="incremental")
@@ -193,7 +194,7 @@ def _traced_peak(block: SampleTable, chunk_rows: int) -> int:
     try:
         base = tracemalloc.get_traced_memory()[0]
         done = reduce_streamed(TableStream(["x", "y", "z"], (), ("generated",), iter([block])), options, "generated",
-                               [[0, 1, 2]], [np.full(3, 1e-3)], [], chunk_rows=chunk_rows)
+                               [[0, 1, 2]], [np.full(3, 1e-3)], [])
         peak = tracemalloc.get_traced_memory()[1] - base
     finally:
         tracemalloc.stop()
@@ -201,15 +202,16 @@ def _traced_peak(block: SampleTable, chunk_rows: int) -> int:
     return peak
 
 
-def test_streamed_memory_is_flat_in_the_rows_whatever_the_blocks() -> None:
+def test_streamed_memory_is_flat_in_the_rows_whatever_the_blocks(monkeypatch) -> None:
     """A source that yields big blocks (bench_read's generated rows, 1M a block) is
-    reduced ``chunk_rows`` rows at a time: the peak of what the reduction allocates
-    stays that of a chunk and of the curve, flat from N to 4N rows given as one block.
-    (Before, every pass over a block allocated in proportion to its rows, and the
-    feature detector's store kept twice the largest block: about 0.5 kB per row of a
-    block, so 60,000 more rows cost some 30 MB.) The bound is on traced allocations,
-    not on resident memory: the same on a loaded machine; the curve's own growth over
-    the 60,000 rows is about 12 kB and a chunk's work the same for both sizes."""
-    _traced_peak(_take_block(5_000), 4096)                        # kernels loaded, caches warm
-    small, large = (_traced_peak(_take_block(n), 4096) for n in (20_000, 80_000))
+    reduced a reader's chunk (``CHUNK_ROWS``) at a time: the peak of what the reduction
+    allocates stays that of a chunk and of the curve, flat from N to 4N rows given as one
+    block. (Before, every pass over a block allocated in proportion to its rows, and the
+    feature detector's store kept twice the largest block: 22 MB more from 20,000 to
+    80,000 rows; now 20 kB.) The bound is on traced allocations, not on resident memory,
+    so it is the same on a loaded machine; the curve's own growth over the 60,000 rows is
+    about 12 kB, and a chunk's work is the same for both sizes."""
+    monkeypatch.setattr(table_stream, "CHUNK_ROWS", 4096, raising=False)   # the reader's chunk, small
+    _traced_peak(_take_block(5_000))                              # kernels loaded, caches warm
+    small, large = (_traced_peak(_take_block(n)) for n in (20_000, 80_000))
     assert large - small < 1_000_000, (small, large)

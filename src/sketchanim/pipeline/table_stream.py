@@ -321,17 +321,18 @@ def sliced(blocks: Iterable[SampleTable], rows: int) -> Iterator[SampleTable]:
 
 
 def reduce_streamed(stream: TableStream, options: TableOptions, source: str, parts: list[list[int]],
-                    tols: list[np.ndarray], rot: list[int], *, chunk_rows: int = CHUNK_ROWS) -> Streamed:
+                    tols: list[np.ndarray], rot: list[int], *, chunk_rows: int | None = None) -> Streamed:
     """Reduce a table read in chunks: each channel group ``parts`` (column indices) at
     its tolerances ``tols``, and the rotation columns ``rot``, as
     :func:`~sketchanim.pipeline.reduce_table` reduces the whole table with
     ``method="incremental"``.
 
-    Blocks longer than ``chunk_rows`` are taken ``chunk_rows`` rows at a time: what the
-    reduction allocates is proportional to the rows it takes at once (the quirks' and
-    the jumps' passes, the feature detector's look-ahead store, which keeps the size of
-    the largest batch), so memory is bounded by ``chunk_rows`` and the curves whatever
-    blocks the source yields; the curves do not depend on the blocks' sizes.
+    Blocks longer than ``chunk_rows`` (default :data:`CHUNK_ROWS`, the reader's chunk)
+    are taken ``chunk_rows`` rows at a time: what the reduction allocates is in proportion
+    to the rows it takes at once (the quirks' and the jumps' passes, the feature
+    detector's look-ahead store, which keeps the size of the largest batch), so memory is
+    bounded by ``chunk_rows`` and the curves whatever blocks the source yields; the curves
+    do not depend on the blocks' sizes.
 
     Examples
     --------
@@ -350,7 +351,7 @@ def reduce_streamed(stream: TableStream, options: TableOptions, source: str, par
     rotation = _RotationStream(rot, options, source) if rot else None
     rows = 0
     span = [np.nan, np.nan]
-    for block in chain(sliced(stream.blocks, chunk_rows), [None]):
+    for block in chain(sliced(stream.blocks, CHUNK_ROWS if chunk_rows is None else chunk_rows), [None]):
         table = resolver.push(block) if block is not None else resolver.flush()
         if table is None or not len(table.times):
             continue
