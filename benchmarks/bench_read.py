@@ -9,9 +9,10 @@ when something needs every sample at once), reduced while read (the path the
 incremental method takes on a text table), and, with ``--baseline-src``, the whole
 ``reduce_table`` of another source tree (an older commit's ``src``, e.g. from ``git
 archive COMMIT src | tar -x -C DIR``). Row counts above ``--file-max`` are not written
-to disk: generated blocks of the same take are fed to
-:func:`sketchanim.pipeline.table_stream.reduce_streamed`, which measures everything but
-the text parsing (the reader's own row, above, gives the parsing's cost).
+to disk: generated blocks of the same take, as many rows a block as the reader's chunks,
+are fed to :func:`sketchanim.pipeline.table_stream.reduce_streamed`, which measures
+everything but the text parsing (the reader's own row, above, gives the parsing's
+cost).
 
 Each measurement runs in its own process, so its peak resident memory (``ru_maxrss``)
 is its own; "above start" subtracts the process's memory after its imports and a
@@ -36,8 +37,10 @@ from rich.table import Table
 
 REPO = Path(__file__).resolve().parents[1]
 CACHE = Path(os.environ.get("SKETCHANIM_BENCH_CACHE", REPO / ".cache" / "bench_read"))
-#: Rows per generated block (the take of :func:`take_blocks`).
-BLOCK = 1_000_000
+#: Rows per generated block (the take of :func:`take_blocks`): the reader's chunk
+#: (``sketchanim.formats.csvio.CHUNK_ROWS``), so that generated rows are reduced in the
+#: blocks a file's rows are (the take is the same whatever the block).
+BLOCK = 1 << 18
 
 
 def take_blocks(rows: int):

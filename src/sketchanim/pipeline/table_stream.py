@@ -17,7 +17,8 @@ the streams' own, measured at every sample.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field, replace
 from itertools import chain
 
 import numpy as np
@@ -25,7 +26,7 @@ from scipy.interpolate import BSpline
 from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, InputError, SampleError
-from sketchanim.formats.csvio import SampleTable
+from sketchanim.formats.csvio import CHUNK_ROWS, SampleTable
 from sketchanim.formats.quirks import Resolver
 from sketchanim.formats.tables import TableStream
 from sketchanim.motion import continuous_quaternions, euler_angles
@@ -301,12 +302,37 @@ class Streamed:
                                                                                    else ()))
 
 
+def sliced(blocks: Iterable[SampleTable], rows: int) -> Iterator[SampleTable]:
+    """The rows of ``blocks``, in blocks of at most ``rows`` (views, not copies).
+
+    >>> b = SampleTable(np.arange(5.0), np.zeros((5, 1)), ["x"], 2)
+    >>> [(s.times.tolist(), s.lines) for s in sliced([b], 2)]
+    [([0.0, 1.0], 2), ([2.0, 3.0], 4), ([4.0], 6)]
+    """
+    for block in blocks:
+        n = len(block.times)
+        if n <= rows:
+            yield block
+            continue
+        step = isinstance(block.lines, (int, np.integer))
+        for a in range(0, n, rows):
+            yield replace(block, times=block.times[a : a + rows], values=block.values[a : a + rows],
+                          lines=int(block.lines) + a if step else block.lines[a : a + rows])
+
+
 def reduce_streamed(stream: TableStream, options: TableOptions, source: str, parts: list[list[int]],
-                    tols: list[np.ndarray], rot: list[int]) -> Streamed:
+                    tols: list[np.ndarray], rot: list[int], *, chunk_rows: int | None = None) -> Streamed:
     """Reduce a table read in chunks: each channel group ``parts`` (column indices) at
     its tolerances ``tols``, and the rotation columns ``rot``, as
     :func:`~sketchanim.pipeline.reduce_table` reduces the whole table with
     ``method="incremental"``.
+
+    Blocks longer than ``chunk_rows`` (default :data:`CHUNK_ROWS`, the reader's chunk)
+    are taken ``chunk_rows`` rows at a time: what the reduction allocates is in proportion
+    to the rows it takes at once (the quirks' and the jumps' passes, the feature
+    detector's look-ahead store, which keeps the size of the largest batch), so memory is
+    bounded by ``chunk_rows`` and the curves whatever blocks the source yields; the curves
+    do not depend on the blocks' sizes.
 
     Examples
     --------
@@ -325,7 +351,7 @@ def reduce_streamed(stream: TableStream, options: TableOptions, source: str, par
     rotation = _RotationStream(rot, options, source) if rot else None
     rows = 0
     span = [np.nan, np.nan]
-    for block in chain(stream.blocks, [None]):
+    for block in chain(sliced(stream.blocks, CHUNK_ROWS if chunk_rows is None else chunk_rows), [None]):
         table = resolver.push(block) if block is not None else resolver.flush()
         if table is None or not len(table.times):
             continue
