@@ -88,6 +88,7 @@ def compact_table(report: CompactReport, row: ClipOutcome) -> Table:
                          ("bits", bits or "none"),
                          ("largest world error of the decoded values alone", f"{report.quantisation_error:.4g}"),
                          ("largest world error as played", f"{report.max_world_error:.4g}"),
+                         ("kept under the tolerance for float32", f"{report.float32_margin:.3g}"),
                          ("largest rotation error (deg)", f"{report.max_rotation_error_deg:.4f}"),
                          ("joint frames held on the ground / their bound / their largest world error",
                           f"{report.planted:,} / {report.planted_bound:.4g} / {report.planted_error:.4g}"),

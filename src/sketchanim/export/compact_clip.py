@@ -90,6 +90,9 @@ class CompactReport:
     max_world_error : float
         The largest world error of what plays, at every frame, clip units, as computed
         in float64 (it is kept a float32 margin under ``tol``).
+    float32_margin : float
+        The most a client's float32 (key times, values, arithmetic) may add to a world
+        error at any frame: what is kept under ``tol`` for it there, clip units.
     max_rotation_error_deg, max_position_error : float
         The largest error of any joint's rotation (degrees) and translation (clip
         units) at the frames, as played.
@@ -117,6 +120,7 @@ class CompactReport:
     translation_bits: tuple[int, ...]
     quantisation_error: float
     max_world_error: float
+    float32_margin: float
     max_rotation_error_deg: float
     max_position_error: float
     frames: int
@@ -292,8 +296,10 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
         if sharing is None and s == "track" and best.report.keys > SPARSE * best.report.frames * best.report.tracks:
             break                                    # keys at most frames: one time array is the smaller file
         for bound in bounds[bounds.index(best.report.planted_bound):] if best else bounds:
-            world_bound = _budget(clip, source, np.where(still, bound, float(tol)), shell)
-            made = _compact(clip, source, float(tol), world_bound, still, steps, bound, shell, s, mesh, name)
+            asked = np.where(still, bound, float(tol))
+            world_bound = _budget(clip, source, asked, shell)
+            made = _compact(clip, source, float(tol), world_bound, float((asked - world_bound).max(initial=0.0)),
+                            still, steps, bound, shell, s, mesh, name)
             if not made.report.sliding or made.report.sliding[1] <= made.report.sliding[0] + SLIDING_SLACK_M_S * metre:
                 break
         best = made if best is None or len(made.glb) < len(best.glb) else best
@@ -361,13 +367,13 @@ def _sliding(clip: Clip, steps: tuple[np.ndarray, np.ndarray, np.ndarray], *posi
     return float(np.median(moved / (clip.times[g] - clip.times[f])))
 
 
-def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, world_bound: np.ndarray,
+def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, world_bound: np.ndarray, margin: float,
              still: np.ndarray, steps: tuple[np.ndarray, np.ndarray, np.ndarray], planted_bound: float, shell: float,
              sharing: str, mesh: bool, name: str) -> CompactClip:
     """The compact file with key times shared as ``sharing`` says, every joint within
     ``world_bound`` (n, J) in the world at every frame (the budget of ``tol``, of
-    ``planted_bound`` where ``still`` holds it on the ground), and its planted
-    ``steps``' sliding."""
+    ``planted_bound`` where ``still`` holds it on the ground, less float32's ``margin``
+    at most), and its planted ``steps``' sliding."""
     sk = clip.skeleton
     n = len(clip.times)
     chains = sk.chains()
@@ -418,7 +424,7 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, worl
             _tighten(tracks, now)
     sliding = ((_sliding(clip, steps, source[1]), _sliding(clip, steps, played[0][1], played[1][1]))
                if len(steps[0]) else ())
-    return _written(clip, source, rotations, translations, errors, tol, still, planted_bound, sliding, shell,
+    return _written(clip, source, rotations, translations, errors, margin, tol, still, planted_bound, sliding, shell,
                     sharing, mesh, name)
 
 
@@ -458,8 +464,8 @@ def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
 
 
 def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Tracks, translations: _Tracks,
-             errors: np.ndarray, tol: float, still: np.ndarray, planted_bound: float, sliding: tuple[float, ...],
-             shell: float, sharing: str, mesh: bool, name: str) -> CompactClip:
+             errors: np.ndarray, margin: float, tol: float, still: np.ndarray, planted_bound: float,
+             sliding: tuple[float, ...], shell: float, sharing: str, mesh: bool, name: str) -> CompactClip:
     """The .glb of the keyed tracks, and its report (``still``: the frames and joints held
     on the ground, within ``planted_bound`` there, sliding as ``sliding`` says)."""
     sk = clip.skeleton
@@ -488,7 +494,7 @@ def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Trac
     glb = compact_glb(nodes, channels, animation=name, unit_m=clip.unit_m, **extra)
     quantisation = _quantisation_error(clip, source, rotations, translations, shell)
     report = CompactReport(tol, float(shell), JOINT_QUANTISATION_SHARE, _range(rotations), _range(translations),
-                           quantisation, float(errors.max(initial=0.0)),
+                           quantisation, float(errors.max(initial=0.0)), margin,
                            float(np.degrees(rotations.error.max(initial=0.0))),
                            float(translations.error.max(initial=0.0)),
                            len(clip.times),
