@@ -60,12 +60,10 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "in
     cap = np.radians(MAX_ANGLE_DEG)
 
     def reduced(clip: Clip, held: np.ndarray, planted_share: float) -> ReducedClip:
-        translations = {int(i): joint_position(clip, int(i), share * (planted_share if held_chain[i] else 1.0), method,
-                                               why=f" (its share of tol {tol:.6g} in the world)")
+        translations = {int(i): joint_position(clip, int(i), share * (planted_share if held_chain[i] else 1.0), method)
                         for i in np.flatnonzero(clip.translating)}
         bound = np.where(held, planted_share * tol, tol)
         start, provable = contact_angles(clip, translations, bound, shell)
-        return tighten(clip, translations, np.minimum(start, cap), np.minimum(provable, cap), bound, shell, method,
-                       why=f"to hold the joints within tol {tol:.6g} in the world")
+        return tighten(clip, translations, np.minimum(start, cap), np.minimum(provable, cap), bound, shell, method)
 
     return sliding_kept(clip, held, reduced)
