@@ -328,10 +328,13 @@ def sliding_kept(clip: Clip, held: np.ndarray, reduced: Callable[[Clip, np.ndarr
     True
     """
     fine, fine_held = between_frames(clip, held)
+    most = None                                   # the source's sliding plus the slack, once it is needed
     for share in (CONTACT_SHARE, CONTACT_SHARE / 2, CONTACT_SHARE / 4):
         out = replace(reduced(fine, fine_held, share), frame_time=clip.frame_time, n_frames=len(clip.times))
-        if not held.any() or sliding(clip, out.sample, contacts=held) <= (sliding(clip, contacts=held) +
-                                                                          SLIDING_SLACK_M_S / unit_m(clip)):
+        if not held.any():
+            break
+        most = sliding(clip, contacts=held) + SLIDING_SLACK_M_S / unit_m(clip) if most is None else most
+        if sliding(clip, out.sample, contacts=held) <= most:
             break
     return out
 
