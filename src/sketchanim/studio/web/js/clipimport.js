@@ -7,7 +7,8 @@
  * `visible` false where it was not seen), one undoable step, and every page
  * gets the new state. The line under it says what is happening or what was refused (the
  * server's 4xx `detail`: a truncated file's line, a wrong type, a size over the limit); a
- * refusal is also a notice. Nothing changes on a refusal.
+ * refusal is also a notice. Nothing changes on a refusal. The line says what was imported once
+ * the new objects are in this page's state (the server's answer can overtake its broadcast).
  */
 import { el } from './dom.js';
 import { fetchJson, reason } from './api.js';
@@ -25,6 +26,9 @@ export class ClipImport {
     this.status = el('div', { class: 'hint clip-status', 'data-testid': 'import-clip-status', role: 'status' });
     const list = root.querySelector('[data-testid=outliner]');     // above the objects' list, which may be long
     for (const part of [label, this.status]) root.insertBefore(part, list);
+    /** @type {{names: string[], done: () => void} | null} the import waiting for its objects */
+    this.pending = null;
+    studio.signals.on('state', () => this.arrive());
     this.input.addEventListener('change', () => {
       const files = [...(this.input.files ?? [])];
       if (files.length) this.choose(files).finally(() => { this.input.value = ''; });
@@ -45,6 +49,15 @@ export class ClipImport {
     this.studio.tell('error', text, 'clip');
   }
 
+  /** Ends the wait of the pending import once all its objects are in the page's state. */
+  arrive() {
+    const names = new Set(this.studio.objects.map((o) => o.name));
+    if (this.pending?.names.every((n) => names.has(n))) {
+      this.pending.done();
+      this.pending = null;
+    }
+  }
+
   /**
    * Post the file (an .amc: with its .asf `skeleton`, both texts as JSON); say what came of it.
    * @param {File} file
@@ -63,6 +76,10 @@ export class ClipImport {
         : fetchJson(`/api/clips?name=${name}`, { method: 'POST', body: file });
       /** @type {{objects: string[], tracks: number, frames: number, seconds: number}} */
       const made = await request;
+      await new Promise((done) => {
+        this.pending = { names: made.objects, done: () => done(undefined) };
+        this.arrive();
+      });
       const what = file.name.toLowerCase().endsWith('.c3d') ? 'markers' : 'joints';
       this.status.textContent = `${file.name}: ${made.objects.length} ${what}, ${made.frames} frames (${made.seconds.toFixed(1)} s)`;
     } catch (err) {
