@@ -297,40 +297,43 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
     held_chain = on_chains(clip, held.any(axis=0))
     moving = most_moving(clip, held_chain)
 
-    def reduced(clip: Clip, held: np.ndarray, share: float) -> ReducedClip:
+    def reduced(clip: Clip, held: np.ndarray, share: float, framed: np.ndarray) -> ReducedClip:
         translations = {int(i): joint_position(clip, int(i), TRANSLATION_SHARE * share * tol / moving
                                                if held_chain[i] else tol, method)
                         for i in np.flatnonzero(clip.translating)}
         angle = np.full(len(clip.skeleton), np.radians(rot_tol_deg))
         bound = np.where(held, share * tol, np.inf)
         start, provable = contact_angles(clip, translations, bound, 0.0)
-        return tighten(clip, translations, np.minimum(angle, start), np.minimum(angle, provable), bound, 0.0, method)
+        return tighten(clip, translations, np.minimum(angle, start), np.minimum(angle, provable), bound, 0.0, method,
+                       framed)
 
     return sliding_kept(clip, held, reduced)
 
 
-def sliding_kept(clip: Clip, held: np.ndarray, reduced: Callable[[Clip, np.ndarray, float], ReducedClip]
-                 ) -> ReducedClip:
-    """``reduced(clip, held, CONTACT_SHARE)``: ``clip`` reduced with its joints planted at
-    ``held`` (n, J) within that share of the tolerance; or where they then slide more
-    than the source's plus ``SLIDING_SLACK_M_S``
+def sliding_kept(clip: Clip, held: np.ndarray,
+                 reduced: Callable[[Clip, np.ndarray, float, np.ndarray], ReducedClip]) -> ReducedClip:
+    """``reduced(clip, held, CONTACT_SHARE, framed)``: ``clip`` reduced with its joints
+    planted at ``held`` (n, J) within that share of the tolerance; or where they then
+    slide more than the source's plus ``SLIDING_SLACK_M_S``
     (:func:`~sketchanim.mocap.contacts.sliding`), within half of it, then a quarter (taken
     regardless). A clip slower than ``SLIDING_RATE`` that plants anything is reduced with
     samples between its frames (:func:`~sketchanim.mocap.contacts.between_frames`), so that
-    the curves hold the planted joints between frames as well (the result keeps the
-    clip's own frames).
+    the curves hold the planted joints between frames as well; ``framed`` says which
+    samples are the clip's frames, and the result keeps those.
 
     >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
     >>> clip = Clip.still(s, [0.0, 0.1])
     >>> asked = []                                  # nothing planted: the first share only
-    >>> out = sliding_kept(clip, np.zeros((2, 1), bool), lambda c, h, share: asked.append(share) or reduce_clip(c, 1, 1))
+    >>> out = sliding_kept(clip, np.zeros((2, 1), bool),
+    ...                    lambda c, h, share, framed: asked.append(share) or reduce_clip(c, 1, 1))
     >>> asked == [CONTACT_SHARE]
     True
     """
     fine, fine_held = between_frames(clip, held)
+    framed = np.isin(fine.times, clip.times)
     most = None                                   # the source's sliding plus the slack, once it is needed
     for share in (CONTACT_SHARE, CONTACT_SHARE / 2, CONTACT_SHARE / 4):
-        out = replace(reduced(fine, fine_held, share), frame_time=clip.frame_time, n_frames=len(clip.times))
+        out = replace(reduced(fine, fine_held, share, framed), frame_time=clip.frame_time, n_frames=len(clip.times))
         if not held.any():
             break
         most = sliding(clip, contacts=held) + SLIDING_SLACK_M_S / unit_m(clip) if most is None else most
@@ -414,10 +417,13 @@ def contact_angles(clip: Clip, translations: dict[int, Reduction], bound: np.nda
 
 
 def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, provable: np.ndarray,
-            bound: np.ndarray, shell: float, method: str) -> ReducedClip:
+            bound: np.ndarray, shell: float, method: str, framed: np.ndarray | None = None) -> ReducedClip:
     """``clip``'s rotations reduced within ``angle`` (radians, (J,)), tightened until
     every joint's world error (:meth:`ReducedClip.world_errors` with ``shell``) is within
     ``bound`` (n, J; inf where free) at every frame, with ``translations`` as given.
+    Where ``framed`` (n,) says which of ``clip``'s samples are the source's frames (the
+    others between them: :func:`sliding_kept`), a joint bounded only at those, and with
+    every joint below it so, is reduced from those samples alone.
 
     Each round measures the errors; the joints above a joint that misses get the
     measured ratio (at least 5% tighter, at most half), and only the joints whose angle
@@ -440,12 +446,17 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     angle = np.array(angle, dtype=float)
     watched = np.isfinite(bound).any(axis=0)
     source = world_matrices(sk, clip.rotations, clip.translations)
+    between = None if framed is None or framed.all() else ~framed
+    coarse = clip if between is None else replace(clip, times=clip.times[framed], rotations=clip.rotations[framed],
+                                                   translations=clip.translations[framed])
+    fine = np.ones(len(sk), bool) if between is None else on_chains(clip, np.isfinite(bound[between]).any(axis=0))
     rotations: dict[int, Reduction] = {}
     made: dict[int, float] = {}
     for round in range(ROUNDS + 2):
         for i in np.flatnonzero(clip.rotating):
             if made.get(int(i)) != angle[i]:
-                rotations[int(i)] = joint_rotation(clip, int(i), float(np.degrees(angle[i])), method)
+                rotations[int(i)] = joint_rotation(clip if fine[i] else coarse, int(i), float(np.degrees(angle[i])),
+                                                   method)
                 made[int(i)] = angle[i]
         reduced = clip_tracks(clip, rotations, translations)
         if not watched.any():

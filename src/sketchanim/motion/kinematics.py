@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numba import njit
 from scipy.spatial.transform import Rotation
 
 if TYPE_CHECKING:                       # the skeleton's clips use these kinematics
@@ -45,8 +46,8 @@ def world_pose(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarr
 
 def world_matrices(skeleton: Skeleton, rotations: np.ndarray, translations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Forward kinematics as :func:`world_pose`, with each joint's world rotation as a
-    matrix (n, J, 3, 3): cheaper where many frames are measured. Quaternions of any norm
-    are normalised.
+    matrix (n, J, 3, 3): cheaper where many frames are measured (the chain is walked in
+    a compiled kernel). Quaternions of any norm are normalised.
 
     >>> from sketchanim.motion.skeleton import Skeleton
     >>> s = Skeleton(("a", "b"), (-1, 0), np.array([[0.0, 0, 0], [1.0, 0, 0]]))
@@ -57,14 +58,32 @@ def world_matrices(skeleton: Skeleton, rotations: np.ndarray, translations: np.n
     """
     n, j = rotations.shape[:2]
     local = Rotation.from_quat(rotations.reshape(-1, 4)).as_matrix().reshape(n, j, 3, 3)
+    return _down_the_chains(np.asarray(skeleton.parents, dtype=np.int64), local,
+                            np.ascontiguousarray(translations, dtype=float))
+
+
+@njit(cache=True, error_model="numpy")
+def _down_the_chains(parents: np.ndarray, local: np.ndarray, translations: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """World rotation matrices (n, J, 3, 3) and positions (n, J, 3) from local rotation
+    matrices and translations, joints in order (each after its parent)."""
+    n, j = local.shape[0], local.shape[1]
     turns = np.empty_like(local)
     out = np.empty((n, j, 3))
-    for i, p in enumerate(skeleton.parents):
-        if p < 0:
-            turns[:, i], out[:, i] = local[:, i], translations[:, i]
-        else:
-            turns[:, i] = turns[:, p] @ local[:, i]
-            out[:, i] = out[:, p] + np.einsum("nab,nb->na", turns[:, p], translations[:, i])
+    for f in range(n):
+        for i in range(j):
+            p = parents[i]
+            if p < 0:
+                turns[f, i] = local[f, i]
+                out[f, i] = translations[f, i]
+                continue
+            for a in range(3):
+                for b in range(3):
+                    turns[f, i, a, b] = (turns[f, p, a, 0] * local[f, i, 0, b] + turns[f, p, a, 1] * local[f, i, 1, b]
+                                         + turns[f, p, a, 2] * local[f, i, 2, b])
+                out[f, i, a] = out[f, p, a] + (turns[f, p, a, 0] * translations[f, i, 0]
+                                               + turns[f, p, a, 1] * translations[f, i, 1]
+                                               + turns[f, p, a, 2] * translations[f, i, 2])
     return turns, out
 
 
