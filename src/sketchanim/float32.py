@@ -5,12 +5,16 @@ A client plays a file's keys and key times as float32, and computes in float32 (
 evaluates F-curves in float32, three.js keeps float32 results). So every curve meant for
 a file is reduced, or checked, against the tolerance less what float32 can move it
 (:func:`float32_margin`): mocap reductions aim at these budgets, and the scene export
-refits a track that is not within them.
+refits a track that is not within them. Where the margin would take more than half of a
+tolerance (a fine tolerance, values far from the origin, or times late in a long
+recording), the tolerance is refused (:func:`margin_refusal`): no file could promise it.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from sketchanim.errors import ArgumentError
 
 #: float32's unit roundoff: storing a number as float32 moves it by at most this, relative.
 EPS32 = 2.0**-24
@@ -18,6 +22,11 @@ EPS32 = 2.0**-24
 #: float32 roundings a played value may gather: its keys, a client's own float32
 #: arithmetic (a joint's world position, down its chain).
 ROUNDINGS = 16
+
+#: The least share of a tolerance a budget keeps for the reducer: a tolerance float32's
+#: margin would take more of is refused (a curve reduced to a sliver of its tolerance
+#: would be keyed at nearly every sample).
+KEEP = 0.5
 
 #: float32 roundings of time a played value may gather, each moving it by its speed times
 #: the rounding: the key times on either side, the time played, the fraction between keys.
@@ -49,34 +58,186 @@ def float32_margin(times: np.ndarray, size: float, speed: float | np.ndarray) ->
     return EPS32 * (ROUNDINGS * size + TIME_ROUNDINGS * speed * span)
 
 
-def position_budget(times: np.ndarray, points: np.ndarray, tol: float) -> float:
-    """The distance a reducer may use of ``tol`` for points (n, d) sampled at ``times``
-    (n,) so that the float32 file still plays within ``tol`` (:func:`float32_margin`;
-    never less than half of ``tol``).
+def margin_refusal(asked: float, margin: float, size_share: float, subject: str, moving: str, *,
+                   field: str = "tol", unit: str = "", whose: str = "the times", keep: float = KEEP) -> ArgumentError:
+    """The error refusing a tolerance ``asked`` of which float32's ``margin`` would take
+    more than ``1 - keep`` (half, by default): an
+    :class:`~sketchanim.errors.ArgumentError` naming ``field``, the tolerance asked for
+    ``subject`` (where it is asked: a track, a joint, a frame), what float32 may move it
+    by and why (``moving``: the values' size and speed), and the advice: a larger
+    tolerance, and where the times' share of the margin is the larger (more than
+    ``size_share``, the share of the values' size), ``whose`` nearer 0. Every refusal of
+    a budget here, and compact clips' frame by frame, is worded by it.
 
+    Parameters
+    ----------
+    asked, margin, size_share : float
+        The tolerance, :func:`float32_margin`, and the part of it from the values' size
+        alone (in the tolerance's units).
+    subject, moving : str
+        Where the tolerance is asked (``"for joint 'hips'"``, or ``""``), and what moves
+        it (``"points up to 200 from the origin, moving up to 300 per s"``).
+    field, unit, whose : str
+        The argument refused, the units of the tolerance and the margin after their
+        numbers (``" degrees"``, or ``""``), and whose times start late
+        (``"the clip's times"``).
+    keep : float
+        The share of ``asked`` the budget had to keep (``KEEP``, said "twice").
+
+    Returns
+    -------
+    ArgumentError
+        For the caller to raise.
+
+    Examples
+    --------
+    >>> print(margin_refusal(1e-4, 2e-4, 1e-5, "", "moving up to 2 per s"))
+    tol: 0.0001 is less than twice what float32 may move it (0.0002: moving up to 2 per s): ask for a larger tolerance, or start the times nearer 0
+    """
+    subject = f" {subject}" if subject else ""
+    advice = f", or start {whose} nearer 0" if margin > 2 * size_share else ""
+    times = "twice" if keep == 0.5 else f"{1 / (1 - keep):.3g} times"
+    return ArgumentError(field, f"{asked:.6g}{unit}{subject} is less than {times} what float32 may move it "
+                                f"({margin:.3g}{unit}: {moving}): ask for a larger tolerance{advice}")
+
+
+def position_budget(times: np.ndarray, points: np.ndarray, tol: float, *, field: str = "tol",
+                    subject: str = "", whose: str = "the times", keep: float = KEEP) -> float:
+    """The distance a reducer may use of ``tol`` for points (n, d) sampled at ``times``
+    (n,) so that the float32 file still plays within ``tol``: ``tol`` less
+    :func:`float32_margin`, at least ``keep`` of ``tol``.
+
+    Parameters
+    ----------
+    times : numpy.ndarray
+        Sample times (n,), as the file will hold them.
+    points : numpy.ndarray
+        Samples (n, d).
+    tol : float
+        The distance promised.
+    field, subject, whose : str
+        How a refusal names the tolerance, where it was asked, and whose times start
+        late (:func:`margin_refusal`).
+    keep : float
+        The least share of the tolerance the budget keeps (``KEEP``: half; less for a
+        tolerance a caller derived as a share of another, tightened to hold it).
+
+    Returns
+    -------
+    float
+        The budget: ``budget + float32_margin(...) <= tol``. Samples that are not
+        finite or times that do not increase (an infinite margin), or a ``tol`` that is
+        not positive: ``tol / 2``, for the reducer to refuse them as it does.
+
+    Raises
+    ------
+    ArgumentError
+        Naming ``field``, where the margin is more than ``1 - keep`` of ``tol`` (a fine
+        tolerance, points far from the origin, or late times): no float32 file keeps it.
+
+    Examples
+    --------
     >>> t = np.arange(100) / 30
     >>> 0.49 < position_budget(t, np.c_[100 * np.sin(t), 90 + 0 * t, t], 0.5) < 0.5
     True
+    >>> position_budget(t + 600, np.c_[100 * np.sin(t), 90 + 0 * t, t], 1e-3)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: tol: 0.001 is less than twice what float32 may move it (0.0145: ...): ask for a larger tolerance, or start the times nearer 0
     """
-    x = np.asarray(points, dtype=float).reshape(len(times), -1)
-    speed = float((np.linalg.norm(np.diff(x, axis=0), axis=1) / np.diff(times)).max()) if len(times) > 1 else 0.0
-    return tol - min(float32_margin(times, float(np.linalg.norm(x, axis=1).max()), speed), tol / 2)
+    t = np.asarray(times, dtype=float)
+    x = np.asarray(points, dtype=float).reshape(len(t), -1)
+    speed = float((np.linalg.norm(np.diff(x, axis=0), axis=1) / np.diff(t)).max()) if len(t) > 1 else 0.0
+    size = float(np.linalg.norm(x, axis=1).max()) if len(t) else 0.0
+    margin = float(float32_margin(t, size, speed))
+    if not np.isfinite(margin) or not tol > 0:          # samples or a tolerance the reducer refuses itself
+        return tol / 2
+    if margin > (1 - keep) * tol:
+        late = float(np.abs(t).max())
+        raise margin_refusal(tol, margin, float(float32_margin(t[:0], size, 0.0)), subject,
+                             f"points up to {size:.4g} from the origin, moving up to {speed:.3g} per s, at times "
+                             f"up to {late:.6g} s", field=field, whose=whose, keep=keep)
+    return tol - margin
 
 
-def rotation_budget(times: np.ndarray, quats: np.ndarray, tol_deg: float) -> float:
+def rotation_budget(times: np.ndarray, quats: np.ndarray, tol_deg: float, *, field: str = "rot_tol_deg",
+                    subject: str = "", whose: str = "the times", keep: float = KEEP) -> float:
     """The angle (degrees) a reducer may use of ``tol_deg`` for quaternions (n, 4)
-    sampled at ``times`` (n,), so that the float32 file still plays within ``tol_deg``:
-    an error ``e`` in a unit quaternion turns it by up to ``2 e`` radians.
+    sampled at ``times`` (n,), so that the float32 file still plays within ``tol_deg``
+    (an error ``e`` in a unit quaternion turns it by up to ``2 e`` radians): ``tol_deg``
+    less the margin, at least ``keep`` of ``tol_deg``.
 
+    Parameters
+    ----------
+    times : numpy.ndarray
+        Sample times (n,), as the file will hold them.
+    quats : numpy.ndarray
+        Quaternions (n, 4).
+    tol_deg : float
+        The angle promised, in degrees.
+    field, subject, whose : str
+        How a refusal names the tolerance, where it was asked, and whose times start
+        late (:func:`margin_refusal`).
+    keep : float
+        The least share of the tolerance the budget keeps (``KEEP``: half; less for a
+        tolerance a caller derived as a share of another, tightened to hold it).
+
+    Returns
+    -------
+    float
+        The budget in degrees: it leaves float32's margin of ``tol_deg``. Samples that
+        are not finite or times that do not increase, or a ``tol_deg`` that is not
+        positive: ``tol_deg / 2``, for the reducer to refuse them as it does.
+
+    Raises
+    ------
+    ArgumentError
+        Naming ``field``, where the margin is more than ``1 - keep`` of ``tol_deg`` (a fine
+        tolerance, or a fast turn late in a long recording).
+
+    Examples
+    --------
     >>> from scipy.spatial.transform import Rotation
     >>> t = np.arange(100) / 30
     >>> q = Rotation.from_euler("Z", 3 * t[:, None]).as_quat()
     >>> 0.499 < rotation_budget(t, q, 0.5) < 0.5
     True
+    >>> rotation_budget(t + 600, q, 0.01, subject="for joint 'hips'")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: rot_tol_deg: 0.01 degrees for joint 'hips' is less than twice ... or start the times nearer 0
     """
+    t = np.asarray(times, dtype=float)
+    speed = _turn_speed(t, quats)
+    margin = float(np.degrees(2 * float32_margin(t, 1.0, speed)))
+    if not np.isfinite(margin) or not tol_deg > 0:      # samples or a tolerance the reducer refuses itself
+        return tol_deg / 2
+    if margin > (1 - keep) * tol_deg:
+        late = float(np.abs(t).max())
+        raise margin_refusal(tol_deg, margin, float(np.degrees(2 * float32_margin(t[:0], 1.0, 0.0))), subject,
+                             f"turning up to {np.degrees(2 * speed):.3g} degrees per s, at times up to {late:.6g} s",
+                             field=field, unit=" degrees", whose=whose, keep=keep)
+    return tol_deg - margin
+
+
+def rotation_margin(times: np.ndarray, quats: np.ndarray) -> float:
+    """What float32 may turn quaternions (n, 4) sampled at ``times`` (n,) by, in
+    degrees: what :func:`rotation_budget` leaves of a tolerance.
+
+    >>> from scipy.spatial.transform import Rotation
+    >>> t = np.arange(100) / 30
+    >>> q = Rotation.from_euler("Z", 3 * t[:, None]).as_quat()
+    >>> bool(abs(rotation_margin(t, q) - (0.5 - rotation_budget(t, q, 0.5))) < 1e-12)
+    True
+    """
+    t = np.asarray(times, dtype=float)
+    return float(np.degrees(2 * float32_margin(t, 1.0, _turn_speed(t, quats))))
+
+
+def _turn_speed(times: np.ndarray, quats: np.ndarray) -> float:
+    """The fastest turn of quaternions (n, 4) between samples, of the unit quaternion, in
+    radians per second (half the rotation's)."""
     q = np.asarray(quats, dtype=float)
     turn = np.arccos(np.clip(np.abs(np.sum(q[1:] * q[:-1], axis=1)) / (np.linalg.norm(q[1:], axis=1)
                                                                      * np.linalg.norm(q[:-1], axis=1)), 0, 1))
-    speed = float((turn / np.diff(times)).max()) if len(times) > 1 else 0.0     # of the unit quaternion, per s
-    margin = float(np.degrees(2 * float32_margin(times, 1.0, speed)))
-    return tol_deg - min(margin, tol_deg / 2)
+    return float((turn / np.diff(times)).max()) if len(times) > 1 else 0.0

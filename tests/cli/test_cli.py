@@ -161,3 +161,53 @@ def test_feature_switches_report_and_plot(tmp_path):
     assert "pause" not in res.output and "break" not in res.output
     res = runner.invoke(app, ["reduce", str(csv), "--tol", "0.001", "--min-pause", "0"])
     assert res.exit_code == 2 and "--min-pause" in res.output
+
+
+def test_a_clip_tolerance_float32_cannot_keep_is_refused_naming_the_joint(tmp_path):
+    """A skeleton 90 units from the origin: float32 rounds its joints' world positions by
+    more than half of 1e-6 units (its planted hand's share, or in the world), and its
+    rotations by more than half of 1e-7 degrees, so no file can promise them: one line
+    naming the flag and the joint, nothing written."""
+    import re
+
+    from scipy.spatial.transform import Rotation
+
+    from sketchanim.formats.bvh import write_bvh
+    from sketchanim.motion.skeleton import Clip, Skeleton
+
+    s = Skeleton(("hips", "arm"), (-1, 0), np.array([[0.0, 90, 0], [30.0, 0, 0]]))
+    t = np.arange(60) / 30
+    clip = Clip.still(s, t)
+    clip.rotations[:, 1] = Rotation.from_euler("Z", np.sin(3 * t)[:, None]).as_quat()
+    source = write_bvh(tmp_path / "walk.bvh", clip)
+    out = tmp_path / "walk.glb"
+    for args, flag in ((["--tol", "1e-6"], "--tol"), (["--tol", "0.01", "--rot-tol-deg", "1e-7"], "--rot-tol-deg"),
+                       (["--tol", "1e-6", "--world", "--units", "cm"], "--tol")):
+        res = runner.invoke(app, ["reduce", str(source), *args, "-o", str(out)])
+        assert res.exit_code == 2, res.output
+        assert "Traceback" not in res.output and len(res.output.strip().splitlines()) == 1, res.output
+        assert re.match(rf"error: {flag}: \S+ (degrees )?(in the world )?for joint '(hips|arm)'.* is less than "
+                        r"twice what float32 may move it \(.*\): ask for a larger tolerance$", res.output.strip()), \
+            res.output                          # times from 0: the values' size is the cause, not lateness
+        assert not out.exists()
+    res = runner.invoke(app, ["reduce", str(source), "--tol", "0.01", "-o", str(out)])
+    assert res.exit_code == 0 and out.exists(), res.output
+
+
+def test_export_of_a_project_whose_tolerance_float32_cannot_keep_is_refused_and_writes_nothing(tmp_path):
+    from sketchanim.anim.attributes import POSITION
+    from sketchanim.anim.layers import reduce_samples
+    from sketchanim.anim.tracks import ContinuousTrack, Take
+    from sketchanim.project.store import Project
+    from sketchanim.studio.defaults import default_scene
+
+    t = 600.0 + np.linspace(0, 2, 61)                    # ten minutes into the scene's time
+    x = np.c_[np.sin(2 * t), 0.5 + 0 * t, np.cos(3 * t)]
+    track = ContinuousTrack("box.position", POSITION, reduce_samples(POSITION, t, x, 1e-5, 4), 1e-5, (Take(t, x),))
+    Project(tmp_path / "late.sketchanim").save(default_scene(), {"box.position": track})
+    for keys in ("curves", "frames"):
+        out = tmp_path / f"late.{keys}.glb"
+        res = runner.invoke(app, ["export", str(tmp_path / "late.sketchanim"), "-o", str(out), "--keys", keys])
+        assert res.exit_code == 2 and len(res.output.strip().splitlines()) == 1, res.output
+        assert res.output.startswith("error: tolerance: 1e-05 for track 'box.position' is less than twice"), res.output
+        assert "start the times nearer 0" in res.output and not out.exists()

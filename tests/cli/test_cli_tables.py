@@ -418,3 +418,25 @@ def test_library_errors_name_fields_and_the_cli_tells_them_as_flags(tmp_path):
         res = runner.invoke(app, ["reduce", str(source), *(["--tol", "0.1"] if "--tol" not in args else []), *args])
         refused(res, *words)
         assert "cols=" not in res.output and "rate=" not in res.output
+
+
+@pytest.mark.parametrize("keys", ["frames", "compact"])
+def test_a_tolerance_float32_cannot_keep_late_in_a_take_is_refused_and_nothing_is_written(tmp_path, keys):
+    """Eight minutes into a recording (the clock kept: under GLB_CLOCK), float32 key
+    times alone move a point moving 3 per s by more than half of 0.0001."""
+    t, x = motion()
+    f = tmp_path / "late.txt"
+    np.savetxt(f, np.c_[t + 480.0, x, quats(t)], header="timestamp tx ty tz qx qy qz qw")
+    out = tmp_path / "late.glb"
+    res = runner.invoke(app, ["reduce", str(f), "--tol", "0.0001", "-o", str(out), "--keys", keys])
+    refused(res, "--tol: 0.0001 for track 'path.position' is less than twice what float32 may move it",
+            "ask for a larger tolerance, or start the times nearer 0")
+    assert len([line for line in res.output.splitlines() if line.startswith("error:")]) == 1
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["late.txt"]
+    res = runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "--rot-tol-deg", "1e-5", "-o", str(out),
+                              "--keys", keys])
+    refused(res, "--rot-tol-deg: 1e-05 degrees for track 'path.orientation' is less than twice", "nearer 0")
+    assert not out.exists()
+    res = runner.invoke(app, ["reduce", str(f), "--tol", "0.01", "-o", str(out), "--keys", keys])
+    assert res.exit_code == 0, res.output                 # a tolerance float32 leaves room for: written
+    assert out.read_bytes()[:4] == b"glTF"

@@ -118,3 +118,28 @@ def test_a_bad_format_is_a_400_naming_it(exported, query: str, words: list[str])
     assert r.status_code == 400 and r.headers["content-type"] == "application/json"
     assert all(w in r.json()["detail"] for w in words), r.json()
     assert set(os.listdir(folder)) == before
+
+
+def test_a_tolerance_float32_cannot_keep_is_a_400_the_page_shows_and_the_project_is_kept(tmp_path: Path) -> None:
+    """A take ten minutes into the scene's time at 0.01 mm: float32 key times alone move
+    it by more than half of that, so every glTF download is refused naming the track and
+    the advice (the page's export dialog shows the 400's detail); nothing is written,
+    the project and its tracks are as they were, and the formats that keep it still
+    download."""
+    late = T + 600.0
+    track = ContinuousTrack("box.position", POSITION, reduce_samples(POSITION, late, POS, 1e-5, 4), 1e-5,
+                            (Take(late, POS),))
+    Project(tmp_path / "late.sketchanim").save(default_scene(), {"box.position": track})
+    app = create_app(tmp_path / "late.sketchanim", warm=False)
+    with TestClient(app) as client:
+        before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+        for fmt in ("glb", "glb-frames", "glb-compact"):
+            r = client.get(f"/api/export?format={fmt}")
+            assert r.status_code == 400 and r.headers["content-type"] == "application/json", r.text
+            detail = r.json()["detail"]
+            assert detail.startswith("tolerance: 1e-05 for track 'box.position' is less than twice what float32 may move it")
+            assert detail.endswith("ask for a larger tolerance, or start the times nearer 0"), detail
+        assert client.get("/api/export?format=json").status_code == 200
+        assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+        assert "box.position" in app.state.hub.session.player.tracks
+    app.state.hub.session.close()

@@ -35,7 +35,7 @@ from scipy.ndimage import minimum_filter1d
 from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError
-from sketchanim.float32 import float32_margin
+from sketchanim.float32 import float32_margin, margin_refusal
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
 from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held
 from sketchanim.mocap.contacts import SLIDING_SLACK_M_S, nearest_frames, planted, planted_steps, unit_m
@@ -325,7 +325,8 @@ def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], asked: np.ndarray
     ends). A jump into the first pose costs only the first frame's margin.
 
     Raises :class:`~sketchanim.errors.ArgumentError` where the margin is more than half
-    of what was asked, naming the frame and the joint."""
+    of what was asked, naming the frame and the joint
+    (:func:`~sketchanim.float32.margin_refusal`)."""
     turns, positions = source
     if len(clip.times) < 2:
         return asked
@@ -339,12 +340,10 @@ def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], asked: np.ndarray
     short = np.argwhere(margin > asked / 2)
     if len(short):
         f, j = short[0]
-        late = margin[f, j] > 2 * float32_margin(clip.times[:0], size, 0.0)     # more from its time than its size
-        raise ArgumentError("tol", f"{asked[f, j]:.6g} at frame {f} ({clip.times[f]:.6g} s) of joint "
-                                   f"{clip.skeleton.names[j]!r} is less than twice what float32 may move it there "
-                                   f"({margin[f, j]:.3g}: points up to {size:.4g} from the origin, moving up to "
-                                   f"{speed[f, j]:.3g} per s): ask for a larger tolerance"
-                                   + (", or start the clip's times nearer 0" if late else ""))
+        raise margin_refusal(float(asked[f, j]), float(margin[f, j]), float(float32_margin(clip.times[:0], size, 0.0)),
+                             f"at frame {f} ({clip.times[f]:.6g} s) of joint {clip.skeleton.names[j]!r}",
+                             f"points up to {size:.4g} from the origin, moving up to {speed[f, j]:.3g} per s",
+                             whose="the clip's times")
     return asked - margin
 
 

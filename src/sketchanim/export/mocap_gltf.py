@@ -87,7 +87,8 @@ def marker_export_tracks(markers: ReducedMarkers) -> list[ExportTrack]:
         pieces = []
         for p in track.pieces:
             run = markers.times[(markers.times >= p.start) & (markers.times <= p.end)]
-            budget = position_budget(run, held_values(p.spline, run, False), markers.tol)
+            budget = position_budget(run, held_values(p.spline, run, False), markers.tol,
+                                     subject=f"for track {track.path!r}", whose="the markers' times")
             pieces.append(CurvePiece(p.start, p.end, p.spline, run, allowance(budget, p.max_distance)))
         if shown is not None:
             out.append(ExportTrack(track.path, tuple(pieces), shown))

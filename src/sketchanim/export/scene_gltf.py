@@ -21,7 +21,8 @@ What a client plays is the written keys and key times in float32, computed in fl
 For a track of one take (recorded in ``replace`` mode), :func:`written_curve` keeps that
 within the track's tolerance of every sample of the take: the curve may use only
 :func:`~sketchanim.float32.position_budget` (or ``rotation_budget``) of the
-tolerance, float32's share left out, as clip exports do. A track whose curve already
+tolerance, float32's share left out, as clip exports do; a tolerance float32 would take
+more than half of is refused (:func:`take_budget`). A track whose curve already
 is within the budget is written as it is; one the recorder's streaming reducer ran closer
 to the tolerance is reduced again from its take, for the file only (the project keeps its
 curve). An orientation's unit-quaternion keys (glTF requires them) are checked against
@@ -96,10 +97,53 @@ def rotation_keys(track: ContinuousTrack) -> BSpline:
     return fixed
 
 
+def take_budget(track: ContinuousTrack, times: np.ndarray, values: np.ndarray) -> float:
+    """What the file may use of a track's tolerance at its take's samples ``values`` at
+    ``times``: :func:`~sketchanim.float32.position_budget`, or for an orientation
+    :func:`~sketchanim.float32.rotation_budget` in degrees.
+
+    Parameters
+    ----------
+    track : ContinuousTrack
+        The track, its tolerance ``tol`` (degrees for an orientation).
+    times, values : numpy.ndarray
+        Its take's samples inside its span.
+
+    Returns
+    -------
+    float
+        The budget, in the tolerance's units.
+
+    Raises
+    ------
+    ArgumentError
+        Naming ``tolerance`` and the track, where float32 may move the track by more
+        than half of its tolerance (a fine tolerance, values far from the origin, late
+        times).
+
+    Examples
+    --------
+    >>> from sketchanim.anim.attributes import POSITION
+    >>> t = np.linspace(0, 1, 31)
+    >>> s = BSpline(np.r_[[0.0] * 2, [1.0] * 2], np.array([[0.0, 0, 0], [1.0, 0, 0]]), 1)
+    >>> x = np.c_[t, 0 * t, 1000 + 0 * t]
+    >>> bool(0.004 < take_budget(ContinuousTrack("a.position", POSITION, s, 0.005), t, x) < 0.005)  # 1 km out
+    True
+    >>> take_budget(ContinuousTrack("a.position", POSITION, s, 1e-4), t, x)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    sketchanim.errors.ArgumentError: tolerance: 0.0001 for track 'a.position' is less than twice what float32 ...
+    """
+    subject = f"for track {track.path!r}"
+    if track.type.is_rotation:
+        return rotation_budget(times, values, track.tol, field="tolerance", subject=subject)
+    return position_budget(times, values, track.tol, field="tolerance", subject=subject)
+
+
 def written_curve(track: ContinuousTrack) -> BSpline:
     """The curve :func:`scene_glb` writes for a track: for one ``replace`` take, within
-    the float32 budget of the track's tolerance (``position_budget`` per axis,
-    ``rotation_budget`` in degrees) of every sample of the take inside the track's span,
+    the float32 budget of the track's tolerance (:func:`take_budget`: ``position_budget``
+    per axis, ``rotation_budget`` in degrees) of every sample of the take inside the track's span,
     reduced again from the take where the track's curve is not, orientations with unit
     keys (:func:`~sketchanim.motion.rotations.unit_keys`, checked against the take); for
     other tracks, the track's curve (orientations by :func:`rotation_keys`).
@@ -120,7 +164,7 @@ def written_curve(track: ContinuousTrack) -> BSpline:
     inside = (take.times >= track.start) & (take.times <= track.end)
     t, x = take.times[inside], take.values[inside]
     rotation = track.type.is_rotation
-    budget = rotation_budget(t, x, track.tol) if rotation else position_budget(t, x, track.tol)
+    budget = take_budget(track, t, x)
     error = max_errors(track.evaluate(t), x, 1.0 if rotation else 0.0).max()
     spline = track.spline
     if (np.degrees(error) if rotation else error) > budget:
@@ -157,7 +201,7 @@ def frame_allowance(track: ContinuousTrack, spline: BSpline | None = None) -> fl
     t, x = take.times[inside], take.values[inside]
     curve = held_values(track.spline if spline is None else spline, t, rotation)
     error = float(max_errors(curve, x, 1.0 if rotation else 0.0).max())
-    budget = float(np.radians(rotation_budget(t, x, track.tol))) if rotation else position_budget(t, x, track.tol)
+    budget = float(np.radians(take_budget(track, t, x))) if rotation else take_budget(track, t, x)
     return allowance(budget, error)
 
 
@@ -184,6 +228,12 @@ def scene_glb(scene: Scene, tracks: dict[str, Track], *, name: str = "scene", ke
     float32 within the tolerance of its take; or with ``keys="frames"``, LINEAR keys at
     :func:`track_times`, dropping those within :func:`frame_allowance`). Also returns
     the paths of the tracks glTF cannot animate, which are left out.
+
+    Raises
+    ------
+    ArgumentError
+        Naming ``keys`` (not a choice), or ``tolerance`` and a track whose tolerance
+        float32 would take more than half of (:func:`take_budget`): no file keeps it.
 
     >>> from sketchanim.anim.attributes import POSITION
     >>> scene = Scene(); _ = scene.add("cam", "camera"); _ = scene.add("lamp", "light")

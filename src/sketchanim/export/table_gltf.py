@@ -17,8 +17,7 @@ from scipy.interpolate import BSpline
 from sketchanim.anim.attributes import ORIENTATION, POSITION, SCALE
 from sketchanim.anim.tracks import ContinuousTrack, Take
 from sketchanim.errors import ArgumentError
-from sketchanim.export.scene_gltf import OBJECT_RADIUS, export_track
-from sketchanim.float32 import position_budget, rotation_budget
+from sketchanim.export.scene_gltf import OBJECT_RADIUS, export_track, take_budget
 from sketchanim.formats.gltf import Node, octahedron
 from sketchanim.formats.gltf_frames import KEYS
 from sketchanim.formats.gltf_tracks import CurvePiece, ExportTrack, tracks_glb
@@ -108,7 +107,7 @@ def sample_keys(track: ContinuousTrack) -> ExportTrack:
         return export_track(track)
     t, x = track.takes[0].times, track.takes[0].values
     rotation = track.type.is_rotation
-    bound = float(np.radians(rotation_budget(t, x, track.tol))) if rotation else position_budget(t, x, track.tol)
+    bound = float(np.radians(take_budget(track, t, x))) if rotation else take_budget(track, t, x)
     lines = BSpline(np.r_[t[0], t, t[-1]], x, 1)
     return ExportTrack(track.path, (CurvePiece(float(t[0]), float(t[-1]), lines, t, bound),))
 
@@ -123,8 +122,11 @@ def table_glb(tracks: list[ContinuousTrack], *, name: str = "path", keys: str = 
     Raises
     ------
     ArgumentError
-        Naming ``keys`` (not a choice), or ``tol``: a compact key, at the filters' most
-        bits, alone misses the tolerance (values far from the origin for a fine one).
+        Naming ``keys`` (not a choice), or ``tol`` (``rot_tol_deg`` for the
+        orientation): a tolerance float32 would take more than half of
+        (:func:`~sketchanim.export.scene_gltf.take_budget`: a fine tolerance, values far
+        from the origin, late times), or a compact key, at the filters' most bits, alone
+        misses the tolerance (values far from the origin for a fine one).
 
     >>> from sketchanim.reducer import reduce
     >>> t = np.linspace(0, 1, 20)
@@ -138,7 +140,7 @@ def table_glb(tracks: list[ContinuousTrack], *, name: str = "path", keys: str = 
     one_of("keys", keys, KEYS)
     node = Node(NODE, translation=[float(v) for v in POSITION.initial],
                 rotation=[float(v) for v in ORIENTATION.initial], scale=[float(v) for v in SCALE.initial], mesh=0)
-    written = [sample_keys(t) if keys == "compact" else export_track(t) for t in sorted(tracks, key=lambda t: t.path)]
+    written = [_keyed(t, keys) for t in sorted(tracks, key=lambda t: t.path)]
     try:
         return tracks_glb([node], written, name=name, keys=keys, meshes=[octahedron("object", OBJECT_RADIUS)])
     except ArgumentError as err:                 # a compact key alone misses: the filters' most bits are too coarse
@@ -146,3 +148,15 @@ def table_glb(tracks: list[ContinuousTrack], *, name: str = "path", keys: str = 
             raise
         raise ArgumentError("tol", f"too fine for compact keys of values this far from the origin (the filters' "
                                    f"most bits round them by more; {err})") from None
+
+
+def _keyed(track: ContinuousTrack, keys: str) -> ExportTrack:
+    """The track's keys as ``keys`` asks; a tolerance float32 would take more than half
+    of refused naming the table's option: ``tol``, ``rot_tol_deg`` for the orientation."""
+    try:
+        return sample_keys(track) if keys == "compact" else export_track(track)
+    except ArgumentError as err:
+        if err.argument != "tolerance":
+            raise
+        raise ArgumentError("rot_tol_deg" if track.type.is_rotation else "tol",
+                            str(err).removeprefix("tolerance: ")) from None

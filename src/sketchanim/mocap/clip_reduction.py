@@ -26,7 +26,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from sketchanim.errors import ArgumentError, InputError
-from sketchanim.float32 import position_budget, rotation_budget
+from sketchanim.float32 import KEEP, position_budget, rotation_budget, rotation_margin
 from sketchanim.mocap.contacts import CONTACT_SHARE, SLIDING_SLACK_M_S, between_frames, planted, sliding, unit_m
 from sketchanim.mocap.tracks import FLOAT32, ReducedTrack, curve_bytes, split_path, track_path
 from sketchanim.motion import reduce_rotations
@@ -46,6 +46,13 @@ TRANSLATION_SHARE = 0.25
 START_SPREAD = 0.25
 #: Rounds of measuring and tightening before the provable angles (:func:`tighten`).
 ROUNDS = 6
+#: The least share of a joint's tolerance derived from a distance (its share of it on a
+#: planted chain, or in the world) its float32 budget keeps
+#: (:func:`~sketchanim.float32.position_budget`'s ``keep``): less than the half a
+#: tolerance asked keeps, since a fast joint late in a take may need most of a fine
+#: derived tolerance for float32 while the distance holds. A tightened angle is never
+#: less than float32's margin over ``1 - DERIVED_KEEP`` (:func:`tighten`).
+DERIVED_KEEP = 0.02
 #: Most frames a clip is resampled to (BVH, USD).
 MAX_FRAMES = 1_000_000
 
@@ -298,14 +305,16 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
     moving = most_moving(clip, held_chain)
 
     def reduced(clip: Clip, held: np.ndarray, share: float, framed: np.ndarray) -> ReducedClip:
-        translations = {int(i): joint_position(clip, int(i), TRANSLATION_SHARE * share * tol / moving
-                                               if held_chain[i] else tol, method)
+        translations = {int(i): joint_position(clip, int(i), TRANSLATION_SHARE * share * tol / moving, method,
+                                               why=f" (its share of tol {tol:.6g}, to hold the planted joints)")
+                        if held_chain[i] else joint_position(clip, int(i), tol, method)
                         for i in np.flatnonzero(clip.translating)}
         angle = np.full(len(clip.skeleton), np.radians(rot_tol_deg))
         bound = np.where(held, share * tol, np.inf)
         start, provable = contact_angles(clip, translations, bound, 0.0)
         return tighten(clip, translations, np.minimum(angle, start), np.minimum(angle, provable), bound, 0.0, method,
-                       framed)
+                       framed, asked=float(np.radians(rot_tol_deg)),
+                       why=f"to hold the planted joints within tol {tol:.6g}")
 
     return sliding_kept(clip, held, reduced)
 
@@ -417,7 +426,8 @@ def contact_angles(clip: Clip, translations: dict[int, Reduction], bound: np.nda
 
 
 def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, provable: np.ndarray,
-            bound: np.ndarray, shell: float, method: str, framed: np.ndarray | None = None) -> ReducedClip:
+            bound: np.ndarray, shell: float, method: str, framed: np.ndarray | None = None, *,
+            asked: float = np.inf, why: str = "to hold the joints within tol") -> ReducedClip:
     """``clip``'s rotations reduced within ``angle`` (radians, (J,)), tightened until
     every joint's world error (:meth:`ReducedClip.world_errors` with ``shell``) is within
     ``bound`` (n, J; inf where free) at every frame, with ``translations`` as given.
@@ -430,6 +440,15 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     changed are reduced again. After :data:`ROUNDS` rounds the joints above any that
     still miss get their ``provable`` angles (which keep every bound), and after one
     more every joint gets them, so the result always holds.
+
+    A bound float32 would take more than half of at a joint's world positions is refused
+    naming ``tol`` (:func:`~sketchanim.float32.position_budget`, ``why`` in the message),
+    and an angle float32 would take more than half of (:func:`joint_rotation`) naming
+    ``rot_tol_deg`` where it is the angle ``asked`` (radians). An angle tightened
+    below ``asked`` (``why``: to hold which distance, said in a refusal) is never less
+    than the joint's float32 margin (:func:`~sketchanim.float32.rotation_margin`) over
+    ``1 - DERIVED_KEEP`` (what a float32 file can keep of it), nor more than ``asked``;
+    the distances are measured on the curves.
 
     >>> from scipy.spatial.transform import Rotation
     >>> s = Skeleton(("hips", "toe"), (-1, 0), np.array([[0.0, 1, 0], [0, -1.0, 0]]))
@@ -450,13 +469,22 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     coarse = clip if between is None else replace(clip, times=clip.times[framed], rotations=clip.rotations[framed],
                                                    translations=clip.translations[framed])
     fine = np.ones(len(sk), bool) if between is None else on_chains(clip, np.isfinite(bound[between]).any(axis=0))
+    tightest = bound.min(axis=0, initial=np.inf)
+    for j in np.flatnonzero(watched):                  # a distance in the world float32 cannot keep: refused
+        position_budget(clip.times, source[1][:, j], float(tightest[j]), whose="the clip's times",
+                        subject=f"in the world for joint {sk.names[j]!r} ({why})")
     rotations: dict[int, Reduction] = {}
     made: dict[int, float] = {}
+    least = {int(i): np.radians(rotation_margin(clip.times, clip.rotations[:, i])) / (1 - DERIVED_KEEP) * (1 + 1e-9)
+             for i in np.flatnonzero(clip.rotating)}         # what float32 lets a tightened angle keep
     for round in range(ROUNDS + 2):
         for i in np.flatnonzero(clip.rotating):
             if made.get(int(i)) != angle[i]:
-                rotations[int(i)] = joint_rotation(clip if fine[i] else coarse, int(i), float(np.degrees(angle[i])),
-                                                   method)
+                kept = min(max(angle[i], least[int(i)]), asked) if angle[i] < asked else angle[i]
+                tightened = bool(kept < asked)
+                rotations[int(i)] = joint_rotation(clip if fine[i] else coarse, int(i), float(np.degrees(kept)),
+                                                   method, field="tol" if tightened else "rot_tol_deg",
+                                                   why=f", tightened {why}," if tightened else "")
                 made[int(i)] = angle[i]
         reduced = clip_tracks(clip, rotations, translations)
         if not watched.any():
@@ -479,22 +507,31 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     raise AssertionError(f"world errors up to {ratio.max():.6g} times their bound after the provable angles")
 
 
-def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "incremental") -> Reduction:
+def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "incremental", *,
+                   field: str = "rot_tol_deg", why: str = "") -> Reduction:
     """Joint ``joint``'s rotation as a quaternion curve within ``tol_deg`` degrees at
     every frame (less float32's share, :func:`rotation_budget`), its keys unit
-    quaternions; errors name the joint."""
+    quaternions; errors name the joint: an :class:`~sketchanim.errors.ArgumentError`
+    naming ``field`` where float32 would take more than half of ``tol_deg`` (more than
+    ``1 - DERIVED_KEEP`` where ``why`` says how it was derived from ``field``)."""
     quats = clip.rotations[:, joint]
-    return _named(clip.skeleton.names[joint], "rotation", lambda: reduce_rotations(
-        clip.times, quats, rotation_budget(clip.times, quats, tol_deg), method=method, keys=True))
+    name = clip.skeleton.names[joint]
+    budget = rotation_budget(clip.times, quats, tol_deg, field=field, subject=f"for joint {name!r} rotation{why}",
+                             whose="the clip's times", keep=DERIVED_KEEP if why else KEEP)
+    return _named(name, "rotation", lambda: reduce_rotations(clip.times, quats, budget, method=method, keys=True))
 
 
-def joint_position(clip: Clip, joint: int, tol: float, method: str = "incremental") -> Reduction:
+def joint_position(clip: Clip, joint: int, tol: float, method: str = "incremental", *, why: str = "") -> Reduction:
     """Joint ``joint``'s translation as a curve within the distance ``tol`` at every
     frame (less float32's share, :func:`position_budget`; ``report["max_distance"]``);
-    errors name the joint."""
+    errors name the joint: an :class:`~sketchanim.errors.ArgumentError` naming ``tol``
+    where float32 would take more than half of it (more than ``1 - DERIVED_KEEP`` where
+    ``why`` says how it is a share of the one asked)."""
     points = clip.translations[:, joint]
-    r = _named(clip.skeleton.names[joint], "position", lambda: reduce(
-        clip.times, points, position_budget(clip.times, points, tol) / np.sqrt(3.0), method=method))
+    name = clip.skeleton.names[joint]
+    budget = position_budget(clip.times, points, tol, subject=f"for joint {name!r} position{why}",
+                             whose="the clip's times", keep=DERIVED_KEEP if why else KEEP)
+    r = _named(name, "position", lambda: reduce(clip.times, points, budget / np.sqrt(3.0), method=method))
     r.report["max_distance"] = float(np.linalg.norm(r.spline(clip.times) - clip.translations[:, joint],
                                                     axis=1).max())
     return r

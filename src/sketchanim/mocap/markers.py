@@ -226,7 +226,14 @@ class ReducedMarkers:
 
 def reduce_markers(markers: Markers, tol: float, *, method: str = "global") -> ReducedMarkers:
     """Reduce every gap-free run of every marker to a cubic curve within ``tol`` (a
-    distance in the markers' units: ``tol / sqrt(3)`` per axis) of each of its samples.
+    distance in the markers' units: ``tol / sqrt(3)`` per axis) of each of its samples,
+    float32's share left out (:func:`~sketchanim.float32.position_budget`).
+
+    Raises
+    ------
+    ArgumentError
+        Naming ``tol``: not a positive distance, or one float32 would take more than
+        half of for a marker's run (named with its frames).
 
     Examples
     --------
@@ -248,8 +255,10 @@ def reduce_markers(markers: Markers, tol: float, *, method: str = "global") -> R
             if b - a == 1:
                 pieces.append(MarkerPiece(float(t[0]), float(t[0]), 1, BSpline(np.r_[t[0], t[0] + step], x, 0), 0.0))
                 continue
+            budget = position_budget(t, x, tol, subject=f"for marker {name!r}, frames {a}..{b - 1},",
+                                     whose="the markers' times")
             try:
-                r = reduce(t, x, position_budget(t, x, tol) / np.sqrt(3.0), method=method)
+                r = reduce(t, x, budget / np.sqrt(3.0), method=method)
             except InputError as err:
                 raise InputError(f"marker {name!r}, frames {a}..{b - 1}: {err}") from None
             distance = float(np.linalg.norm(r.spline(t) - x, axis=1).max())

@@ -60,11 +60,12 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "in
     cap = np.radians(MAX_ANGLE_DEG)
 
     def reduced(clip: Clip, held: np.ndarray, planted_share: float, framed: np.ndarray) -> ReducedClip:
-        translations = {int(i): joint_position(clip, int(i), share * (planted_share if held_chain[i] else 1.0), method)
+        translations = {int(i): joint_position(clip, int(i), share * (planted_share if held_chain[i] else 1.0), method,
+                                               why=f" (its share of tol {tol:.6g} in the world)")
                         for i in np.flatnonzero(clip.translating)}
         bound = np.where(held, planted_share * tol, np.where(framed[:, None], tol, np.inf))    # tol at the frames
         start, provable = contact_angles(clip, translations, bound, shell)
         return tighten(clip, translations, np.minimum(start, cap), np.minimum(provable, cap), bound, shell, method,
-                       framed)
+                       framed, why=f"to hold the joints within tol {tol:.6g} in the world")
 
     return sliding_kept(clip, held, reduced)
