@@ -175,12 +175,8 @@ def rotation_budget(times: np.ndarray, quats: np.ndarray, tol_deg: float, *, fie
         Quaternions (n, 4).
     tol_deg : float
         The angle promised, in degrees.
-    field, subject, whose : str
-        How a refusal names the tolerance, where it was asked, and whose times start
-        late (:func:`margin_refusal`).
-    keep : float
-        The least share of the tolerance the budget keeps (``KEEP``: half; less for a
-        tolerance a caller derived as a share of another, tightened to hold it).
+    field, subject, whose, keep
+        As :func:`position_budget`'s.
 
     Returns
     -------
