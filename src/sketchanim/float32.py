@@ -13,6 +13,7 @@ recording), the tolerance is refused (:func:`margin_refusal`): no file could pro
 from __future__ import annotations
 
 import numpy as np
+from scipy.ndimage import maximum_filter1d
 
 from sketchanim.errors import ArgumentError
 
@@ -32,6 +33,12 @@ KEEP = 0.5
 #: the rounding: the key times on either side, the time played, the fraction between keys.
 TIME_ROUNDINGS = 4
 
+#: Seconds around a sample whose fastest step sets its time margin in the budgets: a
+#: rounded key time moves the curve over the spans beside that key, and a reduced take's
+#: spans are long only where it moves slowly. A fast move early in a take (a jump into
+#: the first pose) so costs nothing late in it.
+REACH_S = 1.0
+
 
 def float32_margin(times: np.ndarray, size: float, speed: float | np.ndarray) -> float | np.ndarray:
     """How far a curve of values up to ``size`` (a norm), moving at up to ``speed`` per
@@ -41,7 +48,7 @@ def float32_margin(times: np.ndarray, size: float, speed: float | np.ndarray) ->
 
     ``speed`` is one number for the whole curve (the margin then holds at its latest
     time), or one per time (n, ...): the margin at each time, from that time's speed and
-    how late it is.
+    how late it is (the budgets here take each sample's speed within ``REACH_S``).
 
     >>> m = float32_margin(np.array([0.0, 30.0]), 200.0, 300.0)     # a hips in cm, 30 s
     >>> bool(1e-4 < m < 1e-2)
@@ -147,16 +154,17 @@ def position_budget(times: np.ndarray, points: np.ndarray, tol: float, *, field:
     """
     t = np.asarray(times, dtype=float)
     x = np.asarray(points, dtype=float).reshape(len(t), -1)
-    speed = float((np.linalg.norm(np.diff(x, axis=0), axis=1) / np.diff(t)).max()) if len(t) > 1 else 0.0
+    speed = _sample_speeds(t, np.linalg.norm(np.diff(x, axis=0), axis=1) / np.diff(t))
     size = float(np.linalg.norm(x, axis=1).max()) if len(t) else 0.0
-    margin = float(float32_margin(t, size, speed))
+    margins = float32_margin(t, size, speed)
+    margin = float(margins.max(initial=0.0))
     if not np.isfinite(margin) or not tol > 0:          # samples or a tolerance the reducer refuses itself
         return tol / 2
     if margin > (1 - keep) * tol:
-        late = float(np.abs(t).max())
+        i = int(np.argmax(margins))
         raise margin_refusal(tol, margin, float(float32_margin(t[:0], size, 0.0)), subject,
-                             f"points up to {size:.4g} from the origin, moving up to {speed:.3g} per s, at times "
-                             f"up to {late:.6g} s", field=field, whose=whose, keep=keep)
+                             f"points up to {size:.4g} from the origin, moving {speed[i]:.3g} per s at "
+                             f"{t[i]:.6g} s (sample {i})", field=field, whose=whose, keep=keep)
     return tol - margin
 
 
@@ -204,14 +212,15 @@ def rotation_budget(times: np.ndarray, quats: np.ndarray, tol_deg: float, *, fie
     sketchanim.errors.ArgumentError: rot_tol_deg: 0.01 degrees for joint 'hips' is less than twice ... or start the times nearer 0
     """
     t = np.asarray(times, dtype=float)
-    speed = _turn_speed(t, quats)
-    margin = float(np.degrees(2 * float32_margin(t, 1.0, speed)))
+    speed = _turn_speeds(t, quats)
+    margins = np.degrees(2 * float32_margin(t, 1.0, speed))
+    margin = float(margins.max(initial=0.0))
     if not np.isfinite(margin) or not tol_deg > 0:      # samples or a tolerance the reducer refuses itself
         return tol_deg / 2
     if margin > (1 - keep) * tol_deg:
-        late = float(np.abs(t).max())
+        i = int(np.argmax(margins))
         raise margin_refusal(tol_deg, margin, float(np.degrees(2 * float32_margin(t[:0], 1.0, 0.0))), subject,
-                             f"turning up to {np.degrees(2 * speed):.3g} degrees per s, at times up to {late:.6g} s",
+                             f"turning {np.degrees(2 * speed[i]):.3g} degrees per s at {t[i]:.6g} s (sample {i})",
                              field=field, unit=" degrees", whose=whose, keep=keep)
     return tol_deg - margin
 
@@ -227,13 +236,24 @@ def rotation_margin(times: np.ndarray, quats: np.ndarray) -> float:
     True
     """
     t = np.asarray(times, dtype=float)
-    return float(np.degrees(2 * float32_margin(t, 1.0, _turn_speed(t, quats))))
+    return float(np.degrees(2 * float32_margin(t, 1.0, _turn_speeds(t, quats))).max(initial=0.0))
 
 
-def _turn_speed(times: np.ndarray, quats: np.ndarray) -> float:
-    """The fastest turn of quaternions (n, 4) between samples, of the unit quaternion, in
-    radians per second (half the rotation's)."""
+def _sample_speeds(times: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    """Each sample's speed (n,): the fastest of the ``steps`` (n - 1,) within about
+    ``REACH_S`` of it (at the median sampling interval)."""
+    if not len(steps):
+        return np.zeros(len(times))
+    interval = float(np.median(np.diff(times)))
+    reach = int(min(np.ceil(REACH_S / interval), len(steps))) if interval > 0 else len(steps)
+    both = np.maximum(np.concatenate([steps[:1], steps]), np.concatenate([steps, steps[-1:]]))
+    return maximum_filter1d(both, 2 * reach + 1, mode="nearest")
+
+
+def _turn_speeds(times: np.ndarray, quats: np.ndarray) -> np.ndarray:
+    """Each sample's turn speed (:func:`_sample_speeds`) of quaternions (n, 4), of the
+    unit quaternion, in radians per second (half the rotation's)."""
     q = np.asarray(quats, dtype=float)
     turn = np.arccos(np.clip(np.abs(np.sum(q[1:] * q[:-1], axis=1)) / (np.linalg.norm(q[1:], axis=1)
                                                                      * np.linalg.norm(q[:-1], axis=1)), 0, 1))
-    return float((turn / np.diff(times)).max()) if len(times) > 1 else 0.0
+    return _sample_speeds(times, turn / np.diff(times))

@@ -232,10 +232,10 @@ def _plan(source: str, channels: list[str], orientation: list[str], options: Tab
 def _streams(fmt: str, options: TableOptions, out: Path | None, figure: Path | None) -> bool:
     """Whether the table is reduced while read: the incremental method on a text table,
     unless something needs every sample at once (sorting, the median interval of
-    ``gap``, a USD file, a plot or a .glb of ``keys`` other than curves, which take every
-    sample's time)."""
+    ``gap``, a USD file, a plot, or a .glb, whose curves or keys are checked against every
+    sample as float32 plays them)."""
     suffix = "" if out is None else out.suffix.lower()
-    whole = suffix in USD_TABLE or (suffix == ".glb" and options.keys != "curves")
+    whole = suffix in USD_TABLE or suffix == ".glb"
     return (options.method == "incremental" and fmt in STREAMED and options.unordered != "sort" and not options.gap
             and figure is None and not whole)
 

@@ -112,21 +112,19 @@ GLB_KEYS = {"curves": "", "frames": "; LINEAR keys at the sample times",
 
 
 def _write_glb(path: Path, result: TableReduction, rot_tol_deg: float, keys: str = "curves") -> Written:
-    """One animated node: the position and orientation curves, exactly or as ``keys``
-    (keyed against the samples: the table is read whole then; scene units as the file's;
-    a clock far from zero moved to start at zero)."""
+    """One animated node: the position and orientation curves, exactly or as ``keys``,
+    checked against the samples (the table is read whole for a .glb) as float32 plays
+    them; scene units as the file's; a clock far from zero moved to start at zero."""
     from sketchanim.export.table_gltf import table_glb, table_tracks
 
     first, last = result.span
     origin = first if abs(last) >= GLB_CLOCK else 0.0
-    samples: dict[str, np.ndarray | None] = {}
-    if keys != "curves":
-        assert result.table is not None                 # keys against the samples: the table is read whole
-        values = result.table.values
-        samples = dict(times=result.table.times, positions=values[:, result.parts[0]] if result.parts else None,
-                       orientations=values[:, list(result.rotation_columns)] if result.rotation_columns else None)
+    assert result.table is not None                     # checked against the samples: the table is read whole
+    values = result.table.values
     tracks = table_tracks(result.reductions[0] if result.reductions else None, result.rotation, rot_tol_deg,
-                          origin=origin, **samples)
+                          origin=origin, times=result.table.times,
+                          positions=values[:, result.parts[0]] if result.parts else None,
+                          orientations=values[:, list(result.rotation_columns)] if result.rotation_columns else None)
     write_atomic(path, table_glb(tracks, name=path.stem, keys=keys))
     return Written(path, f"one node, {', '.join(t.path.split('.')[1] for t in tracks)}{GLB_KEYS[keys]}; the file's "
                          f"units written as metres" + (f"; times from the first sample, at {origin:.9g} s: glTF keeps "
