@@ -1,8 +1,9 @@
 """Warming the compiled kernels ahead of use: ``python -m sketchanim.anim.warmup``.
 
 The kernels (input checks, pause and break detection, the incremental method's windows,
-the player's evaluation) compile on first use, about 20 s on a fresh machine, and are
-then cached beside their modules (``__pycache__``, ``cache=True``). ``scripts/setup``
+the player's evaluation, forward kinematics down a skeleton) compile on first use, about
+20 s on a fresh machine, and are then cached beside their modules (``__pycache__``,
+``cache=True``). ``scripts/setup``
 runs :func:`warm_up`, so the first reduction, recording or playback a user starts runs
 at the cached speed; running it again only loads the cache. The studio runs
 :func:`warm_recorder` before it says it is ready: the reducer processes forked and their
