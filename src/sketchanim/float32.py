@@ -163,8 +163,9 @@ def position_budget(times: np.ndarray, points: np.ndarray, tol: float, *, field:
     if margin > (1 - keep) * tol:
         i = int(np.argmax(margins))
         raise margin_refusal(tol, margin, float(float32_margin(t[:0], size, 0.0)), subject,
-                             f"points up to {size:.4g} from the origin, moving {speed[i]:.3g} per s at "
-                             f"{t[i]:.6g} s (sample {i})", field=field, whose=whose, keep=keep)
+                             f"points up to {size:.4g} from the origin, moving up to {speed[i]:.3g} per s "
+                             f"within {REACH_S:g} s of {t[i]:.6g} s (sample {i})", field=field, whose=whose,
+                             keep=keep)
     return tol - margin
 
 
@@ -220,7 +221,8 @@ def rotation_budget(times: np.ndarray, quats: np.ndarray, tol_deg: float, *, fie
     if margin > (1 - keep) * tol_deg:
         i = int(np.argmax(margins))
         raise margin_refusal(tol_deg, margin, float(np.degrees(2 * float32_margin(t[:0], 1.0, 0.0))), subject,
-                             f"turning {np.degrees(2 * speed[i]):.3g} degrees per s at {t[i]:.6g} s (sample {i})",
+                             f"turning up to {np.degrees(2 * speed[i]):.3g} degrees per s within {REACH_S:g} s of "
+                             f"{t[i]:.6g} s (sample {i})",
                              field=field, unit=" degrees", whose=whose, keep=keep)
     return tol_deg - margin
 
@@ -240,11 +242,12 @@ def rotation_margin(times: np.ndarray, quats: np.ndarray) -> float:
 
 
 def _sample_speeds(times: np.ndarray, steps: np.ndarray) -> np.ndarray:
-    """Each sample's speed (n,): the fastest of the ``steps`` (n - 1,) within about
-    ``REACH_S`` of it (at the median sampling interval)."""
+    """Each sample's speed (n,): the fastest of the ``steps`` (n - 1,) within ``REACH_S``
+    of it at least (as many steps either side as the shortest sampling interval fits in
+    ``REACH_S``: more where the sampling is sparser or uneven, never less)."""
     if not len(steps):
         return np.zeros(len(times))
-    interval = float(np.median(np.diff(times)))
+    interval = float(np.diff(times).min())
     reach = int(min(np.ceil(REACH_S / interval), len(steps))) if interval > 0 else len(steps)
     both = np.maximum(np.concatenate([steps[:1], steps]), np.concatenate([steps, steps[-1:]]))
     return maximum_filter1d(both, 2 * reach + 1, mode="nearest")

@@ -198,8 +198,8 @@ def test_a_take_over_a_track_is_streamed_and_joined_c1_within_tolerance(start, l
                 # the old curve's slope on the side it is kept (it may have a corner there)
                 kept = split(before.spline, seam)[side].derivative()(seam)
                 for piece in split(after.spline, seam):           # the new curve: the same on both sides
-                    got = piece.derivative()(seam)
-                    assert np.allclose(got, kept, atol=1e-6 * (1 + np.abs(kept).max())), (path, seam)
+                    slope = piece.derivative()(seam)
+                    assert np.allclose(slope, kept, atol=1e-6 * (1 + np.abs(kept).max())), (path, seam)
         assert len(after.takes) == 2 and after.takes[1].mode == mode
 
 

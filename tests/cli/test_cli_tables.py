@@ -19,6 +19,7 @@ from clips import played, validate
 from tolerance import within
 from sketchanim.cli import app
 from sketchanim.export.scene_gltf import KEY_SHARE
+from sketchanim.float32 import float32_margin
 from sketchanim.pipeline.table_outputs import GLB_CLOCK
 from sketchanim.reducer import Reduction
 from sketchanim.reducer.metric import rotation_angle
@@ -445,6 +446,23 @@ def test_a_fast_start_late_in_a_take_plays_in_float32_within_tol_or_is_refused(t
     assert res.exit_code == 0, res.output
     times = np.loadtxt(f)[:, 0]                  # as the file was read
     assert np.abs(played(out, "path", "translation", times) - x).max() <= tol
+
+
+def test_a_jump_into_the_first_sample_costs_no_margin_a_minute_later(tmp_path):
+    """A minute-long path at 50 Hz whose first step jumps at 200 per s (a capture starting
+    from its rest pose): taken over the whole take, the jump's speed at its last time
+    would leave float32 more than half of 0.002 (2^-24 x 4 x 200 x 60 s alone is 0.0029),
+    but each sample's margin comes from the speed within a second of it, so the file is
+    written, and plays within 0.002 of every sample in float32."""
+    t = np.arange(3000) / 50
+    x = np.c_[np.sin(2 * t), np.cos(3 * t), 0.05 * t]
+    x[0, 0] = x[1, 0] + 200 / 50
+    f, out = tmp_path / "jump.txt", tmp_path / "jump.glb"
+    np.savetxt(f, np.c_[t, x], header="timestamp tx ty tz", fmt="%.17g")
+    assert float32_margin(t, float(np.linalg.norm(x, axis=1).max()), 200.0) > 0.002 / 2
+    res = runner.invoke(app, ["reduce", str(f), "--tol", "0.002", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert np.abs(played(out, "path", "translation", np.loadtxt(f)[:, 0]) - x).max() <= 0.002
 
 
 @pytest.mark.parametrize("keys", ["frames", "compact"])

@@ -50,13 +50,13 @@ def _take(times: np.ndarray | None, values: np.ndarray | None, origin: float) ->
 
 
 def table_tracks(position: Reduction | None, orientation: Reduction | None, rot_tol_deg: float, *,
-                 origin: float = 0.0, times: np.ndarray | None = None, positions: np.ndarray | None = None,
-                 orientations: np.ndarray | None = None) -> list[ContinuousTrack]:
+                 origin: float = 0.0, tol: float | None = None, times: np.ndarray | None = None,
+                 positions: np.ndarray | None = None, orientations: np.ndarray | None = None) -> list[ContinuousTrack]:
     """A table's position curve (2 or 3 channels; a plane's path at z = 0) and
     orientation curve (quaternions, scalar-first ones reordered to glTF's x, y, z, w) as
     tracks of :data:`NODE`, their times less ``origin`` seconds.
 
-    The position's tolerance is the smallest of its channels'. Given the samples
+    The position's tolerance is ``tol``, by default the smallest of its channels'. Given the samples
     (``times`` (n,), ``positions`` (n, 2 or 3), ``orientations`` (n, 4) in the
     reduction's layout), each track carries its own as its one take: what
     ``keys="frames"`` and ``keys="compact"`` are keyed at and measured against (and the
@@ -76,7 +76,7 @@ def table_tracks(position: Reduction | None, orientation: Reduction | None, rot_
         s = position.columns
         take = _take(times, None if positions is None else _position(positions), origin)
         tracks.append(ContinuousTrack(f"{NODE}.position", POSITION, BSpline(s.t - origin, _position(s.c), s.k),
-                                      float(np.min(position.tol)), take))
+                                      float(np.min(position.tol)) if tol is None else tol, take))
     if orientation is not None:
         s = orientation.columns
         first = bool(orientation.report.get("scalar_first"))

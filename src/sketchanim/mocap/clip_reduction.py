@@ -439,7 +439,8 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     measured ratio (at least 5% tighter, at most half), and only the joints whose angle
     changed are reduced again. After :data:`ROUNDS` rounds the joints above any that
     still miss get their ``provable`` angles (which keep every bound), and after one
-    more every joint gets them, so the result always holds.
+    more every joint gets them, so the result always holds, unless float32 kept a joint
+    from its provable angle (below): then the distance is refused naming ``tol``.
 
     A bound float32 would take more than half of at a joint's world positions is refused
     naming ``tol`` (:func:`~sketchanim.float32.position_budget`, ``why`` in the message),
@@ -468,24 +469,27 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     between = None if framed is None or framed.all() else ~framed
     coarse = clip if between is None else replace(clip, times=clip.times[framed], rotations=clip.rotations[framed],
                                                    translations=clip.translations[framed])
-    fine = np.ones(len(sk), bool) if between is None else on_chains(clip, np.isfinite(bound[between]).any(axis=0))
+    between_chain = np.ones(len(sk), bool) if between is None else \
+        on_chains(clip, np.isfinite(bound[between]).any(axis=0))
+    sampled = {int(i): clip if between_chain[i] else coarse for i in np.flatnonzero(clip.rotating)}
     tightest = bound.min(axis=0, initial=np.inf)
     for j in np.flatnonzero(watched):                  # a distance in the world float32 cannot keep: refused
         position_budget(clip.times, source[1][:, j], float(tightest[j]), whose="the clip's times",
                         subject=f"in the world for joint {sk.names[j]!r} ({why})")
     rotations: dict[int, Reduction] = {}
     made: dict[int, float] = {}
-    least = {int(i): np.radians(rotation_margin(clip.times, clip.rotations[:, i])) / (1 - DERIVED_KEEP) * (1 + 1e-9)
-             for i in np.flatnonzero(clip.rotating)}         # what float32 lets a tightened angle keep
+    least = {i: np.radians(rotation_margin(c.times, c.rotations[:, i])) / (1 - DERIVED_KEEP) * (1 + 1e-9)
+             for i, c in sampled.items()}                # what float32 lets a tightened angle keep
+    kept = dict.fromkeys(sampled, np.inf)
     for round in range(ROUNDS + 2):
-        for i in np.flatnonzero(clip.rotating):
-            if made.get(int(i)) != angle[i]:
-                kept = min(max(angle[i], least[int(i)]), asked) if angle[i] < asked else angle[i]
-                tightened = bool(kept < asked)
-                rotations[int(i)] = joint_rotation(clip if fine[i] else coarse, int(i), float(np.degrees(kept)),
-                                                   method, field="tol" if tightened else "rot_tol_deg",
-                                                   why=f", tightened {why}," if tightened else "")
-                made[int(i)] = angle[i]
+        for i, c in sampled.items():
+            now = min(max(angle[i], least[i]), asked) if angle[i] < asked else angle[i]
+            if made.get(i) != now:
+                tightened = bool(now < asked)
+                rotations[i] = joint_rotation(c, i, float(np.degrees(now)), method,
+                                              field="tol" if tightened else "rot_tol_deg",
+                                              why=f", tightened {why}," if tightened else "")
+                made[i] = kept[i] = now
         reduced = clip_tracks(clip, rotations, translations)
         if not watched.any():
             return reduced
@@ -504,6 +508,12 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
             angle[tight] *= factor[tight]
         else:
             angle[tight] = np.minimum(angle[tight], provable[tight])
+    d = int(over[np.argmax(ratio[over])])
+    floored = [sk.names[a] for a in chains[d] if kept.get(a, 0.0) > provable[a]]
+    if floored:                                      # float32 kept the provable angle from them
+        raise ArgumentError("tol", f"{float(bound[:, d].min()):.6g} in the world for joint {sk.names[d]!r} ({why}) "
+                                   f"cannot be kept in float32: the angles of {', '.join(floored)} would have to be "
+                                   f"finer than float32 keeps them late in the clip; ask for a larger tolerance")
     raise AssertionError(f"world errors up to {ratio.max():.6g} times their bound after the provable angles")
 
 

@@ -18,7 +18,7 @@ from sketchanim.formats.quirks import merged, ordered
 from sketchanim.formats.tables import STREAMED, read_table, stream_table, table_format
 from sketchanim.motion import reduce_rotations
 from sketchanim.pipeline.table_options import TableOptions
-from sketchanim.pipeline.table_outputs import USD_TABLE, Written, check_node, check_outputs, write_outputs
+from sketchanim.pipeline.table_outputs import USD_TABLE, Written, check_node, check_outputs, glb_budgets, write_outputs
 from sketchanim.pipeline.table_stream import euler_quaternions, reduce_streamed
 from sketchanim.reducer import Reduction, reduce
 
@@ -55,6 +55,9 @@ class TableReduction:
         sampled.
     written : tuple of Written
         Files written, with what they hold.
+    glb_tol : float or None
+        For a .glb: the position's tolerance (its channels' smallest), of which its curve
+        and the orientation's took float32's budget (``pipeline.table_outputs.glb_budgets``).
     """
 
     source: str
@@ -70,6 +73,7 @@ class TableReduction:
     moved: int
     merged_away: int
     written: tuple[Written, ...] = ()
+    glb_tol: float | None = None
 
     @property
     def streamed(self) -> bool:
@@ -142,11 +146,12 @@ def _read(source: str | os.PathLike[str], options: TableOptions) -> tuple[Sample
     return table, moved, merged_away
 
 
-def _reduce_rotation(table: SampleTable, rot: list[int], options: TableOptions, source: str) -> Reduction:
+def _reduce_rotation(table: SampleTable, rot: list[int], options: TableOptions, source: str,
+                     tol_deg: float) -> Reduction:
     values = table.values[:, rot]
     quaternion = len(rot) == 4
     return _on_lines(table, source, lambda: reduce_rotations(
-        table.times, values if quaternion else euler_quaternions(values, options.seq), options.rot_tol_deg,
+        table.times, values if quaternion else euler_quaternions(values, options.seq), tol_deg,
         scalar_first=options.scalar_first and quaternion and options.rot_cols is not None, mode=options.rot_mode,
         seq=options.seq, method=options.method, order=options.order, window=options.window,
         features=options.features))
@@ -204,14 +209,20 @@ def reduce_table(source: str | os.PathLike[str], options: TableOptions, *, outpu
     rot, rest, tols, parts = _plan(source, channels, list(table.orientation), options, figure)
     if out is not None:
         check_node(channels, parts, rot, out.suffix.lower(), options.rot_mode)
+    glb_tol, rot_tol = None, options.rot_tol_deg
+    if out is not None and out.suffix.lower() == ".glb":     # reduced to what float32 leaves, as the file is checked
+        glb_tol = min(tols[rest.index(j)] for j in parts[0]) if parts else 0.0
+        budget, rot_tol = glb_budgets(table.times, table.values[:, parts[0]] if parts else None, glb_tol,
+                                      table.values[:, rot] if rot else None, options.rot_tol_deg)
+        tols = [min(tol, budget) for tol in tols]
     reductions = tuple(_on_lines(table, source, lambda part=part: reduce(
         table.times, table.values[:, part], [tols[rest.index(j)] for j in part], order=options.order,
         method=options.method, start=options.start, window=options.window, features=options.features))
         for part in parts)
-    rotation = _reduce_rotation(table, rot, options, source) if rot else None
+    rotation = _reduce_rotation(table, rot, options, source, rot_tol) if rot else None
     result = TableReduction(source, table, channels, table.notes, len(table.times),
                             (float(table.times[0]), float(table.times[-1])), tuple(parts), reductions, rotation,
-                            tuple(rot), moved, merged_away)
+                            tuple(rot), moved, merged_away, glb_tol=glb_tol)
     return result if out is None and figure is None else write_outputs(result, out, figure, options)
 
 

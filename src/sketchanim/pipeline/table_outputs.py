@@ -111,18 +111,45 @@ GLB_KEYS = {"curves": "", "frames": "; LINEAR keys at the sample times",
             "compact": "; LINEAR keys picked from the samples, quantised and compressed (EXT_meshopt_compression)"}
 
 
+def glb_origin(first: float, last: float) -> float:
+    """Where a table's .glb starts its clock: at 0, or at its first sample where the clock
+    reads past :data:`GLB_CLOCK`."""
+    return first if abs(last) >= GLB_CLOCK else 0.0
+
+
+def glb_budgets(times: np.ndarray, positions: np.ndarray | None, tol: float, orientations: np.ndarray | None,
+                rot_tol_deg: float) -> tuple[float, float]:
+    """What a table's .glb reduces its position (within ``tol``, its channels' smallest)
+    and its orientation (``rot_tol_deg``) to: the tolerances less what float32 may move
+    the samples as the file holds them (:func:`~sketchanim.float32.position_budget`,
+    ``rotation_budget``), the bounds the writer checks the curves against, so that no
+    curve is reduced again for the file.
+
+    >>> t = np.linspace(0, 4, 100)
+    >>> budget, _ = glb_budgets(t, np.c_[np.sin(t), t], 1e-3, None, 0.5)
+    >>> bool(0.99e-3 < budget < 1e-3)
+    True
+    """
+    from sketchanim.float32 import position_budget, rotation_budget
+
+    shifted = times - glb_origin(float(times[0]), float(times[-1]))
+    return (tol if positions is None else position_budget(shifted, positions, tol,
+                                                           subject="for track 'path.position'"),
+            rot_tol_deg if orientations is None else rotation_budget(shifted, orientations, rot_tol_deg,
+                                                                     subject="for track 'path.orientation'"))
+
+
 def _write_glb(path: Path, result: TableReduction, rot_tol_deg: float, keys: str = "curves") -> Written:
     """One animated node: the position and orientation curves, exactly or as ``keys``,
     checked against the samples (the table is read whole for a .glb) as float32 plays
     them; scene units as the file's; a clock far from zero moved to start at zero."""
     from sketchanim.export.table_gltf import table_glb, table_tracks
 
-    first, last = result.span
-    origin = first if abs(last) >= GLB_CLOCK else 0.0
+    origin = glb_origin(*result.span)
     assert result.table is not None                     # checked against the samples: the table is read whole
     values = result.table.values
     tracks = table_tracks(result.reductions[0] if result.reductions else None, result.rotation, rot_tol_deg,
-                          origin=origin, times=result.table.times,
+                          origin=origin, tol=result.glb_tol, times=result.table.times,
                           positions=values[:, result.parts[0]] if result.parts else None,
                           orientations=values[:, list(result.rotation_columns)] if result.rotation_columns else None)
     write_atomic(path, table_glb(tracks, name=path.stem, keys=keys))

@@ -8,10 +8,14 @@
  * gets the new state. The line under it says what is happening or what was refused (the
  * server's 4xx `detail`: a truncated file's line, a wrong type, a size over the limit); a
  * refusal is also a notice. Nothing changes on a refusal. The line says what was imported once
- * the new objects are in this page's state (the server's answer can overtake its broadcast).
+ * the new objects are in this page's state (the server's answer can overtake its broadcast), or
+ * after ARRIVAL_MS if another page changed them first.
  */
 import { el } from './dom.js';
 import { fetchJson, reason } from './api.js';
+
+/** How long an import waits for its objects to reach this page before it says what it imported. */
+const ARRIVAL_MS = 10_000;
 
 export class ClipImport {
   /**
@@ -76,10 +80,13 @@ export class ClipImport {
         : fetchJson(`/api/clips?name=${name}`, { method: 'POST', body: file });
       /** @type {{objects: string[], tracks: number, frames: number, seconds: number}} */
       const made = await request;
-      await new Promise((done) => {
-        this.pending = { names: made.objects, done: () => done(undefined) };
-        this.arrive();
-      });
+      await Promise.race([             // or, if another page changed them first, after a while anyway
+        new Promise((done) => {
+          this.pending = { names: made.objects, done: () => done(undefined) };
+          this.arrive();
+        }),
+        new Promise((done) => setTimeout(done, ARRIVAL_MS)),
+      ]);
       const what = file.name.toLowerCase().endsWith('.c3d') ? 'markers' : 'joints';
       this.status.textContent = `${file.name}: ${made.objects.length} ${what}, ${made.frames} frames (${made.seconds.toFixed(1)} s)`;
     } catch (err) {
@@ -87,6 +94,7 @@ export class ClipImport {
       this.status.textContent = text;
       this.studio.tell('error', text, 'clip');
     } finally {
+      this.pending = null;
       this.input.disabled = false;
     }
   }
