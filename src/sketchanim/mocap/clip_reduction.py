@@ -480,7 +480,6 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     made: dict[int, float] = {}
     least = {i: np.radians(rotation_margin(c.times, c.rotations[:, i])) / (1 - DERIVED_KEEP) * (1 + 1e-9)
              for i, c in sampled.items()}                # what float32 lets a tightened angle keep
-    kept = dict.fromkeys(sampled, np.inf)
     for round in range(ROUNDS + 2):
         for i, c in sampled.items():
             now = min(max(angle[i], least[i]), asked) if angle[i] < asked else angle[i]
@@ -489,7 +488,7 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
                 rotations[i] = joint_rotation(c, i, float(np.degrees(now)), method,
                                               field="tol" if tightened else "rot_tol_deg",
                                               why=f", tightened {why}," if tightened else "")
-                made[i] = kept[i] = now
+                made[i] = now
         reduced = clip_tracks(clip, rotations, translations)
         if not watched.any():
             return reduced
@@ -509,7 +508,7 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
         else:
             angle[tight] = np.minimum(angle[tight], provable[tight])
     d = int(over[np.argmax(ratio[over])])
-    floored = [sk.names[a] for a in chains[d] if kept.get(a, 0.0) > provable[a]]
+    floored = [sk.names[a] for a in chains[d] if made.get(a, 0.0) > provable[a]]
     if floored:                                      # float32 kept the provable angle from them
         raise ArgumentError("tol", f"{float(bound[:, d].min()):.6g} in the world for joint {sk.names[d]!r} ({why}) "
                                    f"cannot be kept in float32: the angles of {', '.join(floored)} would have to be "
