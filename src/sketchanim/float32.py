@@ -213,8 +213,7 @@ def rotation_budget(times: np.ndarray, quats: np.ndarray, tol_deg: float, *, fie
     sketchanim.errors.ArgumentError: rot_tol_deg: 0.01 degrees for joint 'hips' is less than twice ... or start the times nearer 0
     """
     t = np.asarray(times, dtype=float)
-    speed = _turn_speeds(t, quats)
-    margins = np.degrees(2 * float32_margin(t, 1.0, speed))
+    margins, speed = _turn_margins(t, quats)
     margin = float(margins.max(initial=0.0))
     if not np.isfinite(margin) or not tol_deg > 0:      # samples or a tolerance the reducer refuses itself
         return tol_deg / 2
@@ -237,8 +236,7 @@ def rotation_margin(times: np.ndarray, quats: np.ndarray) -> float:
     >>> bool(abs(rotation_margin(t, q) - (0.5 - rotation_budget(t, q, 0.5))) < 1e-12)
     True
     """
-    t = np.asarray(times, dtype=float)
-    return float(np.degrees(2 * float32_margin(t, 1.0, _turn_speeds(t, quats))).max(initial=0.0))
+    return float(_turn_margins(np.asarray(times, dtype=float), quats)[0].max(initial=0.0))
 
 
 def _sample_speeds(times: np.ndarray, steps: np.ndarray) -> np.ndarray:
@@ -253,10 +251,12 @@ def _sample_speeds(times: np.ndarray, steps: np.ndarray) -> np.ndarray:
     return maximum_filter1d(both, 2 * reach + 1, mode="nearest")
 
 
-def _turn_speeds(times: np.ndarray, quats: np.ndarray) -> np.ndarray:
-    """Each sample's turn speed (:func:`_sample_speeds`) of quaternions (n, 4), of the
-    unit quaternion, in radians per second (half the rotation's)."""
+def _turn_margins(times: np.ndarray, quats: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each sample's float32 margin of quaternions (n, 4), in degrees, and its turn speed
+    (:func:`_sample_speeds`) of the unit quaternion, in radians per second (half the
+    rotation's)."""
     q = np.asarray(quats, dtype=float)
     turn = np.arccos(np.clip(np.abs(np.sum(q[1:] * q[:-1], axis=1)) / (np.linalg.norm(q[1:], axis=1)
                                                                      * np.linalg.norm(q[:-1], axis=1)), 0, 1))
-    return _sample_speeds(times, turn / np.diff(times))
+    speed = _sample_speeds(times, turn / np.diff(times))
+    return np.degrees(2 * float32_margin(times, 1.0, speed)), speed

@@ -211,10 +211,11 @@ def reduce_table(source: str | os.PathLike[str], options: TableOptions, *, outpu
         check_node(channels, parts, rot, out.suffix.lower(), options.rot_mode)
     glb_tol, rot_tol = None, options.rot_tol_deg
     if out is not None and out.suffix.lower() == ".glb":     # reduced to what float32 leaves, as the file is checked
-        glb_tol = min(tols[rest.index(j)] for j in parts[0]) if parts else 0.0
-        budget, rot_tol = glb_budgets(table.times, table.values[:, parts[0]] if parts else None, glb_tol,
+        position = parts[0] if parts else []                   # the node's position: held to its smallest tol
+        glb_tol = min((tols[rest.index(j)] for j in position), default=None)
+        budget, rot_tol = glb_budgets(table.times, table.values[:, position] if position else None, glb_tol or 0.0,
                                       table.values[:, rot] if rot else None, options.rot_tol_deg)
-        tols = [min(tol, budget) for tol in tols]
+        tols = [budget if j in position else tol for j, tol in zip(rest, tols)]
     reductions = tuple(_on_lines(table, source, lambda part=part: reduce(
         table.times, table.values[:, part], [tols[rest.index(j)] for j in part], order=options.order,
         method=options.method, start=options.start, window=options.window, features=options.features))
