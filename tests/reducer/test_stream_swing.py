@@ -58,6 +58,31 @@ def test_every_piece_stays_within_the_local_range_of_its_samples(sig, order: int
     assert np.all(r.max_error <= sig.tol)
 
 
+@settings(max_examples=200)
+@given(st.integers(2, 4), st.integers(3, 5), st.floats(-12, 6), st.integers(0, 2**32 - 1))
+def test_a_take_shorter_than_the_order_does_not_swing_at_any_scale(n: int, order: int, log_scale: float,
+                                                                  seed: int) -> None:
+    """Fewer samples than the order make the polynomial through them, straightened where it
+    swings; the swing is measured in tolerances whatever the values' scale."""
+    rng = np.random.default_rng(seed)
+    scale = 10.0 ** log_scale
+    t = np.cumsum(rng.uniform(1e-3, 1e-2, n)) - 1e-3
+    x = scale * rng.normal(size=(n, 1)) * rng.choice([1.0, 1e3], size=(n, 1))
+    tol = np.array([scale * 10.0 ** rng.uniform(-3, 0)])
+    pieces, r = streamed(t, x, tol, order=order, window=3)
+    assert pieces_swing(t, x, tol, pieces) <= ROUNDING_TOL
+    assert np.all(r.max_error <= tol)
+
+
+def test_three_tiny_samples_with_a_step_do_not_swing() -> None:
+    """The take hypothesis found: values near 1e-8 with a step of 800 tolerances of 5e-10;
+    the cubic through them swung 100 tolerances past their range."""
+    t = np.array([0.0, 0.001, 0.002])
+    x = np.array([[-2.646e-8], [-2.479e-8], [-4.486e-7]])
+    pieces, _ = streamed(t, x, np.array([5.14e-10]), window=3)
+    assert pieces_swing(t, x, np.array([5.14e-10]), pieces) <= ROUNDING_TOL
+
+
 @settings(max_examples=40)
 @given(signals(max_n=300, dims=(1, 3)), st.integers(3, 40), st.sampled_from([0.0, 12.5, 1.6e9]))
 def test_bounded_channels_stay_in_bounds(sig, window: int, offset: float) -> None:

@@ -725,11 +725,14 @@ class StreamReducer:
             t, x = np.r_[t, t + 1.0], np.vstack([x, x])
         poly = held_interpolant(t, x, k, (self._start_value, self._end_value))
         assert poly is not None                         # a polynomial through < order samples
-        knots, coef = np.asarray(poly.t), np.asarray(poly.c)
-        low, high = self.bounds or (np.full(self.dim, -np.inf), np.full(self.dim, np.inf))
-        lo, hi = window_kernel.local_ranges(x, self._before * self.tol + self._center, self._widen, low, high)
-        knots, coef, count = straightened(knots, coef, k, t, lo, hi, len(t) - 1, (t[0], t[-1]),
-                                          movable=not self.angle)
+        # straightened in tolerances, as the windows are (its slack is in tolerances)
+        low, high = (np.full(self.dim, -np.inf), np.full(self.dim, np.inf)) if self.bounds is None else \
+            ((b - self._center) / self.tol for b in self.bounds)
+        lo, hi = window_kernel.local_ranges((x - self._center) / self.tol, self._before, self._widen / self.tol,
+                                            low, high)
+        knots, coef, count = straightened(np.asarray(poly.t), (np.asarray(poly.c) - self._center) / self.tol, k, t,
+                                          lo, hi, len(t) - 1, (t[0], t[-1]), movable=not self.angle)
+        coef = coef * self.tol + self._center
         self.stats.straightened += count
         piece = Piece(knots, coef)
         if self.keep:
