@@ -1,6 +1,9 @@
 """The page's chains and walkers are the model's: rigs.js (what the viewport draws) gives the
 pose ``anim/rigs.py`` ``rig_clip`` gives, at any time (on the ticks and between them), to
-1e-6 rad and 1e-6 m, on random goal curves, chain structures and walker heights."""
+1e-6 rad and 1e-6 m, on random goal curves, chain structures and walker heights, up to
+the time the model's own pose turns on rounding: a redundant chain relaxing out of reach
+can turn a 1e-12 change of its goal into tenths of a radian, and from then on no port
+follows it."""
 
 from __future__ import annotations
 
@@ -46,6 +49,25 @@ def page_poses(dump: dict) -> list[dict]:
     return json.loads(run.stdout)
 
 
+#: The relative change of the goal's and base's control points that stands for rounding.
+ROUNDING = 1e-12
+
+
+def rounding_spread(scene: Scene, tracks: dict[str, Track], times: np.ndarray, clip) -> tuple[np.ndarray, np.ndarray]:
+    """How far rounding alone moves the model's pose: ``rig_clip`` with every curve's
+    control points scaled by ``1 - ROUNDING`` and ``1 + ROUNDING``, the largest angle of
+    each joint from ``clip``'s at each time (n, J) and the root's distance (n,)."""
+    angle, root = np.zeros(clip.rotations.shape[:2]), np.zeros(len(times))
+    for scale in (1 - ROUNDING, 1 + ROUNDING):
+        moved = {p: ContinuousTrack(t.path, t.type, BSpline(t.spline.t, t.spline.c * scale, t.spline.k), t.tol)
+                 for p, t in tracks.items()}
+        other = rig_clip(scene, moved, "rig", times)
+        for j in range(angle.shape[1]):
+            angle[:, j] = np.maximum(angle[:, j], rotation_angle(other.rotations[:, j], clip.rotations[:, j]))
+        root = np.maximum(root, np.linalg.norm(other.translations[:, 0] - clip.translations[:, 0], axis=1))
+    return angle, root
+
+
 def as_page(track: Track | None, value: np.ndarray) -> dict | list[float]:
     """A track as the page's document holds it (evaluate.js's Curve), or the attribute's value."""
     if not isinstance(track, ContinuousTrack):
@@ -89,7 +111,11 @@ def test_the_page_poses_rigs_as_the_model_does(kind: str, seed: int, seconds: fl
     turning = np.flatnonzero(clip.rotating)
     page = np.array([np.reshape(p["rotations"], (-1, 4)) for p in shown])
     assert page.shape[1] == len(turning)
+    spread, root = rounding_spread(scene, tracks, times, clip)
+    steady = np.maximum.accumulate(np.maximum(spread.max(axis=1), root)) <= 1e-6     # until rounding rules it
     for j in turning:
-        assert rotation_angle(page[:, j], clip.rotations[:, j]).max() <= 1e-6, clip.skeleton.names[j]
+        angle = rotation_angle(page[:, j], clip.rotations[:, j])[steady]
+        assert np.all(angle <= 1e-6 + 4 * spread[steady, j]), clip.skeleton.names[j]
     if kind == "walker":
-        assert np.abs(np.array([p["root"] for p in shown]) - clip.translations[:, 0]).max() <= 1e-6
+        off = np.linalg.norm(np.array([p["root"] for p in shown]) - clip.translations[:, 0], axis=1)[steady]
+        assert np.all(off <= 1e-6 + 4 * root[steady])
