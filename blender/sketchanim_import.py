@@ -15,7 +15,7 @@ location less its rest offset); a rotation is four quaternion F-curves, which Bl
 normalises when it plays them, as glTF does. glTF's +Y up becomes Blender's +Z up by
 one rotation of the root, so no key is converted. STEP samplers become constant keys.
 
-LINEAR samplers (``--keys frames`` and ``--keys compact`` files) become linear keys.
+LINEAR samplers (a clip's straight pieces, ``--keys frames`` and ``--keys compact`` files) become linear keys.
 glTF turns LINEAR rotations spherically and F-curves interpolate the components; our
 writers choose LINEAR rotation keys so that both stay within the file's bound (the
 component-wise way after each key is put on the side of the one before, which this

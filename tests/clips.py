@@ -144,11 +144,6 @@ def world_misses(clip: Clip, rotations: np.ndarray, translations: np.ndarray, sh
     return out
 
 
-def hermite_channels(path: Path) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:
-    """The CUBICSPLINE channels of :func:`samplers`: key times and (m, 3, d) outputs."""
-    return {k: (t, v) for k, (kind, t, v) in samplers(path).items() if kind == "CUBICSPLINE"}
-
-
 def hermite_play(times: np.ndarray, keys: np.ndarray, t: np.ndarray) -> np.ndarray:
     """A CUBICSPLINE sampler played at times ``t`` inside its keys' span
     (:func:`hermite_at` on the segment holding each)."""
@@ -207,6 +202,17 @@ def linear_play32(times: np.ndarray, keys: np.ndarray, t: np.ndarray, rotation: 
     sin = np.where(small, f(1), np.sin(angle))
     out = np.where(small, (f(1) - s) * a + s * b, (np.sin((f(1) - s) * angle) * a + np.sin(s * angle) * b) / sin)
     return out / np.linalg.norm(out, axis=1, keepdims=True)
+
+
+def sampler_play32(kind: str, times: np.ndarray, keys: np.ndarray, t: np.ndarray, rotation: bool,
+                   spherical: bool = True) -> np.ndarray:
+    """A CUBICSPLINE or LINEAR sampler played in float32 at ``t`` (:func:`play32`,
+    :func:`linear_play32`; rotations normalised, a LINEAR one spherically or not)."""
+    if kind == "LINEAR":
+        return linear_play32(times, keys, t, rotation, spherical)
+    assert kind == "CUBICSPLINE", kind
+    out = play32(times, keys, t)
+    return out / np.linalg.norm(out, axis=1, keepdims=True) if rotation else out
 
 
 def played(path: Path, node: str, channel: str, times: np.ndarray) -> np.ndarray:

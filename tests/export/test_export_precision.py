@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from scipy.spatial.transform import Rotation
 
-from clips import clips, play32, samplers, validate
+from clips import clips, play32, sampler_play32, samplers, validate
 from sketchanim.mocap.clip_reduction import reduce_clip
 from sketchanim.mocap.markers import Markers, reduce_markers
 from sketchanim.motion.skeleton import Clip, Skeleton
@@ -24,16 +24,20 @@ TOL, ROT_TOL = 0.5, 0.5
 
 def assert_played_within(path: Path, clip: Clip, tol: float, rot_tol: float) -> None:
     """Every joint channel of the .glb, played in float32 at every source frame, within
-    the asked tolerances of the source (no slack)."""
+    the asked tolerances of the source (no slack); LINEAR rotations both spherically
+    (glTF's rule) and component-wise (Blender's F-curves)."""
     channels = samplers(path)
     for j, name in enumerate(clip.skeleton.names):
         if clip.rotating[j]:
-            _, times, keys = channels[(name, "rotation")]
-            angle = np.degrees(rotation_angle(play32(times, keys, clip.times).astype(float), clip.rotations[:, j]))
-            assert angle.max() <= rot_tol, (name, angle.max())
+            kind, times, keys = channels[(name, "rotation")]
+            for way in (True, False):
+                played = sampler_play32(kind, times, keys, clip.times, True, way).astype(float)
+                angle = np.degrees(rotation_angle(played, clip.rotations[:, j]))
+                assert angle.max() <= rot_tol, (name, way, angle.max())
         if clip.translating[j]:
-            _, times, keys = channels[(name, "translation")]
-            dist = np.linalg.norm(play32(times, keys, clip.times) - clip.translations[:, j], axis=1)
+            kind, times, keys = channels[(name, "translation")]
+            dist = np.linalg.norm(sampler_play32(kind, times, keys, clip.times, False) - clip.translations[:, j],
+                                  axis=1)
             assert dist.max() <= tol, (name, dist.max())
 
 

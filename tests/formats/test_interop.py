@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
-from clips import assert_within, clips, hermite_at, hermite_channels, hermite_play, validate
+from clips import assert_within, clips, hermite_at, sampler_play32, samplers, validate
 from sketchanim.mocap.clip_reduction import ReducedClip, reduce_clip
 from sketchanim.motion.skeleton import Clip
 from sketchanim.cli import app
@@ -43,29 +43,37 @@ def _round_trip(clip: Clip, folder: Path, tol: float = TOL, rot_tol: float = ROT
 
 
 def _glb_matches_splines(path: Path, reduced: ReducedClip) -> None:
-    """The .glb's samplers, evaluated by the spec's formula, are our curves (1e-6)."""
-    channels = hermite_channels(path)
+    """The .glb's samplers are our curves: LINEAR keys our straight pieces' values at
+    their breakpoints, CUBICSPLINE keys evaluated by the spec's formula (1e-6)."""
+    channels = samplers(path)
     gltf = {"orientation": "rotation", "position": "translation"}
     curves = [(name, gltf[attribute], r.reduction) for path, r in reduced.tracks.items()
               for name, attribute in [path.rsplit(".", 1)]]
     assert len(channels) == len(curves)
     u = np.linspace(0, 1, 7)
     for name, kind, r in curves:
-        times, keys = channels[(name, kind)]
+        interpolation, times, keys = channels[(name, kind)]
+        assert interpolation == ("LINEAR" if r.spline.k == 1 else "CUBICSPLINE"), (name, kind, r.spline.k)
         assert np.allclose(times, np.unique(r.spline.t), atol=1e-6 * max(1.0, times[-1]))
-        segment = np.repeat(np.arange(len(times) - 1), len(u))
-        uu = np.tile(u, len(times) - 1)
         ours_t = np.unique(r.spline.t)
-        ours = r.columns(ours_t[segment] + uu * (ours_t[segment + 1] - ours_t[segment]))
-        theirs = hermite_at(times, keys, segment, uu)
-        # float32 keys: relative to the largest term of the formula (a value, or a tangent times its span),
-        # plus what float32 key times move a tangent's term
-        tangent = float(np.abs(keys[:, [0, 2]]).max())
-        scale = max(1.0, float(np.abs(ours).max()), tangent * np.diff(times).max())
-        bound = 1e-6 * scale + tangent * float(np.abs(times - ours_t).max())
-        assert np.abs(theirs - ours).max() <= bound, (name, kind)
+        if interpolation == "LINEAR":
+            ours = r.columns(ours_t)
+            assert np.abs(keys - ours).max() <= 1e-6 * max(1.0, float(np.abs(ours).max())), (name, kind)
+            values = keys
+        else:
+            segment = np.repeat(np.arange(len(times) - 1), len(u))
+            uu = np.tile(u, len(times) - 1)
+            ours = r.columns(ours_t[segment] + uu * (ours_t[segment + 1] - ours_t[segment]))
+            theirs = hermite_at(times, keys, segment, uu)
+            # float32 keys: relative to the largest term of the formula (a value, or a tangent times its span),
+            # plus what float32 key times move a tangent's term
+            tangent = float(np.abs(keys[:, [0, 2]]).max())
+            scale = max(1.0, float(np.abs(ours).max()), tangent * np.diff(times).max())
+            bound = 1e-6 * scale + tangent * float(np.abs(times - ours_t).max())
+            assert np.abs(theirs - ours).max() <= bound, (name, kind)
+            values = keys[:, 1]
         if kind == "rotation":
-            assert np.allclose(np.linalg.norm(keys[:, 1], axis=1), 1.0, atol=1e-6)
+            assert np.allclose(np.linalg.norm(values, axis=1), 1.0, atol=1e-6)
 
 
 @settings(max_examples=12)
@@ -81,20 +89,24 @@ def test_bvh_round_trip_keeps_every_frame_and_joint(tmp_path_factory: pytest.Tem
 
 
 @settings(max_examples=8)
-@given(clips())
-def test_glb_is_valid_exact_and_within_tolerance(tmp_path_factory: pytest.TempPathFactory, clip: Clip) -> None:
+@given(clips(), st.sampled_from([2, 4]))
+def test_glb_is_valid_exact_and_within_tolerance(tmp_path_factory: pytest.TempPathFactory, clip: Clip,
+                                                 order: int) -> None:
     folder = tmp_path_factory.mktemp("glb")
-    reduced = reduce_clip(clip, TOL, ROT_TOL)
+    reduced = reduce_clip(clip, TOL, ROT_TOL, order=order)
     path = write_reduced(folder / "clip.glb", reduced)
     (report,) = validate(path)
     assert report["numErrors"] == 0, report["messages"]
     _glb_matches_splines(path, reduced)
-    # The glTF curves, played as glTF plays them (normalised rotations), at the source frames.
-    channels = hermite_channels(path)
+    # The glTF curves, played as glTF plays them (normalised rotations; LINEAR ones spherically
+    # and, as Blender's F-curves, component-wise), at the source frames.
+    channels = samplers(path)
     for j in np.flatnonzero(clip.rotating):
-        times, keys = channels[(clip.skeleton.names[j], "rotation")]
-        angle = np.degrees(rotation_angle(hermite_play(times, keys, clip.times), clip.rotations[:, j]))
-        assert angle.max() <= ROT_TOL + 1e-3        # float32 keys and times
+        kind, times, keys = channels[(clip.skeleton.names[j], "rotation")]
+        for way in (True, False):
+            played = sampler_play32(kind, times, keys, clip.times, True, way).astype(float)
+            angle = np.degrees(rotation_angle(played, clip.rotations[:, j]))
+            assert angle.max() <= ROT_TOL + 1e-3        # float32 keys and times
 
 
 def test_rotation_keys_are_unit_quaternions_and_every_frame_holds() -> None:

@@ -14,6 +14,7 @@ from sketchanim.anim.tracks import ContinuousTrack
 from sketchanim.mocap.clip_reduction import ReducedClip, reduce_clip
 from sketchanim.mocap.markers import Markers, reduce_markers
 from sketchanim.motion.skeleton import Clip, Skeleton
+from sketchanim.reducer.metric import rotation_angle
 
 #: A clip document written before clips held tracks (hips rotating and translating, knee rotating).
 OLD_DOCUMENT = Path(__file__).with_name("clip_v1.json")
@@ -38,7 +39,12 @@ def test_tracks_by_path_are_what_the_joints_play() -> None:
     reduced = reduce_clip(clip, 0.05, 0.5)
     assert list(reduced.tracks) == ["hips.orientation", "knee.orientation", "hips.position"]
     frames = reduced.sample(t)
-    assert np.array_equal(frames.rotations[:, 1], reduced.tracks["knee.orientation"].track.evaluate(t))
+    knee = reduced.tracks["knee.orientation"]
+    assert knee.spline.k == 1                                       # straight pieces: glTF's LINEAR keys
+    assert np.array_equal(reduced.sample(t, spherical=False).rotations[:, 1], knee.track.evaluate(t))
+    for way in (True, False):                                       # glTF's rule, and Blender's
+        played = reduced.sample(t, spherical=way).rotations[:, 1]
+        assert np.degrees(rotation_angle(played, clip.rotations[:, 1])).max() <= 0.5
     assert np.array_equal(frames.translations[:, 0], reduced.tracks["hips.position"].track.evaluate(t))
     assert reduced.joint_track(1, "position") is None
     assert reduced.tracks["knee.orientation"].error <= 0.5

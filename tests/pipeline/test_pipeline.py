@@ -103,6 +103,6 @@ def test_reduce_clip_file_and_a_folder(tmp_path) -> None:
 def test_flags_apply_where_the_options_have_the_field() -> None:
     assert {"plot", "cols", "order", "tol", "rate", "keys"} <= INPUT_KINDS["sample table"]
     assert not {"world", "units", "workers", "shell_cm"} & INPUT_KINDS["sample table"]
-    assert {"world", "units", "keys", "tol", "rate", "output"} <= INPUT_KINDS["clip"]
-    assert not {"plot", "order", "workers", "format"} & INPUT_KINDS["clip"]
+    assert {"world", "units", "keys", "tol", "rate", "output", "order"} <= INPUT_KINDS["clip"]
+    assert not {"plot", "method", "workers", "format"} & INPUT_KINDS["clip"]
     assert {"workers", "scheduler", "format", "world"} <= INPUT_KINDS["folder of clips"]

@@ -49,7 +49,8 @@ REDUCE_PARAMETERS = [
     _option("output", Optional[Path], None, "Tables: the spline as .json (a rotation's goes beside it, as "
             "STEM.rotation.json) or an animated node as .glb or .usd(a/c). Clips: .glb, .bvh, .usd(a/c) or .json; "
             "folders: the output folder. An existing folder for one input: written into it.", "-o", "--output"),
-    _option("order", int, 4, f"Tables: spline order, {_range('order')} (4: cubic; .glb takes 2 to 4)."),
+    _option("order", Optional[int], None, f"Spline order: tables {_range('order')}, 4 (cubic) unless given; "
+            f"skeletal clips 2 (straight pieces, glTF's LINEAR keys) unless given, 3 or 4 (.glb takes 2 to 4)."),
     _option("method", str, "global", f"Tables: {' or '.join(METHODS)}."),
     _option("start", str, "paper", "Tables: starting curve of the global method, paper or lm."),
     _option("window", int, 20, f"Tables: knots per window of the incremental method, {_range('window')}."),
@@ -160,6 +161,8 @@ def table_options(given: dict[str, Any]) -> TableOptions:
     """The table's options from the flags' values (every flag, given or default)."""
     values = {f.name: given[f.name] for f in fields(TableOptions) if f.name in given}
     values.update(tol=_tolerances(given["tol"]), format=given["format"] or "auto")
+    if given["order"] is None:
+        del values["order"]                                  # the tables' own default
     return TableOptions(**values)
 
 
@@ -167,6 +170,8 @@ def clip_options(given: dict[str, Any]) -> ClipOptions:
     """The clip's options from the flags' values."""
     values = {f.name: given[f.name] for f in fields(ClipOptions) if f.name in given}
     values.update(tol=_distance(given["tol"]), skeleton=None if given["skeleton"] is None else str(given["skeleton"]))
+    if given["order"] is None:
+        del values["order"]                                  # the clips' own default
     return ClipOptions(**values)
 
 

@@ -3,6 +3,10 @@ every translating joint's position within a distance, and what it all costs. A r
 clip is a set of tracks addressed by path (``Hips.orientation``, ``Hips.position``:
 :mod:`sketchanim.mocap.tracks`).
 
+The curves are straight pieces by default (:data:`ORDER`): glTF's LINEAR keys, a
+rotation played spherically between them (:func:`~sketchanim.motion.rotations.spherical`),
+as :meth:`ReducedClip.sample` and every check here play it.
+
 Positions are reduced with ``tol / sqrt(3)`` on each axis, so that the distance between
 curve and sample (not only each coordinate) stays within ``tol``. Both leave room for
 float32 (:mod:`sketchanim.float32`): what a client plays from a file stores keys and key
@@ -30,9 +34,11 @@ from sketchanim.float32 import KEEP, position_budget, rotation_budget, rotation_
 from sketchanim.mocap.contacts import CONTACT_SHARE, SLIDING_SLACK_M_S, between_frames, planted, sliding, unit_m
 from sketchanim.mocap.tracks import FLOAT32, ReducedTrack, curve_bytes, split_path, track_path
 from sketchanim.motion import reduce_rotations
+from sketchanim.motion.rotations import spherical as played_spherically
 from sketchanim.motion.kinematics import chord, world_matrices
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer import Reduction, reduce
+from sketchanim.reducer.metric import rotation_angle
 from sketchanim.reducer.result import load_versioned
 
 SCHEMA = "sketchanim.clip"
@@ -53,6 +59,11 @@ ROUNDS = 6
 #: derived tolerance for float32 while the distance holds. A tightened angle is never
 #: less than float32's margin over ``1 - DERIVED_KEEP`` (:func:`tighten`).
 DERIVED_KEEP = 0.02
+#: The curves' order (degree + 1): 2, straight pieces, glTF's LINEAR keys. On motion
+#: capture they take fewer bytes than cubic pieces at the same bound and reduce about twice
+#: as fast: every clip of the project's shared data, 16% fewer curve bytes at 0.5 cm / 0.5
+#: degree and 24% at 0.1 cm / 0.1 degree (``benchmarks/bench_clips.py``). 4: cubic pieces.
+ORDER = 2
 #: Most frames a clip is resampled to (BVH, USD).
 MAX_FRAMES = 1_000_000
 
@@ -113,8 +124,11 @@ class ReducedClip:
     def end(self) -> float:
         return max((t.track.end for t in self.tracks.values()), default=0.0)
 
-    def sample(self, times: np.ndarray) -> Clip:
-        """The curves evaluated at ``times`` (rotations normalised, ends held) as a clip.
+    def sample(self, times: np.ndarray, *, spherical: bool = True) -> Clip:
+        """The curves evaluated at ``times`` (rotations normalised; ends held) as a clip:
+        straight pieces of rotations played spherically as glTF's LINEAR samplers play
+        them, or with ``spherical=False`` component-wise, as Blender's F-curves and the
+        tracks' own :meth:`~sketchanim.anim.tracks.ContinuousTrack.evaluate` do.
 
         >>> from scipy.spatial.transform import Rotation
         >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
@@ -132,7 +146,9 @@ class ReducedClip:
         for path, curve in self.tracks.items():
             i = self.skeleton.index(split_path(path)[0])
             if curve.is_rotation:
-                rot[:, i], rotating[i] = curve.track.evaluate(t), True
+                rot[:, i] = played_spherically(curve.spline, t) if spherical and curve.spline.k == 1 else \
+                    curve.track.evaluate(t)
+                rotating[i] = True
             else:
                 trans[:, i], translating[i] = curve.track.evaluate(t), True
         return Clip(self.skeleton, t, rot, trans, rotating, translating, self.channels, self.unit_m)
@@ -183,7 +199,8 @@ class ReducedClip:
                      source: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
         """Per frame and joint (n, J), at ``clip``'s times: how far these curves put the
         joint from ``clip``'s in the world, plus the most a point ``shell`` from the joint
-        moves by the difference of their world rotations (``2 shell sin(angle / 2)``).
+        moves by the difference of their world rotations (``2 shell sin(angle / 2)``);
+        the worse of the two ways straight pieces of rotations play (:meth:`sample`).
         ``source``: ``clip``'s :func:`~sketchanim.motion.kinematics.world_matrices`, where
         the caller has it already.
 
@@ -193,11 +210,15 @@ class ReducedClip:
         0.0
         """
         source_turns, source_pos = source or world_matrices(clip.skeleton, clip.rotations, clip.translations)
-        frames = self.sample(clip.times)
-        turns, pos = world_matrices(clip.skeleton, frames.rotations, frames.translations)
-        out = np.linalg.norm(pos - source_pos, axis=-1)
-        if shell:
-            out += shell * chord(turns, source_turns)
+        ways = (True, False) if any(c.is_rotation and c.spline.k == 1 for c in self.tracks.values()) else (True,)
+        out = np.zeros((len(clip.times), len(clip.skeleton)))
+        for way in ways:
+            frames = self.sample(clip.times, spherical=way)
+            turns, pos = world_matrices(clip.skeleton, frames.rotations, frames.translations)
+            error = np.linalg.norm(pos - source_pos, axis=-1)
+            if shell:
+                error += shell * chord(turns, source_turns)
+            out = np.maximum(out, error)
         return out
 
     def to_json(self) -> str:
@@ -224,7 +245,7 @@ class ReducedClip:
         >>> r = reduce_clip(Clip.still(s, np.arange(10) / 30), 0.01, 0.1)
         >>> back = ReducedClip.from_json(r.to_json())
         >>> list(back.tracks), back.tracks["root.orientation"].track.n_coefficients
-        (['root.orientation'], 4)
+        (['root.orientation'], 2)
         """
         doc = load_versioned(text, source, SCHEMA, VERSION)
         try:
@@ -260,7 +281,7 @@ def clip_tracks(clip: Clip, rotations: dict[int, Reduction], translations: dict[
                        clip.frame_time, len(clip.times), clip.unit_m)
 
 
-def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "incremental",
+def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "incremental", order: int = ORDER,
                 contacts: np.ndarray | None = None) -> ReducedClip:
     """Reduce every joint of ``clip``: rotations within ``rot_tol_deg`` degrees (the
     geodesic angle), translating joints' positions within ``tol`` (a distance, clip
@@ -280,6 +301,8 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
     method : {"incremental", "global"}
         The reducer's method: the incremental one is about ten times faster, for a few
         per cent more bytes (``benchmarks/bench_clips.py``).
+    order : int
+        The curves' order (:data:`ORDER`: straight pieces; 4: cubic).
     contacts : ndarray of bool, shape (n, J), optional
         The frames each joint is planted (default :func:`planted`; all False holds none).
 
@@ -306,14 +329,15 @@ def reduce_clip(clip: Clip, tol: float, rot_tol_deg: float, *, method: str = "in
 
     def reduced(clip: Clip, held: np.ndarray, share: float, framed: np.ndarray) -> ReducedClip:
         translations = {int(i): joint_position(clip, int(i), TRANSLATION_SHARE * share * tol / moving, method,
+                                               order=order,
                                                why=f" (its share of tol {tol:.6g}, to hold the planted joints)")
-                        if held_chain[i] else joint_position(clip, int(i), tol, method)
+                        if held_chain[i] else joint_position(clip, int(i), tol, method, order=order)
                         for i in np.flatnonzero(clip.translating)}
         angle = np.full(len(clip.skeleton), np.radians(rot_tol_deg))
         bound = np.where(held, share * tol, np.inf)
         start, provable = contact_angles(clip, translations, bound, 0.0)
         return tighten(clip, translations, np.minimum(angle, start), np.minimum(angle, provable), bound, 0.0, method,
-                       framed, asked=float(np.radians(rot_tol_deg)),
+                       framed, order=order, asked=float(np.radians(rot_tol_deg)),
                        why=f"to hold the planted joints within tol {tol:.6g}")
 
     return sliding_kept(clip, held, reduced)
@@ -426,9 +450,10 @@ def contact_angles(clip: Clip, translations: dict[int, Reduction], bound: np.nda
 
 
 def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, provable: np.ndarray,
-            bound: np.ndarray, shell: float, method: str, framed: np.ndarray | None = None, *,
+            bound: np.ndarray, shell: float, method: str, framed: np.ndarray | None = None, *, order: int = ORDER,
             asked: float = np.inf, why: str = "to hold the joints within tol") -> ReducedClip:
-    """``clip``'s rotations reduced within ``angle`` (radians, (J,)), tightened until
+    """``clip``'s rotations reduced within ``angle`` (radians, (J,)) as curves of
+    ``order`` (:func:`joint_rotation`), tightened until
     every joint's world error (:meth:`ReducedClip.world_errors` with ``shell``) is within
     ``bound`` (n, J; inf where free) at every frame, with ``translations`` as given.
     Where ``framed`` (n,) says which of ``clip``'s samples are the source's frames (the
@@ -485,7 +510,7 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
             now = min(max(angle[i], least[i]), asked) if angle[i] < asked else angle[i]
             if made.get(i) != now:
                 tightened = bool(now < asked)
-                rotations[i] = joint_rotation(c, i, float(np.degrees(now)), method,
+                rotations[i] = joint_rotation(c, i, float(np.degrees(now)), method, order=order,
                                               field="tol" if tightened else "rot_tol_deg",
                                               why=f", tightened {why}," if tightened else "")
                 made[i] = now
@@ -516,22 +541,45 @@ def tighten(clip: Clip, translations: dict[int, Reduction], angle: np.ndarray, p
     raise AssertionError(f"world errors up to {ratio.max():.6g} times their bound after the provable angles")
 
 
-def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "incremental", *,
+def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "incremental", *, order: int = ORDER,
                    field: str = "rot_tol_deg", why: str = "") -> Reduction:
-    """Joint ``joint``'s rotation as a quaternion curve within ``tol_deg`` degrees at
-    every frame (less float32's share, :func:`rotation_budget`), its keys unit
-    quaternions; errors name the joint: an :class:`~sketchanim.errors.ArgumentError`
-    naming ``field`` where float32 would take more than half of ``tol_deg`` (more than
-    ``1 - DERIVED_KEEP`` where ``why`` says how it was derived from ``field``)."""
+    """Joint ``joint``'s rotation as a quaternion curve of ``order`` within ``tol_deg``
+    degrees at every frame (less float32's share, :func:`rotation_budget`), its keys unit
+    quaternions; straight pieces as glTF plays them, spherically
+    (:func:`~sketchanim.motion.rotations.spherical`: ``max_error`` is theirs), or, where
+    that would take them past the budget, a cubic curve. Errors name the joint: an
+    :class:`~sketchanim.errors.ArgumentError` naming ``field`` where float32 would take
+    more than half of ``tol_deg`` (more than ``1 - DERIVED_KEEP`` where ``why`` says how
+    it was derived from ``field``).
+
+    >>> from scipy.spatial.transform import Rotation
+    >>> s = Skeleton(("root",), (-1,), np.zeros((1, 3)))
+    >>> clip = Clip.still(s, np.linspace(0, 1, 61))
+    >>> clip.rotations[:, 0] = Rotation.from_euler("Z", np.sin(3 * clip.times)[:, None]).as_quat()
+    >>> r = joint_rotation(clip, 0, 0.5)
+    >>> r.spline.k, bool(np.degrees(r.max_error[0]) <= 0.5)
+    (1, True)
+    """
     quats = clip.rotations[:, joint]
     name = clip.skeleton.names[joint]
     budget = rotation_budget(clip.times, quats, tol_deg, field=field, subject=f"for joint {name!r} rotation{why}",
                              whose="the clip's times", keep=DERIVED_KEEP if why else KEEP)
-    return _named(name, "rotation", lambda: reduce_rotations(clip.times, quats, budget, method=method, keys=True))
+
+    def run() -> Reduction:
+        r = reduce_rotations(clip.times, quats, budget, method=method, order=order, keys=True)
+        if r.spline.k != 1:
+            return r
+        played = float(rotation_angle(played_spherically(r.spline, clip.times), quats).max())
+        if played > np.radians(budget):
+            return reduce_rotations(clip.times, quats, budget, method=method, order=4, keys=True)
+        return replace(r, max_error=np.array([played]))
+
+    return _named(name, "rotation", run)
 
 
-def joint_position(clip: Clip, joint: int, tol: float, method: str = "incremental", *, why: str = "") -> Reduction:
-    """Joint ``joint``'s translation as a curve within the distance ``tol`` at every
+def joint_position(clip: Clip, joint: int, tol: float, method: str = "incremental", *, order: int = ORDER,
+                   why: str = "") -> Reduction:
+    """Joint ``joint``'s translation as a curve of ``order`` within the distance ``tol`` at every
     frame (less float32's share, :func:`position_budget`; ``report["max_distance"]``);
     errors name the joint: an :class:`~sketchanim.errors.ArgumentError` naming ``tol``
     where float32 would take more than half of it (more than ``1 - DERIVED_KEEP`` where
@@ -540,7 +588,8 @@ def joint_position(clip: Clip, joint: int, tol: float, method: str = "incrementa
     name = clip.skeleton.names[joint]
     budget = position_budget(clip.times, points, tol, subject=f"for joint {name!r} position{why}",
                              whose="the clip's times", keep=DERIVED_KEEP if why else KEEP)
-    r = _named(name, "position", lambda: reduce(clip.times, points, budget / np.sqrt(3.0), method=method))
+    r = _named(name, "position", lambda: reduce(clip.times, points, budget / np.sqrt(3.0), method=method,
+                                                    order=order))
     r.report["max_distance"] = float(np.linalg.norm(r.spline(clip.times) - clip.translations[:, joint],
                                                     axis=1).max())
     return r

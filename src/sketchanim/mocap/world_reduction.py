@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from sketchanim.errors import ArgumentError
-from sketchanim.mocap.clip_reduction import (TRANSLATION_SHARE, ReducedClip, held_frames, most_moving, contact_angles,
+from sketchanim.mocap.clip_reduction import (ORDER, TRANSLATION_SHARE, ReducedClip, held_frames, most_moving, contact_angles,
                                              joint_position, on_chains, sliding_kept, tighten)
 from sketchanim.motion.skeleton import Clip
 
@@ -30,13 +30,14 @@ from sketchanim.motion.skeleton import Clip
 MAX_ANGLE_DEG = 30.0
 
 
-def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "incremental",
+def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "incremental", order: int = ORDER,
                       contacts: np.ndarray | None = None) -> ReducedClip:
     """Reduce ``clip`` so that every joint, and every point ``shell`` from a joint, is
     within the distance ``tol`` (clip units) of the source in the world at every frame,
     and within ``CONTACT_SHARE * tol`` where the source plants an end joint on the ground
     (``contacts``, by default :func:`~sketchanim.mocap.contacts.planted`; less
-    where it still slides: :func:`~sketchanim.mocap.clip_reduction.sliding_kept`).
+    where it still slides: :func:`~sketchanim.mocap.clip_reduction.sliding_kept`), as
+    curves of ``order`` (:data:`~sketchanim.mocap.clip_reduction.ORDER`: straight pieces).
 
     Examples
     --------
@@ -61,11 +62,12 @@ def reduce_clip_world(clip: Clip, tol: float, shell: float, *, method: str = "in
 
     def reduced(clip: Clip, held: np.ndarray, planted_share: float, framed: np.ndarray) -> ReducedClip:
         translations = {int(i): joint_position(clip, int(i), share * (planted_share if held_chain[i] else 1.0), method,
+                                               order=order,
                                                why=f" (its share of tol {tol:.6g} in the world)")
                         for i in np.flatnonzero(clip.translating)}
         bound = np.where(held, planted_share * tol, np.where(framed[:, None], tol, np.inf))    # tol at the frames
         start, provable = contact_angles(clip, translations, bound, shell)
         return tighten(clip, translations, np.minimum(start, cap), np.minimum(provable, cap), bound, shell, method,
-                       framed, why=f"to hold the joints within tol {tol:.6g} in the world")
+                       framed, order=order, why=f"to hold the joints within tol {tol:.6g} in the world")
 
     return sliding_kept(clip, held, reduced)

@@ -94,8 +94,8 @@ def _reduced(clip: Clip | Markers, options: ClipOptions,
         shell = options.shell_cm * 0.01 / clip.unit_m
         if options.keys == "compact":
             return compact_clip(clip, tol, shell, name=name), tol
-        return reduce_clip_world(clip, tol, shell), tol
-    return reduce_clip(clip, tol, options.rot_tol_deg), tol
+        return reduce_clip_world(clip, tol, shell, order=options.order), tol
+    return reduce_clip(clip, tol, options.rot_tol_deg, order=options.order), tol
 
 
 def reduce_clip_file(source: str | os.PathLike[str], options: ClipOptions,

@@ -7,9 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sketchanim.errors import InputError
+from sketchanim.errors import ArgumentError, InputError
 from sketchanim.formats.gltf_frames import KEYS
 from sketchanim.limits import LIMITS, one_of
+from sketchanim.mocap.clip_reduction import ORDER
 from sketchanim.mocap.markers import Markers
 from sketchanim.motion.skeleton import UNITS_M, Clip
 
@@ -49,6 +50,9 @@ class ClipOptions:
         in the world (every joint and every point ``shell_cm`` from one, as ``world``)
         at every frame, its keys picked from the source's frames and compressed
         (:mod:`sketchanim.export.compact_clip`); markers as keys at their frames.
+    order : {2, 3, 4}
+        Skeletal clips: the curves' order (:data:`~sketchanim.mocap.clip_reduction.ORDER`,
+        2: straight pieces, glTF's LINEAR keys; 4: cubic, CUBICSPLINE keys).
     """
 
     tol: float | None = None
@@ -60,6 +64,7 @@ class ClipOptions:
     world: bool = False
     shell_cm: float = 3.0
     keys: str = "curves"
+    order: int = ORDER
 
     def __post_init__(self) -> None:
         for name in ("tol", "tol_cm"):
@@ -72,6 +77,9 @@ class ClipOptions:
         if self.units is not None:
             one_of("units", self.units, tuple(UNITS_M))
         one_of("keys", self.keys, KEYS)
+        if self.order not in (2, 3, 4):
+            raise ArgumentError("order", f"a clip's curves are of order 2, 3 or 4 (what glTF keys hold), "
+                                         f"got {self.order!r}")
 
     def unit_m(self, clip: Clip | Markers) -> float | None:
         """Metres per unit of ``clip``: ``units`` if given, else the file's, else (a
