@@ -186,3 +186,23 @@ def test_real_orientations_keep_the_angle(data_dir) -> None:
         for chunk in np.array_split(np.arange(len(t)), max(1, len(t) // 50)):
             rs.extend(t[chunk], q[chunk])
         assert geodesic_deg(rs.finish().spline(t), q, scalar_first).max() <= 0.5 * (1 + 1e-9), name
+
+
+@settings(max_examples=100)
+@given(st.integers(1, 30), st.integers(0, 2**32 - 1), st.floats(1e-6, 3.0))
+def test_slerped_is_scipys_slerp_held_outside(n: int, seed: int, turn: float) -> None:
+    """Keys of any sign and norm, any angle apart up to a half turn (the shorter way)."""
+    from scipy.spatial.transform import Slerp
+
+    from sketchanim.motion.rotations import slerped
+    from sketchanim.reducer.metric import rotation_angle
+
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.01, 1.0, n))
+    keys = Rotation.from_rotvec(np.cumsum(rng.normal(0, turn / 2, (n, 3)), axis=0))
+    quats = keys.as_quat() * rng.choice([-1.0, 1.0], (n, 1)) * rng.uniform(0.5, 2.0, (n, 1))
+    at = np.r_[times[0] - 1.0, rng.uniform(times[0], times[-1], 50), times, times[-1] + 1.0]
+    ours = slerped(times, quats, at)
+    assert np.allclose(np.linalg.norm(ours, axis=1), 1.0)
+    theirs = (Slerp(times, keys)(np.clip(at, times[0], times[-1])) if n > 1 else keys[[0] * len(at)]).as_quat()
+    assert rotation_angle(ours, theirs).max() <= 1e-9

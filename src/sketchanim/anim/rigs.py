@@ -17,12 +17,12 @@ translation.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation, Slerp
 
 from sketchanim.anim.scene import RIGS, Scene
 from sketchanim.anim.tracks import ContinuousTrack, Track
 from sketchanim.errors import ArgumentError
 from sketchanim.motion import ik, walk
+from sketchanim.motion.rotations import slerped
 from sketchanim.motion.skeleton import JOINT_CHANNELS, ROOT_CHANNELS, Clip, Skeleton
 
 #: Seconds a rig's pose runs past the scene's last key: a walker's stop steps, a chain's
@@ -162,9 +162,7 @@ def resampled(clip: Clip, times: np.ndarray) -> Clip:
     [1.0, 2.0]
     """
     at = np.clip(times, clip.times[0], clip.times[-1])
-    rotations = np.empty((len(at), len(clip.skeleton), 4))
-    for j in range(len(clip.skeleton)):
-        rotations[:, j] = Slerp(clip.times, Rotation.from_quat(clip.rotations[:, j]))(at).as_quat()
+    rotations = slerped(clip.times, clip.rotations, at)
     translations = np.stack([np.stack([np.interp(at, clip.times, clip.translations[:, j, d]) for d in range(3)], -1)
                              for j in range(len(clip.skeleton))], axis=1)
     return Clip(clip.skeleton, np.asarray(times, dtype=float), rotations, translations, clip.rotating,

@@ -545,9 +545,10 @@ def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "increm
                    field: str = "rot_tol_deg", why: str = "") -> Reduction:
     """Joint ``joint``'s rotation as a quaternion curve of ``order`` within ``tol_deg``
     degrees at every frame (less float32's share, :func:`rotation_budget`), its keys unit
-    quaternions; straight pieces as glTF plays them, spherically
-    (:func:`~sketchanim.motion.rotations.spherical`: ``max_error`` is theirs), or, where
-    that would take them past the budget, a cubic curve. Errors name the joint: an
+    quaternions. Straight pieces are kept within the budget both as glTF plays them,
+    spherically (:func:`~sketchanim.motion.rotations.spherical`), and component-wise, as
+    the reducer fits them (``max_error``: the worse); where the spherical play would miss,
+    the joint gets a cubic curve. Errors name the joint: an
     :class:`~sketchanim.errors.ArgumentError` naming ``field`` where float32 would take
     more than half of ``tol_deg`` (more than ``1 - DERIVED_KEEP`` where ``why`` says how
     it was derived from ``field``).
@@ -572,7 +573,7 @@ def joint_rotation(clip: Clip, joint: int, tol_deg: float, method: str = "increm
         played = float(rotation_angle(played_spherically(r.spline, clip.times), quats).max())
         if played > np.radians(budget):
             return reduce_rotations(clip.times, quats, budget, method=method, order=4, keys=True)
-        return replace(r, max_error=np.array([played]))
+        return replace(r, max_error=np.array([max(played, float(r.max_error[0]))]))
 
     return _named(name, "rotation", run)
 

@@ -20,12 +20,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.interpolate import BSpline
 from scipy.sparse.linalg import spsolve
-from scipy.spatial.transform import Rotation, Slerp
+from scipy.spatial.transform import Rotation
 
 from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer import FeatureOptions, Piece, Reduction, StreamReducer, reduce
 from sketchanim.reducer.stream import StreamStats
 from sketchanim.reducer.conditioning import check_tolerance
+from sketchanim.reducer.linear_keys import spherical_mix
 from sketchanim.reducer.metric import rotation_angle
 from sketchanim.spline.knots import insert_knots
 
@@ -158,10 +159,35 @@ def unit_keys(spline: BSpline, times: np.ndarray, quats: np.ndarray, angle: floa
         spline = insert_knots(spline, missed)
 
 
+def slerped(times: ArrayLike, quats: ArrayLike, at: ArrayLike) -> np.ndarray:
+    """Quaternions ``quats`` (n, ..., 4; scalar-last, any norm) keyed at ``times`` (n,
+    increasing) as glTF's LINEAR rotation samplers play them at ``at`` (m,): spherically,
+    the shorter way, between the keys about each time, held before the first and after
+    the last. Unit quaternions (m, ..., 4).
+
+    >>> half = np.radians([0.0, 90.0]) / 2
+    >>> q = np.c_[0 * half, 0 * half, np.sin(half), np.cos(half)]
+    >>> out = slerped([0.0, 1.0], q, [0.25, 2.0])
+    >>> np.degrees(2 * np.arctan2(out[:, 2], out[:, 3])).round(9).tolist()
+    [22.5, 90.0]
+    """
+    t = np.asarray(times, dtype=float)
+    q = np.asarray(quats, dtype=float)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    at = np.clip(np.asarray(at, dtype=float), t[0], t[-1])
+    if len(t) < 2:
+        return np.broadcast_to(q[:1], (len(at),) + q.shape[1:]).copy()
+    i = np.clip(np.searchsorted(t, at, side="right") - 1, 0, len(t) - 2)
+    s = ((at - t[i]) / (t[i + 1] - t[i])).reshape((len(at),) + (1,) * (q.ndim - 1))
+    a, b = q[i], q[i + 1]
+    out = spherical_mix(a, np.where(np.sum(a * b, axis=-1, keepdims=True) < 0, -b, b), s)   # the shorter way
+    return out / np.linalg.norm(out, axis=-1, keepdims=True)
+
+
 def spherical(spline: BSpline, times: ArrayLike) -> np.ndarray:
     """A quaternion curve of degree 1 played as glTF's LINEAR rotation samplers play it:
-    spherically, the shorter way, between its values at its breakpoints (its keys),
-    held before the first and after the last. Unit quaternions (m, 4), scalar-last.
+    spherically between its values at its breakpoints (its keys), held outside them
+    (:func:`slerped`). Unit quaternions (m, 4), scalar-last.
 
     >>> half = np.radians([0.0, 45.0]) / 2
     >>> s = BSpline([0.0, 0.0, 1.0, 1.0], np.c_[0 * half, 0 * half, np.sin(half), np.cos(half)], 1)
@@ -171,11 +197,8 @@ def spherical(spline: BSpline, times: ArrayLike) -> np.ndarray:
     """
     if spline.k != 1:
         raise ArgumentError("spline", f"is of degree {spline.k}: only straight pieces are played spherically")
-    t = np.asarray(times, dtype=float)
     breaks = np.unique(np.asarray(spline.t))
-    if len(breaks) < 2:
-        return np.broadcast_to(Rotation.from_quat(spline(breaks[:1])).as_quat(), (len(t), 4)).copy()
-    return Slerp(breaks, Rotation.from_quat(spline(breaks)))(np.clip(t, breaks[0], breaks[-1])).as_quat()
+    return slerped(breaks, spline(breaks), times)
 
 
 def reduce_rotations(times: ArrayLike, quats: ArrayLike, tol_deg: float, *, scalar_first: bool = False,

@@ -29,6 +29,29 @@ def _ends(keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return left, right
 
 
+def spherical_mix(a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Quaternions ``a`` and ``b`` (..., 4; unit, or as near as a file's keys are; ``b``
+    on ``a``'s side) mixed at ``s`` (..., 1) as glTF's LINEAR rotations play: spherically,
+    with the weights of the angle between them (normalise the result for a unit
+    quaternion; ``a`` itself at 0).
+
+    >>> half = np.radians([[0.0], [90.0]]) / 2
+    >>> a, b = (np.c_[0 * h, 0 * h, np.sin(h), np.cos(h)] for h in half)
+    >>> mid = spherical_mix(a, b, np.array([[0.5]]))
+    >>> round(float(np.degrees(2 * np.arctan2(mid[0, 2], mid[0, 3]))), 9)
+    45.0
+    """
+    ua = a / np.linalg.norm(a, axis=-1, keepdims=True)
+    ub = b / np.linalg.norm(b, axis=-1, keepdims=True)
+    angle = 2 * np.arctan2(np.linalg.norm(ua - ub, axis=-1, keepdims=True),
+                           np.linalg.norm(ua + ub, axis=-1, keepdims=True))
+    sin = np.sin(angle)
+    small = sin < 1e-9
+    wa = np.where(small, 1 - s, np.sin((1 - s) * angle) / np.where(small, 1.0, sin))
+    wb = np.where(small, s, np.sin(s * angle) / np.where(small, 1.0, sin))
+    return wa * a + wb * b
+
+
 def _played(times: np.ndarray, held: np.ndarray, rows: np.ndarray, frames: np.ndarray, left: np.ndarray,
             right: np.ndarray, rotation: bool) -> np.ndarray:
     """What plays at ``frames`` of tracks ``rows`` between their keys ``left`` and
@@ -38,17 +61,8 @@ def _played(times: np.ndarray, held: np.ndarray, rows: np.ndarray, frames: np.nd
     s = np.divide(times[frames] - times[left], span, out=np.zeros_like(span), where=span > 0)[:, None]
     if not rotation:
         return a + s * (b - a)
-    dot = np.sum(a * b, axis=-1, keepdims=True)
-    b = np.where(dot < 0, -b, b)                       # the shorter way, and one hemisphere for F-curves
-    nlerp = a + s * (b - a)
-    cos = np.clip(np.abs(dot) / np.maximum(np.linalg.norm(a, axis=-1, keepdims=True)
-                                           * np.linalg.norm(b, axis=-1, keepdims=True), 1e-300), -1.0, 1.0)
-    angle = np.arccos(cos)
-    sin = np.sin(angle)
-    small = sin < 1e-9
-    wa = np.where(small, 1 - s, np.sin((1 - s) * angle) / np.where(small, 1.0, sin))
-    wb = np.where(small, s, np.sin(s * angle) / np.where(small, 1.0, sin))
-    return np.stack([wa * a + wb * b, nlerp], axis=-2)
+    b = np.where(np.sum(a * b, axis=-1, keepdims=True) < 0, -b, b)    # one hemisphere for F-curves
+    return np.stack([spherical_mix(a, b, s), a + s * (b - a)], axis=-2)
 
 
 def _errors(times: np.ndarray, values: np.ndarray, held: np.ndarray, rows: np.ndarray, frames: np.ndarray,
