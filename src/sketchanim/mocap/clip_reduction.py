@@ -61,7 +61,7 @@ ROUNDS = 6
 DERIVED_KEEP = 0.02
 #: The curves' order (degree + 1): 2, straight pieces, glTF's LINEAR keys. On motion
 #: capture they take fewer bytes than cubic pieces at the same bound and reduce about twice
-#: as fast: every clip of the project's shared data, 16% fewer curve bytes at 0.5 cm / 0.5
+#: as fast: every clip of the project's shared data, 18% fewer curve bytes at 0.5 cm / 0.5
 #: degree and 24% at 0.1 cm / 0.1 degree (``benchmarks/bench_clips.py``). 4: cubic pieces.
 ORDER = 2
 #: Most frames a clip is resampled to (BVH, USD).
@@ -348,7 +348,8 @@ def sliding_kept(clip: Clip, held: np.ndarray,
     """``reduced(clip, held, CONTACT_SHARE, framed)``: ``clip`` reduced with its joints
     planted at ``held`` (n, J) within that share of the tolerance; or where they then
     slide more than the source's plus ``SLIDING_SLACK_M_S``
-    (:func:`~sketchanim.mocap.contacts.sliding`), within half of it, then a quarter (taken
+    (:func:`~sketchanim.mocap.contacts.sliding`, either way :meth:`ReducedClip.sample`
+    plays the curves), within half of it, then a quarter (taken
     regardless). A clip slower than ``SLIDING_RATE`` that plants anything is reduced with
     samples between its frames (:func:`~sketchanim.mocap.contacts.between_frames`), so that
     the curves hold the planted joints between frames as well; ``framed`` says which
@@ -370,8 +371,8 @@ def sliding_kept(clip: Clip, held: np.ndarray,
         if not held.any():
             break
         most = sliding(clip, contacts=held) + SLIDING_SLACK_M_S / unit_m(clip) if most is None else most
-        if sliding(clip, out.sample, contacts=held) <= most:
-            break
+        if all(sliding(clip, lambda t: out.sample(t, spherical=way), contacts=held) <= most for way in (True, False)):
+            break                                  # as glTF and as Blender's F-curves play the curves
     return out
 
 
