@@ -6,12 +6,13 @@ reduction as it was (the global method, no contacts) beside today's default, in 
 For every BVH clip in ``DATA/bvh`` (and the CMU ASF/AMC clip), reduced with
 ``reduce_clip`` at 0.5 cm / 0.5 degree and at 0.1 cm / 0.1 degree, and with
 ``reduce_clip_world`` at 0.5 cm in the world with a 3 cm shell (centimetres through each
-clip's unit, guessed from the figure's height), three ways:
+clip's unit, guessed from the figure's height), four ways:
 
 - *before*: ``method="global"``, cubic curves (``order=4``) and no contacts held
   (``contacts`` all False), as the clips were reduced before the incremental default,
   straight pieces and contacts;
 - *no contacts*: today's default method, no contacts held (what holding them costs);
+- *cubic*: today's default with cubic curves (``order=4``), what straight pieces save;
 - *after*: today's default (the incremental method, straight pieces, planted end joints held within
   ``CONTACT_SHARE`` of the tolerance: :mod:`sketchanim.mocap.contacts`).
 
@@ -51,7 +52,8 @@ TOLERANCES = ((0.5, 0.5), (0.1, 0.1))
 #: The world mode's distance and shell, cm.
 WORLD = (0.5, 3.0)
 #: The ways compared: (label, keyword arguments of the reduction, whether contacts are held).
-WAYS = (("before", {"method": "global", "order": 4}, False), ("no contacts", {}, False), ("after", {}, True))
+WAYS = (("before", {"method": "global", "order": 4}, False), ("no contacts", {}, False), ("cubic", {"order": 4}, True),
+        ("after", {}, True))
 
 
 def main() -> None:
