@@ -499,14 +499,20 @@ class StreamReducer:
         """The coefficients of the first ``2 * order - 1`` of them."""
         return self._left[1][: 2 * self.order - 1]
 
+    def _scaled_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The channels' bounds in the windows' units (tolerances from the centre)."""
+        if self.bounds is None:
+            return np.full(self.dim, -np.inf), np.full(self.dim, np.inf)
+        low, high = ((b - self._center) / self.tol for b in self.bounds)
+        return low, high
+
     def _step(self, kt: np.ndarray, kc: np.ndarray, a: int, b: int, f0: int, f_back: int, final: bool) -> tuple:
         """One window from knots ``kt`` and coefficients ``kc`` (see
         :func:`window_kernel.window_step`), with this reducer's settings."""
         end = np.zeros((0, self.dim))
         if final and self._end_value is not None:
             end = ((self._end_value - self._center) / self.tol).reshape(1, -1)
-        low, high = (np.full(self.dim, -np.inf), np.full(self.dim, np.inf)) if self.bounds is None else \
-            ((b - self._center) / self.tol for b in self.bounds)
+        low, high = self._scaled_bounds()
         return window_kernel.window_step(
             self.order, kt, kc, self._bt, self._bx, self._bn, a, b, self.window, f0, f_back, self.end_tol, final,
             self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
@@ -726,13 +732,13 @@ class StreamReducer:
         poly = held_interpolant(t, x, k, (self._start_value, self._end_value))
         assert poly is not None                         # a polynomial through < order samples
         # straightened in tolerances, as the windows are (its slack is in tolerances)
-        low, high = (np.full(self.dim, -np.inf), np.full(self.dim, np.inf)) if self.bounds is None else \
-            ((b - self._center) / self.tol for b in self.bounds)
         lo, hi = window_kernel.local_ranges((x - self._center) / self.tol, self._before, self._widen / self.tol,
-                                            low, high)
+                                            *self._scaled_bounds())
+        ends = np.asarray(poly.c)[[0, -1]]
         knots, coef, count = straightened(np.asarray(poly.t), (np.asarray(poly.c) - self._center) / self.tol, k, t,
                                           lo, hi, len(t) - 1, (t[0], t[-1]), movable=not self.angle)
         coef = coef * self.tol + self._center
+        coef[[0, -1]] = ends                            # never moved: exactly, not to rounding
         self.stats.straightened += count
         piece = Piece(knots, coef)
         if self.keep:
