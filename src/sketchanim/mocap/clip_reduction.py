@@ -60,9 +60,10 @@ ROUNDS = 6
 #: less than float32's margin over ``1 - DERIVED_KEEP`` (:func:`tighten`).
 DERIVED_KEEP = 0.02
 #: The curves' order (degree + 1): 2, straight pieces, glTF's LINEAR keys. On motion
-#: capture they take fewer bytes than cubic pieces at the same bound and reduce about twice
-#: as fast: every clip of the project's shared data, 18% fewer curve bytes at 0.5 cm / 0.5
-#: degree and 24% at 0.1 cm / 0.1 degree (``benchmarks/bench_clips.py``). 4: cubic pieces.
+#: capture they take fewer bytes than cubic pieces at the same bound and reduce faster: on
+#: every clip of the project's shared data, 18% fewer curve bytes at 0.5 cm / 0.5 degree
+#: and 24% at 0.1 cm / 0.1 degree, in 0.57 and 0.53 of the time (``benchmarks/bench_clips.py``).
+#: 4: cubic pieces.
 ORDER = 2
 #: Most frames a clip is resampled to (BVH, USD).
 MAX_FRAMES = 1_000_000
