@@ -125,6 +125,13 @@ class ReducedClip:
     def end(self) -> float:
         return max((t.track.end for t in self.tracks.values()), default=0.0)
 
+    @property
+    def plays(self) -> tuple[bool, ...]:
+        """The ways clients play the curves, as :meth:`sample`'s ``spherical``: both where
+        a rotation has straight pieces (glTF spherically, Blender's F-curves
+        component-wise), else the one way every client plays them."""
+        return (True, False) if any(c.is_rotation and c.spline.k == 1 for c in self.tracks.values()) else (True,)
+
     def sample(self, times: np.ndarray, *, spherical: bool = True) -> Clip:
         """The curves evaluated at ``times`` (rotations normalised; ends held) as a clip:
         straight pieces of rotations played spherically as glTF's LINEAR samplers play
@@ -201,7 +208,7 @@ class ReducedClip:
         """Per frame and joint (n, J), at ``clip``'s times: how far these curves put the
         joint from ``clip``'s in the world, plus the most a point ``shell`` from the joint
         moves by the difference of their world rotations (``2 shell sin(angle / 2)``);
-        the worse of the two ways straight pieces of rotations play (:meth:`sample`).
+        the worst of the ways the curves play (:attr:`plays`).
         ``source``: ``clip``'s :func:`~sketchanim.motion.kinematics.world_matrices`, where
         the caller has it already.
 
@@ -211,9 +218,8 @@ class ReducedClip:
         0.0
         """
         source_turns, source_pos = source or world_matrices(clip.skeleton, clip.rotations, clip.translations)
-        ways = (True, False) if any(c.is_rotation and c.spline.k == 1 for c in self.tracks.values()) else (True,)
         out = np.zeros((len(clip.times), len(clip.skeleton)))
-        for way in ways:
+        for way in self.plays:
             frames = self.sample(clip.times, spherical=way)
             turns, pos = world_matrices(clip.skeleton, frames.rotations, frames.translations)
             error = np.linalg.norm(pos - source_pos, axis=-1)
@@ -349,8 +355,8 @@ def sliding_kept(clip: Clip, held: np.ndarray,
     """``reduced(clip, held, CONTACT_SHARE, framed)``: ``clip`` reduced with its joints
     planted at ``held`` (n, J) within that share of the tolerance; or where they then
     slide more than the source's plus ``SLIDING_SLACK_M_S``
-    (:func:`~sketchanim.mocap.contacts.sliding`, either way :meth:`ReducedClip.sample`
-    plays the curves), within half of it, then a quarter (taken
+    (:func:`~sketchanim.mocap.contacts.sliding`, every way the curves play:
+    :attr:`ReducedClip.plays`), within half of it, then a quarter (taken
     regardless). A clip slower than ``SLIDING_RATE`` that plants anything is reduced with
     samples between its frames (:func:`~sketchanim.mocap.contacts.between_frames`), so that
     the curves hold the planted joints between frames as well; ``framed`` says which
@@ -372,8 +378,8 @@ def sliding_kept(clip: Clip, held: np.ndarray,
         if not held.any():
             break
         most = sliding(clip, contacts=held) + SLIDING_SLACK_M_S / unit_m(clip) if most is None else most
-        if all(sliding(clip, lambda t: out.sample(t, spherical=way), contacts=held) <= most for way in (True, False)):
-            break                                  # as glTF and as Blender's F-curves play the curves
+        if all(sliding(clip, lambda t: out.sample(t, spherical=way), contacts=held) <= most for way in out.plays):
+            break
     return out
 
 
