@@ -157,22 +157,27 @@ def _distance(text: str | None) -> float | None:
         fail(f"--tol: clips take one distance in the clip's units, got {text!r}")
 
 
+#: Flags whose default (None) means "the options' own default", which differs by input kind.
+KIND_DEFAULTS = ("order",)
+
+
+def _fields(options: type, given: dict[str, Any]) -> dict[str, Any]:
+    """The flags' values for the fields of ``options``, leaving out a flag of
+    :data:`KIND_DEFAULTS` not given, so that ``options`` takes its own default."""
+    return {f.name: given[f.name] for f in fields(options)
+            if f.name in given and not (f.name in KIND_DEFAULTS and given[f.name] is None)}
+
+
 def table_options(given: dict[str, Any]) -> TableOptions:
     """The table's options from the flags' values (every flag, given or default)."""
-    values = {f.name: given[f.name] for f in fields(TableOptions) if f.name in given}
-    values.update(tol=_tolerances(given["tol"]), format=given["format"] or "auto")
-    if given["order"] is None:
-        del values["order"]                                  # the tables' own default
-    return TableOptions(**values)
+    return TableOptions(**{**_fields(TableOptions, given), "tol": _tolerances(given["tol"]),
+                           "format": given["format"] or "auto"})
 
 
 def clip_options(given: dict[str, Any]) -> ClipOptions:
     """The clip's options from the flags' values."""
-    values = {f.name: given[f.name] for f in fields(ClipOptions) if f.name in given}
-    values.update(tol=_distance(given["tol"]), skeleton=None if given["skeleton"] is None else str(given["skeleton"]))
-    if given["order"] is None:
-        del values["order"]                                  # the clips' own default
-    return ClipOptions(**values)
+    return ClipOptions(**{**_fields(ClipOptions, given), "tol": _distance(given["tol"]),
+                          "skeleton": None if given["skeleton"] is None else str(given["skeleton"])})
 
 
 def folder_options(given: dict[str, Any]) -> FolderOptions:
