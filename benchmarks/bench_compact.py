@@ -23,9 +23,11 @@ figure's height), at two bounds on the max world error (0.5 cm and 1 cm):
   filters), or ``resample`` alone; the smallest file within the bound over L and T (T by
   bisection on a log scale). ``quantize`` acts on mesh attributes only: with no mesh it
   leaves the animation as it is, so it is not run;
-- **ours**: ``sketchanim.export.compact_clip.compact_clip_glb(clip, tol, shell,
-  mesh=False)`` at the bound, shell 3 cm ("ours: not available" when it cannot be
-  imported).
+- **ours**: ``sketchanim.export.compact_clip.compact_clip(clip, tol, shell,
+  mesh=False)`` at the bound, shell 3 cm, the planted feet held as the command line's
+  default does ("ours: not available" when it cannot be imported);
+- **ours, no contacts**: the same with no frame held (``--no-contacts``): the world bound
+  alone, the guarantee gltfpack's best file is measured at.
 
 Bytes are whole .glb files (skeleton nodes and animation only). Every file's max world
 error is measured the same way (``world_metric``: three.js with its meshopt decoder plays
@@ -39,7 +41,7 @@ CPU: for a peer, the user + system time of its command processes (``RUSAGE_CHILD
 deltas, node's start included; glTF-Transform's two commands summed), median of 3 runs at
 the best settings; "node start" is the same commands on a one-joint, two-frame clip, what
 of that is the process starting. For ours, the in-process CPU time (``time.process_time``)
-of ``compact_clip_glb`` and writing the file, median of 3 (no interpreter start).
+of ``compact_clip`` and writing the file, median of 3 (no interpreter start).
 """
 
 from __future__ import annotations
@@ -259,11 +261,16 @@ def raw_bytes(clip: Clip) -> int:
 
 
 def load_ours() -> Callable[..., bytes] | None:
+    """Our compact .glb of a clip (``contacts``: False holds no frame), or None."""
     try:
-        from sketchanim.export.compact_clip import compact_clip_glb
+        from sketchanim.export.compact_clip import compact_clip
     except ImportError:
         return None
-    return compact_clip_glb
+
+    def ours(clip: Clip, tol: float, shell: float, contacts: bool = True) -> bytes:
+        held = None if contacts else np.zeros((len(clip.times), len(clip.skeleton)), bool)
+        return compact_clip(clip, tol, shell, contacts=held, mesh=False).glb
+    return ours
 
 
 @dataclass
@@ -285,7 +292,9 @@ class Row:
     ours_size: int | None = None
     ours_cpu: float = math.nan
     ours_error: WorldError | None = None
-    sliding: tuple[float, float, float, float] = (math.nan,) * 4   # source, gltfpack, gltfpack feet kept, ours
+    free_size: int | None = None                # ours, no contacts
+    free_error: WorldError | None = None
+    sliding: tuple[float, ...] = (math.nan,) * 5   # source, gltfpack, gltfpack feet kept, ours, ours no contacts
     trials: int = 0
 
 
@@ -315,14 +324,18 @@ def clip_rows(path: Path, folder: Path, ours: Callable[..., bytes] | None, conso
         if ours is not None:
             tol, shell = bound * 0.01 / unit, SHELL_M / unit
             out = folder / "ours.glb"
-            row.ours_cpu = statistics.median(process_cpu(lambda: out.write_bytes(ours(clip, tol, shell, mesh=False)))
+            row.ours_cpu = statistics.median(process_cpu(lambda: out.write_bytes(ours(clip, tol, shell)))
                                              for _ in range(RUNS))
             row.ours_size = out.stat().st_size
             row.ours_error = file_world_error(clip, out)
+            free = folder / "ours_free.glb"
+            free.write_bytes(ours(clip, tol, shell, contacts=False))
+            row.free_size, row.free_error = free.stat().st_size, file_world_error(clip, free)
         if peers.held.any():
             row.sliding = (peers.source_sliding, *(peers.sliding(t.path) if t else math.nan
                                                    for t in (row.gltfpack, row.gltfpack_feet)),
-                           peers.sliding(folder / "ours.glb") if ours is not None else math.nan)
+                           *(file_sliding(clip, folder / f, peers.held) if ours is not None else math.nan
+                             for f in ("ours.glb", "ours_free.glb")))
         console.log(f"{path.stem} at {bound} cm: {row.trials} peer files so far, {time.perf_counter() - start:.0f} s")
         rows.append(row)
     return rows
@@ -362,22 +375,22 @@ def print_tables(rows: list[Row], have_ours: bool, startup: tuple[float, float],
         at = rows[BOUNDS_CM.index(bound)::len(BOUNDS_CM)]
         size = Table(title=f"bytes (kB) within {bound} cm max world error (ACL's metric: points 3 cm from each joint)")
         for col in ("clip", "frames x ch", "raw f32", "source", "gltfpack", "gltfpack feet kept", "glTF-T", "ours",
-                    "ours / gltfpack", "ours / gltfpack feet kept", "ours / glTF-T", "raw / gltfpack", "raw / glTF-T",
-                    "raw / ours"):
+                    "ours no contacts", "ours / gltfpack feet kept", "ours no contacts / gltfpack", "ours / gltfpack",
+                    "ours / glTF-T", "raw / gltfpack", "raw / glTF-T", "raw / ours"):
             size.add_column(col, justify="left" if col == "clip" else "right")
         sizes = {k: _sum([getattr(r, k).size if getattr(r, k) else None for r in at])
                  for k in ("gltfpack", "gltfpack_feet", "transform")}
-        ours = _sum([r.ours_size for r in at])
+        ours, free = _sum([r.ours_size for r in at]), _sum([r.free_size for r in at])
         for r in [*at, None]:
             name, frames, raw, source = (r.name, f"{r.frames} x {r.channels}", r.raw, r.source) if r else (
                 "total", "", sum(r.raw for r in at), sum(r.source for r in at))
             pack = (r.gltfpack.size if r.gltfpack else None) if r else sizes["gltfpack"]
             feet = (r.gltfpack_feet.size if r.gltfpack_feet else None) if r else sizes["gltfpack_feet"]
             trans = (r.transform.size if r.transform else None) if r else sizes["transform"]
-            mine = r.ours_size if r else ours
-            size.add_row(name, frames, _kb(raw), _kb(source), _kb(pack), _kb(feet), _kb(trans), _kb(mine),
-                         _ratio(mine, pack), _ratio(mine, feet), _ratio(mine, trans), _ratio(raw, pack, 1),
-                         _ratio(raw, trans, 1), _ratio(raw, mine, 1))
+            mine, loose = (r.ours_size, r.free_size) if r else (ours, free)
+            size.add_row(name, frames, _kb(raw), _kb(source), _kb(pack), _kb(feet), _kb(trans), _kb(mine), _kb(loose),
+                         _ratio(mine, feet), _ratio(loose, pack), _ratio(mine, pack), _ratio(mine, trans),
+                         _ratio(raw, pack, 1), _ratio(raw, trans, 1), _ratio(raw, mine, 1))
         console.print(size)
         cpu = Table(title=f"CPU seconds within {bound} cm (peers: their processes, node's start included, "
                           f"median of {RUNS}; ours: in-process)")
@@ -392,16 +405,16 @@ def print_tables(rows: list[Row], have_ours: bool, startup: tuple[float, float],
         cpu.add_row("node start", f"{startup[0]:.3f}", f"{startup[1]:.3f}", "", "", "")
         console.print(cpu)
         err = Table(title=f"max world error, cm (point 3 cm from each joint / joint), asked {bound} cm")
-        for col in ("clip", "source", "gltfpack", "glTF-T", "ours"):
+        for col in ("clip", "source", "gltfpack", "glTF-T", "ours", "ours no contacts"):
             err.add_column(col, justify="left" if col == "clip" else "right")
         for r in at:
             err.add_row(r.name, _err(r.source_error), _err(r.gltfpack.error if r.gltfpack else None),
-                        _err(r.transform.error if r.transform else None), _err(r.ours_error))
+                        _err(r.transform.error if r.transform else None), _err(r.ours_error), _err(r.free_error))
         console.print(err)
         slide = Table(title=f"planted joints' sliding, cm/s (median speed over planted 60 Hz steps, as three.js plays "
                             f"each file), within {bound} cm; feet kept: at most the source's + "
                             f"{100 * SLIDING_SLACK_M_S:g}")
-        for col in ("clip", "source", "gltfpack", "gltfpack feet kept", "ours"):
+        for col in ("clip", "source", "gltfpack", "gltfpack feet kept", "ours", "ours no contacts"):
             slide.add_column(col, justify="left" if col == "clip" else "right")
         for r in at:
             slide.add_row(r.name, *(f"{v:.2f}" if v == v else "-" for v in r.sliding))
@@ -415,7 +428,7 @@ def print_tables(rows: list[Row], have_ours: bool, startup: tuple[float, float],
                                            for t in (r.gltfpack, r.gltfpack_feet, r.transform)), str(r.trials))
     console.print(best)
     if not have_ours:
-        console.print("ours: not available (sketchanim.export.compact_clip.compact_clip_glb cannot be imported)")
+        console.print("ours: not available (sketchanim.export.compact_clip.compact_clip cannot be imported)")
 
 
 def main() -> None:

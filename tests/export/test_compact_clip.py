@@ -22,7 +22,7 @@ from walk_paths import segments
 from world_metric import file_world_error
 from sketchanim.cli import app
 from sketchanim.errors import ArgumentError
-from sketchanim.export.compact_clip import PLANTED_M, compact_clip
+from sketchanim.export.compact_clip import PLANTED_M, CompactClip, compact_clip
 from sketchanim.formats.bvh import write_bvh
 from sketchanim.formats.clip_files import read_clip
 from sketchanim.formats.gltf import Node
@@ -41,15 +41,24 @@ def world_error(path: Path, clip: Clip, shell: float) -> np.ndarray:
 
 
 @settings(max_examples=40, deadline=None)
-@given(clips(), st.floats(0.05, 2.0), st.sampled_from([0.0, 3.0]))
-def test_the_file_as_written_plays_within_the_world_distance(tmp_path_factory, clip, tol, shell):
-    made = compact_clip(clip, tol, shell)
+@given(clips(), st.floats(0.05, 2.0), st.sampled_from([0.0, 3.0]), st.sampled_from(["found", "none", "given"]),
+       st.integers(0, 2**32 - 1))
+def test_the_file_as_written_plays_within_the_world_distance(tmp_path_factory, clip, tol, shell, contacts, seed):
+    """Whatever frames are held on the ground: those the clip plants, none, or any the
+    caller gives (there within the bound the report gives them)."""
+    shape = (len(clip.times), len(clip.skeleton))
+    held = {"found": None, "none": np.zeros(shape, bool),
+            "given": np.random.default_rng(seed).random(shape) < 0.3}[contacts]
+    made = compact_clip(clip, tol, shell, contacts=held)
     path = tmp_path_factory.mktemp("c") / "c.glb"
     path.write_bytes(made.glb)
     errors = world_error(path, clip, shell)
     assert errors.max() <= tol * (1 + 1e-6) + 1e-9, (errors.max(), tol)
     assert made.report.max_world_error <= tol
     assert errors.max() <= made.report.max_world_error + made.report.float32_margin + 1e-12   # the report: what plays
+    if held is not None:
+        assert made.report.planted == held.sum()
+        assert errors[held].max(initial=0.0) <= made.report.planted_bound * (1 + 1e-6) + 1e-9
 
 
 @settings(max_examples=40, deadline=None)
@@ -146,6 +155,8 @@ def test_bad_arguments_are_named():
         compact_clip(clip, 0.0, 3.0)
     with pytest.raises(Exception, match="sharing"):
         compact_clip(clip, 0.5, 3.0, sharing="joint")
+    with pytest.raises(ArgumentError, match=r"contacts: must be \(frames, joints\)"):
+        compact_clip(clip, 0.5, 3.0, contacts=np.zeros((2, 1), bool))
 
 
 @pytest.mark.skipif(not REAL, reason="../shared/data is not here")
@@ -179,10 +190,26 @@ def test_the_command_line_writes_compact_files_and_refuses_other_formats(tmp_pat
     assert not (tmp_path / "w.bvh").exists()
 
 
-def assert_compact_contacts_kept(tmp_path: Path, clip: Clip, tol: float, shell: float, unit: float) -> None:
+def test_the_command_line_holds_planted_feet_unless_told_not_to(tmp_path):
+    clip, _ = walker_clip(segments([(1.0, 0.0, 0.0), (2.0, 1.2, 0.0)]))
+    source = tmp_path / "walk.bvh"
+    write_bvh(source, clip)
+    held = {}
+    for flags in ([], ["--no-contacts"]):
+        out = tmp_path / f"walk{len(flags)}.glb"
+        run = CliRunner().invoke(app, ["reduce", str(source), "-o", str(out), "--keys", "compact", "--units", "m",
+                                       *flags], env={"COLUMNS": "200"})
+        assert run.exit_code == 0, run.output
+        held[bool(flags)] = int(re.search(r"held on the ground / their bound / their largest world error +│ +"
+                                          r"([\d,]+) /", run.output).group(1).replace(",", ""))
+    assert held[False] == planted(replace(read_clip(source), unit_m=1.0)).sum() > 0 and held[True] == 0
+
+
+def assert_compact_contacts_kept(tmp_path: Path, clip: Clip, tol: float, shell: float, unit: float) -> CompactClip:
     """A compact file's planted joints: within the planted bound it reports (one of
     PLANTED_M, at most ``tol``) on their frames, and sliding (played from the file, at
-    60 Hz) no more than the source's plus SLIDING_SLACK_M_S, as its report says."""
+    60 Hz) no more than the source's plus SLIDING_SLACK_M_S, as its report says; the
+    file made."""
     path = tmp_path / "walk.glb"
     made = compact_clip(clip, tol, shell)
     path.write_bytes(made.glb)
@@ -199,6 +226,7 @@ def assert_compact_contacts_kept(tmp_path: Path, clip: Clip, tol: float, shell: 
     if clip.frame_time <= 1 / SLIDING_RATE * (1 + 1e-6):        # the steps fall on frames: the report's measure
         assert np.allclose(np.array(made.report.sliding) * unit, [source, export], atol=1e-3), (made.report, source,
                                                                                                 export)
+    return made
 
 
 @pytest.mark.parametrize("tol_cm", [0.5, 1.0])
@@ -209,7 +237,11 @@ def test_real_walks_planted_feet_slide_no_more_in_compact_files(tmp_path, name, 
         pytest.skip("../shared/data is not here")
     clip = read_clip(source)
     clip = replace(clip, unit_m=clip.guess_unit_m())
-    assert_compact_contacts_kept(tmp_path, clip, tol_cm / 100 / clip.unit_m, 0.03 / clip.unit_m, clip.unit_m)
+    tol, shell = tol_cm / 100 / clip.unit_m, 0.03 / clip.unit_m
+    kept = assert_compact_contacts_kept(tmp_path, clip, tol, shell, clip.unit_m)
+    free = compact_clip(clip, tol, shell, contacts=np.zeros((len(clip.times), len(clip.skeleton)), bool))
+    assert free.report.planted == 0 and free.report.sliding == ()
+    assert free.report.max_world_error <= tol and len(free.glb) < len(kept.glb)     # what holding the feet costs
 
 
 @settings(max_examples=4, deadline=None)

@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from mocap.test_contacts import walker_clip
+from walk_paths import segments
 from sketchanim.batch import FolderOptions, reduce_folder
 from sketchanim.cli.reduce_flags import INPUT_KINDS
 from sketchanim.errors import ArgumentError, InputError
@@ -100,9 +102,23 @@ def test_reduce_clip_file_and_a_folder(tmp_path) -> None:
         reduce_folder(library, None, FolderOptions())
 
 
+@pytest.mark.parametrize("options", [{}, {"world": True}, {"keys": "compact"}], ids=["joints", "world", "compact"])
+def test_a_clip_holds_its_planted_feet_unless_contacts_is_false(tmp_path, options) -> None:
+    """Holding the feet tightens the legs: more control points (keys) than the same
+    clip reduced with ``contacts=False``."""
+    walker, _ = walker_clip(segments([(1.0, 0.0, 0.0), (2.0, 1.2, 0.0)]))
+    source = tmp_path / "walk.bvh"
+    write_bvh(source, walker)
+    points = {}
+    for contacts in (True, False):
+        done = reduce_clip_file(source, ClipOptions(tol_cm=1.0, units="m", contacts=contacts, **options))
+        points[contacts] = done.outcome.control_points
+    assert points[True] > points[False], points
+
+
 def test_flags_apply_where_the_options_have_the_field() -> None:
     assert {"plot", "cols", "order", "tol", "rate", "keys"} <= INPUT_KINDS["sample table"]
-    assert not {"world", "units", "workers", "shell_cm"} & INPUT_KINDS["sample table"]
-    assert {"world", "units", "keys", "tol", "rate", "output", "order"} <= INPUT_KINDS["clip"]
+    assert not {"world", "units", "workers", "shell_cm", "contacts"} & INPUT_KINDS["sample table"]
+    assert {"world", "units", "keys", "tol", "rate", "output", "order", "contacts"} <= INPUT_KINDS["clip"]
     assert not {"plot", "method", "workers", "format"} & INPUT_KINDS["clip"]
     assert {"workers", "scheduler", "format", "world"} <= INPUT_KINDS["folder of clips"]

@@ -23,7 +23,7 @@ FLAGS = {
     "world": "--world", "shell_cm": "--shell", "rate": "--rate", "format": "--format", "workers": "--workers",
     "scheduler": "--scheduler", "time_unit": "--time-unit", "time_col": "--time-col", "cols": "--cols",
     "groups": "--groups", "duplicates": "--duplicates", "unordered": "--unordered", "gap": "--gap",
-    "keys": "--keys", "force": "--force",
+    "keys": "--keys", "contacts": "--contacts", "force": "--force",
 }
 
 _NAMES = "|".join(sorted(FLAGS, key=len, reverse=True))

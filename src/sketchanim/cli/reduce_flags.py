@@ -72,6 +72,10 @@ REDUCE_PARAMETERS = [
     _option("world", bool, False, "Clips: keep every joint, and every point --shell cm from a joint, within --tol "
             "in the world (each joint's angle follows from how far it reaches) instead of every rotation within "
             "--rot-tol-deg.", metavar=""),
+    _option("contacts", bool, True, "Skeletal clips: hold the end joints the source plants on the ground (feet) "
+            "within a tighter bound there, so that they slide at most 1 cm/s more than the source's; "
+            "--no-contacts bounds them as every other joint, for a smaller file.", "--contacts/--no-contacts",
+            metavar=""),
     _option("shell_cm", float, 3.0, f"Clips, with --world: the shell's distance from each joint, "
             f"{_range('shell_cm')}."),
     _option("rate", Optional[float], None, f"Clips written as BVH or USD (or .glb with --keys frames): "

@@ -93,7 +93,7 @@ def compact_table(report: CompactReport, row: ClipOutcome) -> Table:
                          ("joint frames held on the ground / their bound / their largest world error",
                           f"{report.planted:,} / {report.planted_bound:.4g} / {report.planted_error:.4g}"),
                          ("their sliding, source / as played (units/s)",
-                          " / ".join(f"{v:.4g}" for v in report.sliding) or "none planted"),
+                          " / ".join(f"{v:.4g}" for v in report.sliding) or "none held"),
                          ("tracks written / as their node's value", f"{report.tracks - report.constant_tracks} / "
                                                                    f"{report.constant_tracks}"),
                          ("keys (of frames x tracks)",

@@ -39,7 +39,7 @@ from sketchanim.float32 import float32_margin, margin_refusal
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
 from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held
 from sketchanim.mocap.contacts import SLIDING_SLACK_M_S, nearest_frames, planted, planted_steps, unit_m
-from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, most_moving
+from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, held_frames, most_moving
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG
 from sketchanim.motion.kinematics import chord, world_matrices
 from sketchanim.motion.rotations import continuous_quaternions
@@ -243,8 +243,8 @@ def _world_errors(skeleton: Skeleton, source: tuple[np.ndarray, np.ndarray], rot
     return out, positions
 
 
-def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True, sharing: str | None = None,
-                 mesh: bool = True, name: str = "clip") -> CompactClip:
+def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: np.ndarray | None = None,
+                 sharing: str | None = None, mesh: bool = True, name: str = "clip") -> CompactClip:
     """``clip`` as a compact .glb whose every joint, and every point ``shell`` from a
     joint, plays within ``tol`` (clip units) of the source in the world at every frame.
 
@@ -253,10 +253,10 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
     clip : Clip
     tol, shell : float
         Clip units.
-    contacts : bool
-        Where the source holds an end joint on the ground
-        (:func:`~sketchanim.mocap.contacts.planted`), bound it there by the first of
-        :data:`PLANTED_M` that keeps its sliding within
+    contacts : ndarray of bool, shape (n, J), optional
+        The frames each joint is held on the ground (default
+        :func:`~sketchanim.mocap.contacts.planted`; all False holds none): there, it is
+        bound by the first of :data:`PLANTED_M` that keeps its sliding within
         :data:`~sketchanim.mocap.contacts.SLIDING_SLACK_M_S` of the source's.
     sharing : one of :data:`SHARING`, optional
         Key times per track or for the skeleton; the smaller file if omitted.
@@ -266,7 +266,8 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
     Raises
     ------
     ArgumentError
-        A ``tol`` or ``shell`` that is not a positive distance, an unknown ``sharing``,
+        A ``tol`` or ``shell`` that is not a positive distance, ``contacts`` not of the
+        clip's frames and joints, an unknown ``sharing``,
         or a ``tol`` the file cannot keep at some frame: float32 times late in a fast
         clip, or a bound finer than the most bits of a key hold (named with the frame
         and the joint).
@@ -287,7 +288,7 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
     if sharing is not None and sharing not in SHARING:
         raise ArgumentError("sharing", f"one of {', '.join(SHARING)}, got {sharing!r}")
     source = world_matrices(clip.skeleton, clip.rotations, clip.translations)
-    still = planted(clip, source[1]) if contacts else np.zeros((len(clip.times), len(clip.skeleton)), bool)
+    still = planted(clip, source[1]) if contacts is None else held_frames(clip, contacts)
     steps = _steps(clip, still)
     metre = 1.0 / unit_m(clip)
     bounds = list(dict.fromkeys(min(m * metre, float(tol)) for m in PLANTED_M)) if len(steps[0]) else [float(tol)]
@@ -304,16 +305,6 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: bool = True,
                 break
         best = made if best is None or len(made.glb) < len(best.glb) else best
     return best
-
-
-def compact_clip_glb(clip: Clip, tol: float, shell: float, *, mesh: bool = True) -> bytes:
-    """The bytes of :func:`compact_clip` (its default options).
-
-    >>> s = Skeleton(("hips",), (-1,), np.zeros((1, 3)))
-    >>> compact_clip_glb(Clip.still(s, np.arange(10) / 30), 0.5, 3.0)[:4]
-    b'glTF'
-    """
-    return compact_clip(clip, tol, shell, mesh=mesh).glb
 
 
 def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], asked: np.ndarray, shell: float) -> np.ndarray:

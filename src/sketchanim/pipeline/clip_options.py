@@ -53,6 +53,11 @@ class ClipOptions:
     order : {2, 3, 4}
         Skeletal clips: the curves' order (:data:`~sketchanim.mocap.clip_reduction.ORDER`,
         2: straight pieces, glTF's LINEAR keys; 4: cubic, CUBICSPLINE keys).
+    contacts : bool
+        Skeletal clips: hold the end joints the source plants on the ground (feet:
+        :func:`~sketchanim.mocap.contacts.planted`) within a tighter bound there, so
+        that they slide no more than the source's; False bounds them as every other
+        joint, for a smaller file.
     """
 
     tol: float | None = None
@@ -65,6 +70,7 @@ class ClipOptions:
     shell_cm: float = 3.0
     keys: str = "curves"
     order: int = ORDER
+    contacts: bool = True
 
     def __post_init__(self) -> None:
         for name in ("tol", "tol_cm"):
@@ -100,3 +106,14 @@ class ClipOptions:
             raise InputError(f"cannot tell the clip's units ({why}); give tol=DISTANCE in its units or "
                              f"units=UNIT ({', '.join(UNITS_M)})")
         return self.tol_cm * 0.01 / unit
+
+    def held(self, clip: Clip) -> np.ndarray | None:
+        """The ``contacts`` argument of the clip reducers for ``clip``: None (they find
+        the planted frames themselves), or with ``contacts`` False, no frame held.
+
+        >>> from sketchanim.motion.skeleton import Skeleton
+        >>> clip = Clip.still(Skeleton(("root",), (-1,), np.zeros((1, 3))), [0.0, 0.1])
+        >>> ClipOptions().held(clip) is None, ClipOptions(contacts=False).held(clip).any()
+        (True, np.False_)
+        """
+        return None if self.contacts else np.zeros((len(clip.times), len(clip.skeleton)), bool)
