@@ -93,9 +93,9 @@ def _reduced(clip: Clip | Markers, options: ClipOptions,
                              f"{options.shell_cm:g} cm shell in them; give units=UNIT ({', '.join(UNITS_M)})")
         shell = options.shell_cm * 0.01 / clip.unit_m
         if options.keys == "compact":
-            return compact_clip(clip, tol, shell, contacts=options.held(clip), name=name), tol
-        return reduce_clip_world(clip, tol, shell, order=options.order, contacts=options.held(clip)), tol
-    return reduce_clip(clip, tol, options.rot_tol_deg, order=options.order, contacts=options.held(clip)), tol
+            return compact_clip(clip, tol, shell, contacts=options.contacts_of(clip), name=name), tol
+        return reduce_clip_world(clip, tol, shell, order=options.order, contacts=options.contacts_of(clip)), tol
+    return reduce_clip(clip, tol, options.rot_tol_deg, order=options.order, contacts=options.contacts_of(clip)), tol
 
 
 def reduce_clip_file(source: str | os.PathLike[str], options: ClipOptions,

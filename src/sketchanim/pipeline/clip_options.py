@@ -107,13 +107,13 @@ class ClipOptions:
                              f"units=UNIT ({', '.join(UNITS_M)})")
         return self.tol_cm * 0.01 / unit
 
-    def held(self, clip: Clip) -> np.ndarray | None:
+    def contacts_of(self, clip: Clip) -> np.ndarray | None:
         """The ``contacts`` argument of the clip reducers for ``clip``: None (they find
         the planted frames themselves), or with ``contacts`` False, no frame held.
 
         >>> from sketchanim.motion.skeleton import Skeleton
         >>> clip = Clip.still(Skeleton(("root",), (-1,), np.zeros((1, 3))), [0.0, 0.1])
-        >>> ClipOptions().held(clip) is None, ClipOptions(contacts=False).held(clip).any()
-        (True, np.False_)
+        >>> ClipOptions().contacts_of(clip) is None, bool(ClipOptions(contacts=False).contacts_of(clip).any())
+        (True, False)
         """
         return None if self.contacts else np.zeros((len(clip.times), len(clip.skeleton)), bool)
