@@ -18,7 +18,11 @@ the planted joints' sliding (their median speed over the steps
 is then played (spherically as glTF clients do, and component-wise as Blender's
 F-curves do) and measured in the world at every frame; the joints above any miss are
 tightened at that frame and keyed again, for :data:`ROUNDS` rounds, then given bounds
-that provably keep their chains within.
+that provably keep their chains within. Last, where a joint is held on the ground, the
+keys of the legs above it are stored as the roundings that keep it steadiest, of those
+a step or two either side that keep every point within the bound
+(:mod:`~sketchanim.export.planted_rounding`): the rounding, not the keys, is what makes
+a quantised foot slide.
 
 A track whose one value holds within its bound at every frame is no track: its value
 is the node's. Key times are the skeleton's, or each track's own where keys are sparse
@@ -37,7 +41,8 @@ from scipy.spatial.transform import Rotation
 from sketchanim.errors import ArgumentError
 from sketchanim.float32 import float32_margin, margin_refusal
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
-from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held
+from sketchanim.export.planted_rounding import PlantedRounding
+from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held, roundings
 from sketchanim.mocap.contacts import SLIDING_SLACK_M_S, nearest_frames, planted, planted_steps, unit_m
 from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, held_frames, most_moving
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG
@@ -64,10 +69,11 @@ ROUNDS = 6
 #: The world bounds tried on planted frames (metres, through the clip's unit; at most
 #: ``tol``), in turn, until one keeps the planted joints' sliding within the slack of the
 #: source's; the last is taken regardless. Sliding is a speed, so the bound that keeps it
-#: is a distance whatever ``tol`` is: 1.5 mm kept it on every clip of the project's shared
-#: data at 0.5 and 1 cm (2 mm on half of them); generated walks, whose source does not
-#: slide at all, take 0.75 mm.
-PLANTED_M = (0.0015, 0.00075, 0.000375)
+#: is a distance whatever ``tol`` is. With the legs' roundings picked to hold the feet
+#: (:mod:`~sketchanim.export.planted_rounding`), 5 mm kept it on four of the six clips
+#: of the project's shared data at 0.5 and at 1 cm, 4 mm on the others; without them it
+#: took 1.5 mm.
+PLANTED_M = (0.005, 0.004, 0.003, 0.002, 0.0015, 0.00075, 0.000375)
 
 #: Key times per track, or one array for the whole skeleton.
 SHARING = ("track", "skeleton")
@@ -152,7 +158,8 @@ class _Tracks:
     values: np.ndarray            # (T, n, d)
     bound: np.ndarray             # (T, n): the largest error at each frame
     bits: np.ndarray              # (T, n): the filter's bits for each frame's key
-    held: np.ndarray              # (T, n, d): each frame's value as decoded
+    held: np.ndarray              # (T, n, d): each frame's value as decoded (rounded, or as picked)
+    stored: np.ndarray            # (T, n, d): as given to the filter (the source's, or the rounding picked)
     constant: np.ndarray          # (T,) bool
     share: float                  # of the bound, the quantisation's
     keep: np.ndarray | None = None  # (T, n) bool: the keyed frames
@@ -170,7 +177,8 @@ def _tracks(path: str, joints: np.ndarray, values: np.ndarray, bound: np.ndarray
     near = minimum_filter1d(bound, 3, axis=1, mode="nearest") if bound.size else bound
     bits = np.array([bits_for(path, share * b, float(s)) for b, s in zip(near, scale)], dtype=int).reshape(bound.shape)
     decoded = np.stack([held(v, path, k) for v, k in zip(values, bits)]) if len(values) else values
-    tracks = _Tracks(path, joints, values, bound, bits, decoded.astype(float), np.zeros(len(joints), bool), share)
+    tracks = _Tracks(path, joints, values, bound, bits, decoded.astype(float), values.copy(),
+                     np.zeros(len(joints), bool), share)
     tracks.constant = np.array([_error(tracks, i, _steady(tracks, i)).max() <= b.min()
                                 for i, b in enumerate(bound)], dtype=bool)
     return tracks
@@ -186,11 +194,14 @@ def _steady(tracks: _Tracks, i: int) -> np.ndarray:
     return (v.min(axis=0) + v.max(axis=0)) / 2
 
 
-def _error(tracks: _Tracks, i: int, value: np.ndarray) -> np.ndarray:
-    """Track ``i``'s error at every frame if it held ``value``."""
-    v = tracks.values[i]
+def _error(tracks: _Tracks, i: int, value: np.ndarray, frames: np.ndarray | slice = slice(None)) -> np.ndarray:
+    """Track ``i``'s error at every frame (or at ``frames``) if it held ``value`` (one
+    value, one per frame, or (K, frames, d): K of them)."""
+    v = tracks.values[i, frames]
     if tracks.rotation:
-        return rotation_angle(np.broadcast_to(value, v.shape), v)
+        shape = np.broadcast_shapes(np.shape(value), v.shape)
+        return rotation_angle(np.broadcast_to(value, shape).reshape(-1, 4),
+                              np.broadcast_to(v, shape).reshape(-1, 4)).reshape(shape[:-1])
     return np.linalg.norm(v - value, axis=-1)
 
 
@@ -231,16 +242,16 @@ def _pose(clip: Clip, rotations: _Tracks, translations: _Tracks, variant: int) -
 
 
 def _world_errors(skeleton: Skeleton, source: tuple[np.ndarray, np.ndarray], rot: np.ndarray, trans: np.ndarray,
-                  shell: float) -> tuple[np.ndarray, np.ndarray]:
+                  shell: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per frame and joint (n, J): the joint's distance from the source's in the world,
     plus the most a point ``shell`` from it moves by their rotations' difference
     (``source``: :func:`~sketchanim.motion.kinematics.world_matrices` of the source);
-    and the joints' world positions (n, J, 3)."""
+    and the joints' world positions (n, J, 3) and rotations (n, J, 3, 3)."""
     turns, positions = world_matrices(skeleton, rot, trans)
     out = np.linalg.norm(positions - source[1], axis=-1)
     if shell:
         out += shell * chord(turns, source[0])
-    return out, positions
+    return out, positions, turns
 
 
 def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: np.ndarray | None = None,
@@ -363,7 +374,8 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, worl
     """The compact file with key times shared as ``sharing`` says, every joint within
     ``world_bound`` (n, J) in the world at every frame (the budget of ``tol``, of
     ``planted_bound`` where ``still`` holds it on the ground, less float32's ``margin``
-    at most), and its planted ``steps``' sliding."""
+    at most), and its planted ``steps``' sliding. Where anything is held on the ground,
+    the legs' roundings are picked to hold it still (:func:`_planted_roundings`)."""
     sk = clip.skeleton
     n = len(clip.times)
     chains = sk.chains()
@@ -412,10 +424,42 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, worl
                 limit = provable.T[tracks.joints]
                 now = np.minimum(now, np.where(tight.T[tracks.joints], limit, np.inf) if round == ROUNDS else limit)
             _tighten(tracks, now)
+    if still.any():
+        _planted_roundings(clip, source, world_bound, still, shell, played, rotations, translations)
+        played = [_world_errors(sk, source, *_pose(clip, rotations, translations, v), shell) for v in (0, 1)]
+        errors = np.maximum(played[0][0], played[1][0])
+        assert (errors <= world_bound).all(), "a rounding picked left the world bound"
     sliding = ((_sliding(clip, steps, source[1]), _sliding(clip, steps, played[0][1], played[1][1]))
                if len(steps[0]) else ())
     return _written(clip, source, rotations, translations, errors, margin, tol, still, planted_bound, sliding, shell,
                     sharing, mesh, name)
+
+
+def _planted_roundings(clip: Clip, source: tuple[np.ndarray, np.ndarray], world_bound: np.ndarray, still: np.ndarray,
+                       shell: float, played: list[tuple[np.ndarray, np.ndarray, np.ndarray]], rotations: _Tracks,
+                       translations: _Tracks) -> None:
+    """The legs' keys at the frames they hold a joint on the ground (``still``) stored as
+    the roundings that keep it steadiest (:mod:`~sketchanim.export.planted_rounding`),
+    top down, each within its track's bound and every point within ``world_bound``
+    (``played``: the world errors, positions and rotations of both ways the file plays,
+    as keyed and rounded)."""
+    state = PlantedRounding(clip.skeleton, source, np.stack([played[0][2], played[1][2]]),
+                            np.stack([played[0][1], played[1][1]]), world_bound, still, shell)
+    for joint in np.flatnonzero(state.legs()):
+        for tracks in (translations, rotations):
+            track = np.flatnonzero(tracks.joints == joint)
+            if not len(track) or tracks.constant[track[0]]:
+                continue
+            i = track[0]
+            frames = np.flatnonzero(tracks.keep[i] & state.frames(joint, tracks.rotation))
+            if not len(frames):
+                continue
+            values = tracks.values[i, frames]
+            near = roundings(values, tracks.path, tracks.bits[i, frames])
+            allowed = _error(tracks, i, near, frames) <= tracks.bound[i, frames]
+            picked = state.pick(joint, tracks.rotation, tracks.keep[i], frames, tracks.held[i, frames], near, allowed)
+            at = picked >= 0
+            tracks.held[i, frames[at]] = tracks.stored[i, frames[at]] = near[picked[at], np.flatnonzero(at)]
 
 
 def _refuse_finer_than_bits(clip: Clip, tracks: _Tracks, tol: float) -> None:
@@ -470,7 +514,7 @@ def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Trac
             frames = np.flatnonzero(tracks.keep[i])
             keys += len(frames)
             channels.append(CompactChannel(int(tracks.joints[i]), tracks.path, clip.times[frames],
-                                           tracks.values[i, frames], tracks.bits[i, frames]))
+                                           tracks.stored[i, frames], tracks.bits[i, frames]))
     channels.sort(key=lambda c: (c.node, c.path != "rotation"))
     extra = {}
     if mesh:
