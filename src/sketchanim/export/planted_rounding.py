@@ -7,8 +7,9 @@ step, at random from frame to frame; down a leg these add up at the foot, which 
 trembles on the ground. In motion capture the rounding, not the keys chosen, is what
 makes a planted foot slide more than the source's. Picking, key by key, among the
 roundings a step or two either side lets the joints of a leg cancel each other's at
-the foot, for about the bytes of the nearest: the planted joints' error is aimed at
-its own average over a few frames (:data:`SMOOTHING`), since sliding is a speed.
+the foot, for a few per cent more bytes than the nearest: the planted joints' error is
+aimed at its own average over a few frames (:data:`SMOOTHING`), since sliding is a
+speed.
 
 A leg is a joint every end below which is held on the ground somewhere
 (:meth:`PlantedRounding.legs`; the hips carry the arms too, whose points have no room
@@ -113,10 +114,10 @@ class PlantedRounding:
 
     def pick(self, joint: int, rotation: bool, keys: np.ndarray, frames: np.ndarray, current: np.ndarray,
              near: np.ndarray, allowed: np.ndarray) -> np.ndarray:
-        """Of ``near`` (K, F, d: unit quaternions scalar last, or translations; NaN:
-        none), the values ``joint`` could hold at ``frames`` (F,: of its track's keyed
-        frames ``keys``, (n,)) instead of ``current`` (F, d), the index of the one
-        that puts the planted joints below it nearest what they aim at (as glTF
+        """Of ``near`` (K, F, d: quaternions scalar last, or translations; NaN: none),
+        the values ``joint`` could hold at ``frames`` (F,: of its track's keyed frames
+        ``keys``, (n,)) instead of ``current`` (F, d), the index of the one that puts
+        the planted joints below it nearest what they aim at (as glTF
         plays), or -1 where none is nearer than ``current``; only ``allowed`` (K, F)
         ones that keep every point below the joint within its world bound, at the
         frame and between keys, either way the file plays. The state is moved by the
@@ -131,8 +132,8 @@ class PlantedRounding:
         ...                         np.array([[False, True]] * 5), 0.0)
         >>> turns = Rotation.from_euler("z", [[0.6], [-0.6]], degrees=True).as_quat()    # picks at hand
         >>> near = np.repeat(turns[:, None], 5, axis=1)                                 # (K=2, F=5, 4)
-        >>> still = np.array([0.0, 0, 0, 1])
-        >>> state.pick(0, True, np.ones(5, bool), np.arange(5), np.tile(still, (5, 1)), near,
+        >>> rest = np.array([0.0, 0, 0, 1])
+        >>> state.pick(0, True, np.ones(5, bool), np.arange(5), np.tile(rest, (5, 1)), near,
         ...            np.ones((2, 5), bool)).tolist()
         [1, 0, 1, 0, 1]
         >>> bool(np.abs(state.positions[:, :, 1, 0]).max() < 0.002)
@@ -166,16 +167,17 @@ class PlantedRounding:
         cost = np.where(viable & (cost < now * (1 - 1e-6)), cost, np.inf)        # nearer, not a tie
         order = np.argsort(cost, axis=0)
         out = np.full(len(frames), -1)
-        open_ = np.flatnonzero(np.isfinite(cost[order[0], np.arange(len(frames))]))
+        waiting = np.flatnonzero(np.isfinite(cost[order[0], np.arange(len(frames))]))
         for rank in range(len(near)):                 # each frame's nearest pick that keeps the world bound
-            k = order[rank, open_]
-            open_, k = open_[np.isfinite(cost[k, open_])], k[np.isfinite(cost[k, open_])]
-            if not len(open_):
+            k = order[rank, waiting]
+            waiting, k = waiting[np.isfinite(cost[k, waiting])], k[np.isfinite(cost[k, waiting])]
+            if not len(waiting):
                 break
-            fit = self._fits(joint, rotation, frames[open_], joints, up[:, open_], at[:, open_], points[:, open_],
-                             unit[open_] if rotation else None, change[k, open_], move[k, open_])
-            out[open_[fit]] = k[fit]
-            open_ = open_[~fit]
+            fit = self._fits(joint, rotation, frames[waiting], joints, up[:, waiting], at[:, waiting],
+                             points[:, waiting], unit[waiting] if rotation else None, change[k, waiting],
+                             move[k, waiting])
+            out[waiting[fit]] = k[fit]
+            waiting = waiting[~fit]
         take = np.flatnonzero(out >= 0)
         self._move(joint, rotation, keys, frames[take], joints, up[:, take], at[:, take], points[:, take],
                    unit[take] if rotation else None, change[out[take], take], move[out[take], take])

@@ -7,7 +7,9 @@ scales are floats through its exponential filter (a ``bits`` bit mantissa per va
 exponent shared per vector). Key times are float32, each distinct array written once.
 Every kind of data is one buffer view, compressed by meshopt's vertex codec (lossless:
 only the filters round). :func:`held` gives exactly what a client holds after decoding,
-so the keys can be chosen, and their error measured, on the values the file gives.
+so the keys can be chosen, and their error measured, on the values the file gives;
+:func:`roundings`, the other values a filter can store near each, for a caller that picks
+among them.
 
 Compressed data is the .glb's binary chunk; the buffer views name a fallback buffer
 without data, as the extension has it, and the file requires the extension.
