@@ -21,7 +21,7 @@ from sketchanim.cli import app
 from sketchanim.formats.bvh import write_bvh
 from sketchanim.export.files import write_reduced
 from sketchanim.formats.clip_files import read_clip
-from sketchanim.reducer.linear_keys import linear_keys
+from sketchanim.reducer.linear_keys import linear_keys, played_at
 from sketchanim.reducer.metric import rotation_angle
 
 TOL, ROT_TOL = 0.5, 0.5
@@ -73,6 +73,30 @@ def test_thinned_keys_reproduce_every_frame(n: int, seed: int, allowance: float,
         played = linear_play32(times[keep], values[keep], times, rotation, spherical).astype(float)
         err = rotation_angle(played, values) if rotation else np.linalg.norm(played - values, axis=1)
         assert err.max() <= allowance + 1e-5
+
+
+@settings(max_examples=60)
+@given(st.integers(2, 60), st.integers(0, 2**32 - 1), st.booleans())
+def test_keys_played_at_any_time_as_a_client_plays_them(n: int, seed: int, rotation: bool) -> None:
+    """``played_at`` (what the compact writer measures sliding with, between frames)
+    against the test's own client, at times between, on, before and after the keys."""
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.01, 0.1, n))
+    values = np.cumsum(rng.normal(0, 0.2, (n, 4 if rotation else 3)), axis=0)
+    if rotation:                                         # keys on one hemisphere, as every writer puts them
+        values[:, 3] += 3
+        values /= np.linalg.norm(values, axis=1, keepdims=True)
+    keep = rng.random(n) < 0.5
+    keep[[0, -1]] = True
+    at = np.r_[rng.uniform(times[0] - 0.1, times[-1] + 0.1, 40), times]
+    mine = played_at(times, values[None], keep[None], at, rotation)[0]
+    for way, spherical in enumerate((True, False)):
+        client = linear_play32(times[keep], values[keep], at, rotation, spherical).astype(float)
+        if rotation:
+            ours = mine[:, way] / np.linalg.norm(mine[:, way], axis=1, keepdims=True)
+            assert rotation_angle(ours, client).max() < 1e-5
+        else:
+            assert np.allclose(mine, client, rtol=1e-5, atol=1e-5)
 
 
 def test_a_still_joint_gets_two_keys_and_cli_writes_frames(tmp_path: Path) -> None:

@@ -43,13 +43,13 @@ from sketchanim.float32 import float32_margin, margin_refusal
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
 from sketchanim.export.planted_rounding import PlantedRounding
 from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held, roundings
-from sketchanim.mocap.contacts import SLIDING_SLACK_M_S, nearest_frames, planted, planted_steps, unit_m
+from sketchanim.mocap.contacts import SLIDING_RATE, SLIDING_SLACK_M_S, planted, planted_steps, sliding, unit_m
 from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, held_frames, most_moving
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG
 from sketchanim.motion.kinematics import chord, world_matrices
 from sketchanim.motion.rotations import continuous_quaternions
 from sketchanim.motion.skeleton import Clip, Skeleton
-from sketchanim.reducer.linear_keys import linear_keys, misses, played
+from sketchanim.reducer.linear_keys import linear_keys, misses, played, played_at
 from sketchanim.reducer.metric import rotation_angle
 
 #: Of each joint's bound, what the quantisation may take (it sets the filters' bits). With
@@ -224,16 +224,20 @@ def _keyed(times: np.ndarray, tracks: _Tracks, sharing: str) -> None:
                                       tracks.rotation)
 
 
-def _pose(clip: Clip, rotations: _Tracks, translations: _Tracks, variant: int) -> tuple[np.ndarray, np.ndarray]:
-    """Local rotations (n, J, 4) and translations (n, J, 3) as the file plays
-    (``variant`` 0: rotations spherically, 1: component-wise)."""
-    rot, trans = clip.skeleton.rest_pose(len(clip.times))
+def _pose(clip: Clip, rotations: _Tracks, translations: _Tracks, variant: int, at: np.ndarray | None = None
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """Local rotations (n, J, 4) and translations (n, J, 3) as the file plays at the
+    frames, or at the times ``at`` (``variant`` 0: rotations spherically, 1:
+    component-wise)."""
+    rot, trans = clip.skeleton.rest_pose(len(clip.times) if at is None else len(at))
     for tracks, out in ((rotations, rot), (translations, trans)):
         moving = np.flatnonzero(~tracks.constant)
         for i in np.flatnonzero(tracks.constant):
             out[:, tracks.joints[i]] = _steady(tracks, i)
         if len(moving):
-            values = played(clip.times, tracks.held[moving], tracks.keep[moving], tracks.rotation)
+            held, keep = tracks.held[moving], tracks.keep[moving]
+            values = (played(clip.times, held, keep, tracks.rotation) if at is None else
+                      played_at(clip.times, held, keep, at, tracks.rotation))
             if tracks.rotation:
                 values = values[:, :, variant]
                 values = values / np.linalg.norm(values, axis=-1, keepdims=True)
@@ -300,9 +304,10 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: np.ndarray |
         raise ArgumentError("sharing", f"one of {', '.join(SHARING)}, got {sharing!r}")
     source = world_matrices(clip.skeleton, clip.rotations, clip.translations)
     still = planted(clip, source[1]) if contacts is None else held_frames(clip, contacts)
-    steps = _steps(clip, still)
+    steps = planted_steps(clip.times, still)
+    slides = sliding(clip, contacts=still) if len(steps[1]) else None
     metre = 1.0 / unit_m(clip)
-    bounds = list(dict.fromkeys(min(m * metre, float(tol)) for m in PLANTED_M)) if len(steps[0]) else [float(tol)]
+    bounds = list(dict.fromkeys(min(m * metre, float(tol)) for m in PLANTED_M)) if len(steps[1]) else [float(tol)]
     best = None
     for s in ("skeleton", "track") if sharing is None else (sharing,):
         if sharing is None and s == "track" and best.report.keys > SPARSE * best.report.frames * best.report.tracks:
@@ -311,7 +316,7 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: np.ndarray |
             asked = np.where(still, bound, float(tol))
             world_bound = _budget(clip, source, asked, shell)
             made = _compact(clip, source, float(tol), world_bound, float((asked - world_bound).max(initial=0.0)),
-                            still, steps, bound, shell, s, mesh, name)
+                            still, steps, slides, bound, shell, s, mesh, name)
             if not made.report.sliding or made.report.sliding[1] <= made.report.sliding[0] + SLIDING_SLACK_M_S * metre:
                 break
         best = made if best is None or len(made.glb) < len(best.glb) else best
@@ -349,32 +354,25 @@ def _budget(clip: Clip, source: tuple[np.ndarray, np.ndarray], asked: np.ndarray
     return asked - margin
 
 
-def _steps(clip: Clip, still: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The planted steps :func:`~sketchanim.mocap.contacts.sliding` measures, each as two
-    frames ``f`` and ``g`` and its joint ``d``: the frames nearest the step's samples,
-    or where both are nearest one frame (a source slower than the samples), the two
-    frames about the step's first sample."""
-    at, first, d = planted_steps(clip.times, still)
-    f, g = nearest_frames(clip.times, at[first]), nearest_frames(clip.times, at[first + 1])
-    f = np.where(f == g, np.clip(np.searchsorted(clip.times, at[first], side="right") - 1, 0, len(clip.times) - 2), f)
-    return f, np.where(f == g, f + 1, g), d
-
-
-def _sliding(clip: Clip, steps: tuple[np.ndarray, np.ndarray, np.ndarray], *positions: np.ndarray) -> float:
-    """The median over ``steps`` of the joint's speed (clip units per second), each step
-    the fastest of ``positions`` (n, J, 3)."""
-    f, g, d = steps
-    moved = np.max([np.linalg.norm(p[g, d] - p[f, d], axis=-1) for p in positions], axis=0)
-    return float(np.median(moved / (clip.times[g] - clip.times[f])))
+def _sliding(clip: Clip, steps: tuple[np.ndarray, np.ndarray, np.ndarray], rotations: _Tracks,
+             translations: _Tracks) -> float:
+    """The planted joints' median speed over ``steps`` (:func:`~sketchanim.mocap.contacts.planted_steps`:
+    sample times, each step's first and its joint) as the file plays at those times,
+    each step the faster way (clip units per second)."""
+    at, first, joint = steps
+    moved = [world_matrices(clip.skeleton, *_pose(clip, rotations, translations, v, at))[1] for v in (0, 1)]
+    speed = np.max([np.linalg.norm(p[first + 1, joint] - p[first, joint], axis=-1) for p in moved], axis=0)
+    return float(np.median(speed * SLIDING_RATE))
 
 
 def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, world_bound: np.ndarray, margin: float,
-             still: np.ndarray, steps: tuple[np.ndarray, np.ndarray, np.ndarray], planted_bound: float, shell: float,
-             sharing: str, mesh: bool, name: str) -> CompactClip:
+             still: np.ndarray, steps: tuple[np.ndarray, np.ndarray, np.ndarray], slides: float | None,
+             planted_bound: float, shell: float, sharing: str, mesh: bool, name: str) -> CompactClip:
     """The compact file with key times shared as ``sharing`` says, every joint within
     ``world_bound`` (n, J) in the world at every frame (the budget of ``tol``, of
     ``planted_bound`` where ``still`` holds it on the ground, less float32's ``margin``
-    at most), and its planted ``steps``' sliding. Where anything is held on the ground,
+    at most), and its planted ``steps``' sliding, beside the source's (``slides``;
+    None: nothing planted). Where anything is held on the ground,
     the legs' roundings are picked to hold it still (:func:`_planted_roundings`)."""
     sk = clip.skeleton
     n = len(clip.times)
@@ -429,9 +427,8 @@ def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, worl
         played = [_world_errors(sk, source, *_pose(clip, rotations, translations, v), shell) for v in (0, 1)]
         errors = np.maximum(played[0][0], played[1][0])
         assert (errors <= world_bound).all(), "a rounding picked left the world bound"
-    sliding = ((_sliding(clip, steps, source[1]), _sliding(clip, steps, played[0][1], played[1][1]))
-               if len(steps[0]) else ())
-    return _written(clip, source, rotations, translations, errors, margin, tol, still, planted_bound, sliding, shell,
+    slid = (slides, _sliding(clip, steps, rotations, translations)) if slides is not None else ()
+    return _written(clip, source, rotations, translations, errors, margin, tol, still, planted_bound, slid, shell,
                     sharing, mesh, name)
 
 
@@ -499,9 +496,9 @@ def _tighten(tracks: _Tracks, bound: np.ndarray) -> None:
 
 def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Tracks, translations: _Tracks,
              errors: np.ndarray, margin: float, tol: float, still: np.ndarray, planted_bound: float,
-             sliding: tuple[float, ...], shell: float, sharing: str, mesh: bool, name: str) -> CompactClip:
+             slid: tuple[float, ...], shell: float, sharing: str, mesh: bool, name: str) -> CompactClip:
     """The .glb of the keyed tracks, and its report (``still``: the frames and joints held
-    on the ground, within ``planted_bound`` there, sliding as ``sliding`` says)."""
+    on the ground, within ``planted_bound`` there, sliding as ``slid`` says)."""
     sk = clip.skeleton
     nodes = [Node(n, p, translation=o.tolist()) for n, p, o in zip(sk.names, sk.parents, sk.offsets)]
     channels = []
@@ -534,7 +531,7 @@ def _written(clip: Clip, source: tuple[np.ndarray, np.ndarray], rotations: _Trac
                            len(clip.times),
                            len(rotations.joints) + len(translations.joints),
                            int(rotations.constant.sum() + translations.constant.sum()), keys, sharing,
-                           int(still.sum()), planted_bound, float(errors[still].max(initial=0.0)), sliding,
+                           int(still.sum()), planted_bound, float(errors[still].max(initial=0.0)), slid,
                            len(glb))
     return CompactClip(glb, report)
 

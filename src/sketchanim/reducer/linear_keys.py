@@ -52,17 +52,22 @@ def spherical_mix(a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
     return wa * a + wb * b
 
 
-def _played(times: np.ndarray, held: np.ndarray, rows: np.ndarray, frames: np.ndarray, left: np.ndarray,
-            right: np.ndarray, rotation: bool) -> np.ndarray:
-    """What plays at ``frames`` of tracks ``rows`` between their keys ``left`` and
-    ``right``: (m, d), or for rotations (m, 2, 4), spherically and component-wise."""
-    a, b = held[rows, left], held[rows, right]
-    span = times[right] - times[left]
-    s = np.divide(times[frames] - times[left], span, out=np.zeros_like(span), where=span > 0)[:, None]
+def _mixed(a: np.ndarray, b: np.ndarray, s: np.ndarray, rotation: bool) -> np.ndarray:
+    """Keys ``a`` and ``b`` (m, d) mixed at ``s`` (m, 1) as they play: (m, d), or for
+    rotations (m, 2, 4), spherically and component-wise."""
     if not rotation:
         return a + s * (b - a)
     b = np.where(np.sum(a * b, axis=-1, keepdims=True) < 0, -b, b)    # one hemisphere for F-curves
     return np.stack([spherical_mix(a, b, s), a + s * (b - a)], axis=-2)
+
+
+def _played(times: np.ndarray, held: np.ndarray, rows: np.ndarray, frames: np.ndarray, left: np.ndarray,
+            right: np.ndarray, rotation: bool) -> np.ndarray:
+    """What plays at ``frames`` of tracks ``rows`` between their keys ``left`` and
+    ``right``: (m, d), or for rotations (m, 2, 4), spherically and component-wise."""
+    span = times[right] - times[left]
+    s = np.divide(times[frames] - times[left], span, out=np.zeros_like(span), where=span > 0)[:, None]
+    return _mixed(held[rows, left], held[rows, right], s, rotation)
 
 
 def _errors(times: np.ndarray, values: np.ndarray, held: np.ndarray, rows: np.ndarray, frames: np.ndarray,
@@ -92,6 +97,29 @@ def played(times: np.ndarray, held: np.ndarray, keep: np.ndarray, rotation: bool
         out[rows, frames] = _played(np.asarray(times, float), held, rows, frames, left[rows, frames],
                                     right[rows, frames], rotation)
     return out
+
+
+def played_at(times: np.ndarray, held: np.ndarray, keep: np.ndarray, at: np.ndarray, rotation: bool) -> np.ndarray:
+    """What plays at the times ``at`` (m,) from the keys ``keep`` (T, n) of ``held``
+    (T, n, d) at ``times`` (n,): (T, m, d), or for rotations (T, m, 2, 4), spherically
+    then component-wise; before the first key and after the last, those keys.
+
+    >>> t = np.arange(5.0)
+    >>> keep = np.array([[True, False, False, False, True]])
+    >>> played_at(t, np.c_[t, t][None], keep, np.array([-1.0, 0.5, 3.25, 9.0]), False)[0, :, 0].tolist()
+    [0.0, 0.5, 3.25, 4.0]
+    """
+    times, held, at = np.asarray(times, float), np.asarray(held, float), np.asarray(at, float)
+    out = []
+    for row in range(len(held)):
+        keys = np.flatnonzero(keep[row])
+        right = np.clip(np.searchsorted(times[keys], at), 1, max(len(keys) - 1, 1)) if len(keys) > 1 else 0 * at
+        right = np.asarray(right, int)
+        left = np.maximum(right - 1, 0)
+        span = times[keys[right]] - times[keys[left]]
+        s = np.clip(np.divide(at - times[keys[left]], span, out=np.zeros_like(span), where=span > 0), 0, 1)
+        out.append(_mixed(held[row, keys[left]], held[row, keys[right]], s[:, None], rotation))
+    return np.stack(out) if out else np.zeros((0, len(at)) + ((2, 4) if rotation else held.shape[2:]))
 
 
 def misses(times: np.ndarray, values: np.ndarray, held: np.ndarray, keep: np.ndarray, rotation: bool) -> np.ndarray:
