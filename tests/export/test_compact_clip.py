@@ -177,7 +177,7 @@ def test_a_rounding_picked_is_written_as_itself(tmp_path_factory, count, seed):
         else:
             off = np.abs(near - v).max(axis=-1)[valid]
             step = np.broadcast_to(np.abs(v).max(axis=1) * 2.0 ** (2 - bits[path]), valid.shape)[valid]
-        assert (off <= 16 * step).all(), (off / step).max()   # three components two steps off, the fourth from them
+        assert (off <= 16 * step).all(), (off / step).max()   # three components a step off, the fourth from them
 
 
 def test_bad_arguments_are_named():

@@ -20,7 +20,7 @@ F-curves do) and measured in the world at every frame; the joints above any miss
 tightened at that frame and keyed again, for :data:`ROUNDS` rounds, then given bounds
 that provably keep their chains within. Last, where a joint is held on the ground, the
 keys of the legs above it are stored as the roundings that keep it steadiest, of those
-a step or two either side that keep every point within the bound
+a step either side that keep every point within the bound
 (:mod:`~sketchanim.export.planted_rounding`): the rounding, not the keys, is what makes
 a quantised foot slide.
 
@@ -71,8 +71,8 @@ ROUNDS = 6
 #: source's; the last is taken regardless. Sliding is a speed, so the bound that keeps it
 #: is a distance whatever ``tol`` is. With the legs' roundings picked to hold the feet
 #: (:mod:`~sketchanim.export.planted_rounding`), 5 mm kept it on four of the six clips
-#: of the project's shared data at 0.5 and at 1 cm, 4 mm on the others; without them it
-#: took 1.5 mm.
+#: of the project's shared data at 0.5 cm and three at 1 cm, 4 to 2 mm on the others;
+#: with the nearest roundings it took 1.5 mm.
 PLANTED_M = (0.005, 0.004, 0.003, 0.002, 0.0015, 0.00075, 0.000375)
 
 #: Key times per track, or one array for the whole skeleton.

@@ -131,23 +131,21 @@ def held(values: np.ndarray, path: str, bits: int | np.ndarray) -> np.ndarray:
     return np.frombuffer(raw.tobytes(), np.float32).reshape(len(rows), -1).copy()
 
 
-def roundings(values: np.ndarray, path: str, bits: int | np.ndarray, steps: Sequence[int] = (-1, 0, 1, 2)
+def roundings(values: np.ndarray, path: str, bits: int | np.ndarray, steps: Sequence[int] = (-1, 0, 1)
               ) -> np.ndarray:
     """What a client decodes of the keys a filter can store near each of ``values`` (m,
     d) at ``bits`` (one, or one per row): each stored component (a rotation's three
-    smallest, a vector's mantissas) at the ``steps`` from the floor of its exact scaled
-    value, in every combination, (K, m, d) for K = ``len(steps) ** 3``. A combination
-    that would not store as itself (its decoded value filtered again gives other
-    bits) is NaN: every other one, given to :class:`CompactChannel` as its values, is
-    written as that combination.
+    smallest, a vector's mantissas) the ``steps`` from the filter's own rounding, in
+    every combination, (K, m, d) for K = ``len(steps) ** 3`` (the filter's own rounding,
+    all steps 0, first). A combination that would not store as itself (its decoded
+    value filtered again gives other bits) is NaN: every other one, given to
+    :class:`CompactChannel` as its values, is written as that combination.
 
     >>> q = np.array([[0.0, 0.0, np.sin(0.3), np.cos(0.3)]])
     >>> near = roundings(q, "rotation", 10)
-    >>> near.shape
-    (64, 1, 4)
+    >>> near.shape, bool(np.array_equal(near[0], held(q, "rotation", 10)))
+    ((27, 1, 4), True)
     >>> ok = near[~np.isnan(near[:, 0, 0]), 0]
-    >>> any(np.array_equal(k, held(q, "rotation", 10)[0]) for k in ok)     # the filter's own rounding among them
-    True
     >>> bool(np.array_equal(held(ok, "rotation", 10), ok))                  # each written as itself
     True
     """
@@ -155,27 +153,22 @@ def roundings(values: np.ndarray, path: str, bits: int | np.ndarray, steps: Sequ
     m, d = values.shape
     each = np.broadcast_to(np.asarray(bits, dtype=int), (m,))
     combos = np.array(np.meshgrid(*[steps] * 3, indexing="ij")).reshape(3, -1).T        # (K, 3)
-    rotation = path == "rotation"
-    if rotation:
-        rows = _encoded(values, path, each).view(np.int16).reshape(m, 4).astype(np.int64)
-        q = values / np.linalg.norm(values, axis=1, keepdims=True)
-        largest = rows[:, 3] & 3
-        sign = np.where(q[np.arange(m), largest] < 0, -1.0, 1.0)
-        scale = ((1 << (each - 1)) - 1) * np.sqrt(2) * sign
-        exact = np.stack([q[np.arange(m), (largest + k) & 3] * scale for k in (1, 2, 3)], axis=1)
-        stored = np.repeat(rows[None], len(combos), axis=0)
-        stored[..., :3] = np.floor(exact)[None] + combos[:, None, :]
+    combos = combos[np.argsort(np.abs(combos).sum(axis=1), kind="stable")]            # no step first
+    rows = _encoded(values, path, each)
+    if path == "rotation":
+        shorts = rows.view(np.int16).reshape(m, 4).astype(np.int64)
+        top = ((1 << (each - 1)) - 1)[:, None]                                         # the shorts' range
+        stored = np.repeat(shorts[None], len(combos), axis=0)
+        stored[..., :3] = np.clip(shorts[None, :, :3] + combos[:, None, :], -top, top)
         raw, kind = np.ascontiguousarray(stored.astype(np.int16)).view(np.uint8).reshape(-1, 8), "QUATERNION"
     else:
-        rows = _encoded(values, path, each).view(np.int32).reshape(m, d).astype(np.int64)
-        exponent = rows >> 24
-        exact = values / 2.0 ** exponent
-        mantissa = np.floor(exact)[None] + combos[:, None, :]
-        stored = (exponent[None] << 24) | (mantissa.astype(np.int64) & 0xFFFFFF)
+        words = rows.view(np.int32).reshape(m, d).astype(np.int64)
+        mantissa = ((words & 0xFFFFFF) ^ 0x800000) - 0x800000                          # 24-bit, signed
+        stored = (words >> 24 << 24)[None] | ((mantissa[None] + combos[:, None, :]) & 0xFFFFFF)
         raw, kind = np.ascontiguousarray(stored.astype(np.uint32)).view(np.uint8).reshape(-1, 4 * d), "EXPONENTIAL"
     decoded = meshopt.decode_gltf_buffer(meshopt.encode_gltf_buffer(raw, "ATTRIBUTES"), len(raw), raw.shape[1],
                                          "ATTRIBUTES", kind)
-    if rotation:
+    if path == "rotation":
         out = (np.frombuffer(decoded.tobytes(), np.int16).reshape(-1, 4) * np.float32(1 / 32767)).astype(np.float32)
     else:
         out = np.frombuffer(decoded.tobytes(), np.float32).reshape(-1, d)
