@@ -107,7 +107,15 @@ class PlantedRounding:
 
     def frames(self, joint: int, rotation: bool) -> np.ndarray:
         """(n,) the frames where a joint held on the ground moves with ``joint``'s
-        rotation (a joint strictly below it) or translation (it, or one below)."""
+        rotation (a joint strictly below it) or translation (it, or one below).
+
+        >>> s = Skeleton(("hip", "foot"), (-1, 0), np.zeros((2, 3)))
+        >>> z = np.zeros((2, 2, 2, 3, 3))
+        >>> held = np.array([[False, True], [False, False]])
+        >>> state = PlantedRounding(s, (z[0], z[0, ..., 0]), z, z[..., 0], held * 0.0, held, 0.0)
+        >>> state.frames(0, True).tolist(), state.frames(1, True).tolist(), state.frames(1, False).tolist()
+        ([True, False], [False, False], [True, False])
+        """
         below = self.below(joint)
         if rotation:
             below[joint] = False
