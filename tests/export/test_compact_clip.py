@@ -158,7 +158,8 @@ def test_a_rounding_picked_is_written_as_itself(tmp_path_factory, count, seed):
     the value."""
     rng = np.random.default_rng(seed)
     t = np.arange(count) / 30.0
-    values = {"rotation": Rotation.random(count, random_state=seed).as_quat(), "translation": rng.normal(0, 10, (count, 3))}
+    values = {"rotation": Rotation.random(count, random_state=seed).as_quat(),
+              "translation": rng.normal(0, 10, (count, 3))}
     bits = {"rotation": rng.integers(5, 16, count), "translation": rng.integers(6, 24, count)}
     for path, v in values.items():
         near = roundings(v, path, bits[path])
@@ -253,8 +254,9 @@ def assert_compact_contacts_kept(tmp_path: Path, clip: Clip, tol: float, shell: 
 
     source, export = sliding(clip, contacts=held) * unit, sliding(clip, sample, contacts=held) * unit
     assert export <= source + SLIDING_SLACK_M_S, (source, export)
+    # the report's measure is the same
     assert np.allclose(np.array(made.report.sliding) * unit, [source, export], atol=1e-3), (made.report, source,
-                                                                                            export)    # the same measure
+                                                                                            export)
 
 
 @pytest.mark.parametrize("tol_cm", [0.5, 1.0])

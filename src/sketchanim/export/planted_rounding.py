@@ -45,6 +45,27 @@ def _rotated(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     return v + w * twice + np.cross(axis, twice)
 
 
+def _world_change(rotation: bool, up: np.ndarray, unit: np.ndarray | None, change: np.ndarray) -> np.ndarray:
+    """What a key's change does in the world under its parent's rotations ``up`` (R, 3,
+    3): a turn (R, 3, 3) about the joint, from the quaternions ``unit`` to ``change``
+    (R, 4), or a shift (R, 3) by the translations ``change``."""
+    if rotation:
+        local = Rotation.from_quat(change).as_matrix() @ np.swapaxes(Rotation.from_quat(unit).as_matrix(), 1, 2)
+        return up @ local @ np.swapaxes(up, 1, 2)
+    return np.einsum("rij,rj->ri", up, change)
+
+
+def _changed(rotation: bool, delta: np.ndarray, at: np.ndarray, points: np.ndarray, turns: np.ndarray
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """Points (R, ..., 3) and their world rotations (R, ..., 3, 3) after ``delta``
+    (:func:`_world_change`): turned about the joint at ``at`` (R, 3), or shifted."""
+    lead = (len(points),) + (1,) * (points.ndim - 2) + (3,)
+    if not rotation:
+        return points + delta.reshape(lead), turns
+    centre = at.reshape(lead)
+    return centre + np.einsum("rij,r...j->r...i", delta, points - centre), np.einsum("rij,r...jk->r...ik", delta, turns)
+
+
 @dataclass
 class PlantedRounding:
     """The clip as its file plays at the frames, both ways (spherically as glTF, and
@@ -248,15 +269,8 @@ class PlantedRounding:
         key, point = frames[f], joints[d]
         worst = np.zeros(len(f))
         for way in (0, 1):
-            frame = up[way, f]                                                                   # (P, 3, 3)
-            if rotation:
-                turn = (frame @ Rotation.from_quat(change[f]).as_matrix()
-                        @ np.swapaxes(Rotation.from_quat(unit[f]).as_matrix(), 1, 2) @ np.swapaxes(frame, 1, 2))
-                there = at[way, f] + np.einsum("pij,pj->pi", turn, points[way, f, d] - at[way, f])
-                turned = turn @ self.turns[way, key, point]
-            else:
-                there = points[way, f, d] + np.einsum("pij,pj->pi", frame, change[f])
-                turned = self.turns[way, key, point]
+            delta = _world_change(rotation, up[way, f], unit[f] if rotation else None, change[f])
+            there, turned = _changed(rotation, delta, at[way, f], points[way, f, d], self.turns[way, key, point])
             error = np.linalg.norm(there - self.source[1][key, point], axis=-1)
             if self.shell:
                 error += self.shell * chord(turned, self.source[0][key, point])
@@ -269,19 +283,11 @@ class PlantedRounding:
               move: np.ndarray) -> None:
         """The state after ``joint``'s keys at ``frames`` take ``change`` (as
         :meth:`_fits`), ``move`` apart from what they held."""
-        if rotation:
-            turn = Rotation.from_quat(change).as_matrix() @ np.swapaxes(Rotation.from_quat(unit).as_matrix(), 1, 2)
         for way in (0, 1):                                    # the same local change under each way's parent
-            frame = up[way]
-            if rotation:
-                delta = frame @ turn @ np.swapaxes(frame, 1, 2)                                    # (T, 3, 3)
-                centre = at[way][:, None]
-                self.positions[way, frames[:, None], joints] = centre + np.einsum("tij,tdj->tdi", delta,
-                                                                                  points[way] - centre)
-                self.turns[way, frames[:, None], joints] = delta[:, None] @ self.turns[way, frames[:, None], joints]
-            else:
-                self.positions[way, frames[:, None], joints] = points[way] + np.einsum("tij,tj->ti", frame,
-                                                                                       change)[:, None]
+            delta = _world_change(rotation, up[way], unit, change)
+            rows = frames[:, None], joints
+            self.positions[way][rows], self.turns[way][rows] = _changed(rotation, delta, at[way], points[way],
+                                                                        self.turns[way][rows])
         at_keys = np.flatnonzero(keys)
         between = np.flatnonzero(~keys)
         if len(at_keys) > 1 and len(between):

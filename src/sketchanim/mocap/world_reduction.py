@@ -22,8 +22,8 @@ from __future__ import annotations
 import numpy as np
 
 from sketchanim.errors import ArgumentError
-from sketchanim.mocap.clip_reduction import (ORDER, TRANSLATION_SHARE, ReducedClip, held_frames, most_moving, contact_angles,
-                                             joint_position, on_chains, sliding_kept, tighten)
+from sketchanim.mocap.clip_reduction import (ORDER, TRANSLATION_SHARE, ReducedClip, contact_angles, held_frames,
+                                             joint_position, most_moving, on_chains, sliding_kept, tighten)
 from sketchanim.motion.skeleton import Clip
 
 #: The largest angle any joint is given, degrees (a joint that reaches nothing, a leaf).

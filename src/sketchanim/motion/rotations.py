@@ -26,7 +26,7 @@ from sketchanim.errors import ArgumentError, SampleError
 from sketchanim.reducer import FeatureOptions, Piece, Reduction, StreamReducer, reduce
 from sketchanim.reducer.stream import StreamStats
 from sketchanim.reducer.conditioning import check_tolerance
-from sketchanim.reducer.linear_keys import spherical_mix
+from sketchanim.reducer.linear_keys import played_at
 from sketchanim.reducer.metric import rotation_angle
 from sketchanim.spline.knots import insert_knots
 
@@ -171,16 +171,11 @@ def slerped(times: ArrayLike, quats: ArrayLike, at: ArrayLike) -> np.ndarray:
     >>> np.degrees(2 * np.arctan2(out[:, 2], out[:, 3])).round(9).tolist()
     [22.5, 90.0]
     """
-    t = np.asarray(times, dtype=float)
     q = np.asarray(quats, dtype=float)
-    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
-    at = np.clip(np.asarray(at, dtype=float), t[0], t[-1])
-    if len(t) < 2:
-        return np.broadcast_to(q[:1], (len(at),) + q.shape[1:]).copy()
-    i = np.clip(np.searchsorted(t, at, side="right") - 1, 0, len(t) - 2)
-    s = ((at - t[i]) / (t[i + 1] - t[i])).reshape((len(at),) + (1,) * (q.ndim - 1))
-    a, b = q[i], q[i + 1]
-    out = spherical_mix(a, np.where(np.sum(a * b, axis=-1, keepdims=True) < 0, -b, b), s)   # the shorter way
+    at = np.asarray(at, dtype=float)
+    rows = np.moveaxis((q / np.linalg.norm(q, axis=-1, keepdims=True)).reshape(len(q), -1, 4), 0, 1)   # (R, n, 4)
+    out = played_at(times, rows, np.ones(rows.shape[:2], bool), at, rotation=True)[:, :, 0]          # spherically
+    out = np.moveaxis(out, 0, 1).reshape((len(at),) + q.shape[1:])
     return out / np.linalg.norm(out, axis=-1, keepdims=True)
 
 
