@@ -4,7 +4,7 @@ of reach is pointed at, the middle joint bends toward the front, frames are rota
 from __future__ import annotations
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -22,6 +22,7 @@ def end_of(root: tuple, frames: tuple, upper: float, lower: float) -> tuple[np.n
 
 @settings(max_examples=60, deadline=None)
 @given(points, points, st.floats(0.1, 1.0), st.floats(0.1, 1.0), points)
+@example((0.0, 0.0, 2.0**-24), (0.0, 1.0, 1.0), 1.0, 0.5, (0.0, 1.0, 1.0))   # front 4e-8 off the limb's line
 def test_reaches_or_points_at_the_target(root: tuple, target: tuple, upper: float, lower: float,
                                          front: tuple) -> None:
     frames = two_bone(root, target, upper, lower, front)

@@ -20,7 +20,7 @@ def two_bone(root: Vec, target: Vec, upper: float, lower: float, front: Vec) -> 
     from a joint at ``root`` reaching for ``target``, the distance clamped to the limb's
     reach (just short of straight, just longer than folded), the middle joint bending
     toward ``front`` (its part off the root-target line; +y, or +z for a limb along y,
-    where it has none); each
+    where that part is under 1e-6, too short to give a direction to the digits kept); each
     bone's rest +z turns toward ``front`` too.
 
     >>> up, low = two_bone((0.0, 1.0, 0.0), (0.0, 0.4, 0.0), 0.5, 0.5, (0.0, 0.0, 1.0))
@@ -41,7 +41,7 @@ def two_bone(root: Vec, target: Vec, upper: float, lower: float, front: Vec) -> 
     along = px * ux + py * uy + pz * uz
     nx, ny, nz = px - along * ux, py - along * uy, pz - along * uz
     n = math.sqrt(nx * nx + ny * ny + nz * nz)
-    if n < 1e-9:                        # the limb points along ``front``: bend toward +y (or +z)
+    if n < 1e-6:                        # the limb points (nearly) along ``front``: bend toward +y (or +z)
         px, py, pz = (0.0, 1.0, 0.0) if abs(uy) < 0.9 else (0.0, 0.0, 1.0)
         along = px * ux + py * uy + pz * uz
         nx, ny, nz = px - along * ux, py - along * uy, pz - along * uz

@@ -40,7 +40,7 @@ export function twoBone(root, target, upper, lower, front) {
   const along = px * ux + py * uy + pz * uz;
   let nx = px - along * ux, ny = py - along * uy, nz = pz - along * uz;
   let n = Math.sqrt(nx * nx + ny * ny + nz * nz);
-  if (n < 1e-9) { // the limb points along `front`: bend toward +y (or +z)
+  if (n < 1e-6) { // the limb points (nearly) along `front`: bend toward +y (or +z)
     const [qx, qy, qz] = Math.abs(uy) < 0.9 ? [0.0, 1.0, 0.0] : [0.0, 0.0, 1.0];
     const on = qx * ux + qy * uy + qz * uz;
     nx = qx - on * ux; ny = qy - on * uy; nz = qz - on * uz;
