@@ -50,10 +50,12 @@ def chunks(n: int, chunk: int = 1000) -> Iterator[tuple[np.ndarray, np.ndarray]]
             yield t[i : i + chunk], x[i : i + chunk]
 
 
-def stream(n: int, window: int, chunk: int = 1000, features: bool = True) -> tuple[float, sketchanim.StreamReducer]:
+def stream(n: int, window: int, chunk: int = 1000, features: bool = True, grow: bool = False
+           ) -> tuple[float, sketchanim.StreamReducer]:
     """Stream n samples, ``chunk`` per call, generated on the fly (pieces dropped); wall
     seconds."""
-    sr = sketchanim.StreamReducer(3, 0.01, window=window, keep=False, on_piece=lambda p: None, features=features)
+    sr = sketchanim.StreamReducer(3, 0.01, window=window, keep=False, on_piece=lambda p: None, features=features,
+                                  grow=grow)
     seconds = 0.0
     for t, x in chunks(n, chunk):
         clock = time.perf_counter()
@@ -66,22 +68,23 @@ def stream(n: int, window: int, chunk: int = 1000, features: bool = True) -> tup
 
 def latency_table(n: int) -> None:
     table = Table(title=f"latency and throughput: 3-D take of {n:,} samples at 120 Hz, tol 0.01")
-    for col in ("window", "pauses, breaks", "samples per call", "windows", "p50 ms", "p99 ms", "max ms", "samples/s",
-                "control points"):
+    for col in ("window", "grow", "pauses, breaks", "samples per call", "windows", "p50 ms", "p99 ms", "max ms",
+                "samples/s", "control points"):
         table.add_column(col, justify="right")
-    for window, features, chunk in ((10, True, 1000), (20, True, 1000), (50, True, 1000), (20, False, 1000),
-                                    (20, True, 1)):
-        seconds, sr = stream(n, window, chunk, features)
+    for window, grow, features, chunk in ((10, False, True, 1000), (20, False, True, 1000), (50, False, True, 1000),
+                                          (20, False, False, 1000), (20, False, True, 1), (20, True, True, 1000)):
+        seconds, sr = stream(n, window, chunk, features, grow)
         s = sr.stats
-        table.add_row(str(window), "on" if features else "off", str(chunk), f"{s.windows:,}", f"{s.percentile_ms(50):.3f}", f"{s.percentile_ms(99):.3f}",
-                      f"{1e3 * s.max_window_seconds:.2f}", f"{n / seconds:,.0f}", f"{s.samples - s.removed:,}")
+        table.add_row(str(window), "yes" if grow else "no", "on" if features else "off", str(chunk), f"{s.windows:,}",
+                      f"{s.percentile_ms(50):.3f}", f"{s.percentile_ms(99):.3f}", f"{1e3 * s.max_window_seconds:.2f}",
+                      f"{n / seconds:,.0f}", f"{s.samples - s.removed:,}")
     t, x = map(np.concatenate, zip(*chunks(n)))
     try:                       # the same take in one batch call to SISL (its own time, in C)
         peer = sisl.s1961(t, x, np.full(3, 0.01), split=0.0)
-        table.add_row("SISL s1961, batch", "", "", "", "", "", "", f"{n / peer.seconds:,.0f}",
+        table.add_row("SISL s1961, batch", "", "", "", "", "", "", "", f"{n / peer.seconds:,.0f}",
                       f"{peer.n_coefficients:,}")
     except Exception as err:   # the peer is optional: report, do not stop
-        table.add_row("SISL s1961, batch", "", "", "", "", "", "", f"n/a ({type(err).__name__})", "")
+        table.add_row("SISL s1961, batch", "", "", "", "", "", "", "", f"n/a ({type(err).__name__})", "")
     console.print(table)
 
 

@@ -84,7 +84,7 @@ def test_streaming_rotations_equal_the_batch(stream, chunks: list[int], scalar_f
     t, q, tol = stream
     batch = sketchanim.reduce_rotations(t, q, tol, method="incremental", scalar_first=scalar_first, mode=mode,
                                         features=sketchanim.FeatureOptions(jumps=False))   # the stream cuts no jumps
-    rs = sketchanim.RotationStream(tol, scalar_first=scalar_first, mode=mode)
+    rs = sketchanim.RotationStream(tol, scalar_first=scalar_first, mode=mode, grow=True)
     i, c = 0, 0
     while i < len(t):
         step = chunks[c % len(chunks)]

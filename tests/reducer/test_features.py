@@ -83,7 +83,7 @@ def test_pauses_flat_breaks_sharp_tolerance_everywhere(p: Performance, method: s
 @settings(max_examples=30)
 def test_streaming_with_features_equals_batch_and_pieces_match(p: Performance, chunks: list[int]) -> None:
     pieces = []
-    sr = sketchanim.StreamReducer(p.values.shape[1], p.tol, on_piece=pieces.append)
+    sr = sketchanim.StreamReducer(p.values.shape[1], p.tol, on_piece=pieces.append, grow=True)
     i, c = 0, 0
     while i < len(p.times):
         step = chunks[c % len(chunks)]

@@ -17,11 +17,12 @@ def _check(name: str, times: np.ndarray, values: np.ndarray, tol: float, **kwarg
     return r
 
 
-def _check_stream(name: str, times: np.ndarray, values: np.ndarray, tol: float, window: int) -> None:
+def _check_stream(name: str, times: np.ndarray, values: np.ndarray, tol: float, window: int, grow: bool = False
+                  ) -> None:
     """Stream in uneven chunks: every sample within tol, the pieces are the curve and
     join with its continuity (C^(order-2), or C0 at a restart's repeated knot)."""
     pieces = []
-    sr = sketchanim.StreamReducer(values.shape[1], tol, window=window, on_piece=pieces.append)
+    sr = sketchanim.StreamReducer(values.shape[1], tol, window=window, on_piece=pieces.append, grow=grow)
     for chunk in np.array_split(np.arange(len(times)), max(1, len(times) // 37)):
         sr.extend(times[chunk], values[chunk])
     r = sr.finish()
@@ -49,10 +50,10 @@ def test_shared_recordings(data_dir, method):
         assert r.ratio >= 2.0, f"{name}: {r.n_samples} samples -> {r.n_coefficients}"
 
 
-@pytest.mark.parametrize("window", [5, 20, 50])
-def test_shared_recordings_streamed(data_dir, window):
+@pytest.mark.parametrize(("window", "grow"), [(5, False), (20, False), (50, False), (20, True)])
+def test_shared_recordings_streamed(data_dir, window, grow):
     for name, times, values, tol in shared_cases(data_dir):
-        _check_stream(name, times, values, tol, window)
+        _check_stream(name, times, values, tol, window, grow)
 
 
 @pytest.mark.parametrize("start", ["paper", "lm"])

@@ -58,10 +58,10 @@ def test_kernel_banded_solve_matches_lapack(n: int, bandwidth: int, seed: int) -
 # -- the guarantee ---------------------------------------------------------------------
 
 @settings(max_examples=80)
-@given(signals(max_n=400), st.integers(2, 5), st.integers(3, 60), st.sampled_from(CONSTRAINTS))
-def test_every_sample_within_tolerance(sig, order: int, window: int, constraints: str) -> None:
+@given(signals(max_n=400), st.integers(2, 5), st.integers(3, 60), st.sampled_from(CONSTRAINTS), st.booleans())
+def test_every_sample_within_tolerance(sig, order: int, window: int, constraints: str, grow: bool) -> None:
     sr = sketchanim.StreamReducer(sig.values.shape[1], sig.tol, order=order, window=window,
-                                  constraints=constraints)
+                                  constraints=constraints, grow=grow)
     sr.extend(sig.times, sig.values)
     r = sr.finish()
     assert within(r.spline(sig.times), sig.values, sig.tol)
@@ -98,7 +98,7 @@ def test_streaming_in_any_chunks_equals_batch(sig, window: int, chunks: list[int
     batch = sketchanim.reduce(sig.times, sig.values, sig.tol, method="incremental", window=window,
                               features=sketchanim.FeatureOptions(jumps=False))    # the stream cuts no jumps
     pieces = []
-    sr = sketchanim.StreamReducer(sig.values.shape[1], sig.tol, window=window, on_piece=pieces.append)
+    sr = sketchanim.StreamReducer(sig.values.shape[1], sig.tol, window=window, on_piece=pieces.append, grow=True)
     i, c = 0, 0
     while i < len(sig.times):
         step = chunks[c % len(chunks)]
@@ -121,11 +121,11 @@ def test_streaming_in_any_chunks_equals_batch(sig, window: int, chunks: list[int
 
 
 @settings(max_examples=30)
-@given(signals(min_n=30, max_n=300, dims=(1, 3)), st.integers(3, 5), st.integers(3, 30))
-def test_splices_keep_the_curve_continuity(sig, order: int, window: int) -> None:
+@given(signals(min_n=30, max_n=300, dims=(1, 3)), st.integers(3, 5), st.integers(3, 30), st.booleans())
+def test_splices_keep_the_curve_continuity(sig, order: int, window: int, grow: bool) -> None:
     pieces = []
     sr = sketchanim.StreamReducer(sig.values.shape[1], sig.tol, order=order, window=window,
-                                  on_piece=pieces.append)
+                                  on_piece=pieces.append, grow=grow)
     sr.extend(sig.times, sig.values)
     sr.close()
     scale = np.abs(sig.values).max() + sig.tol.max()
@@ -148,15 +148,38 @@ def test_splices_keep_the_curve_continuity(sig, order: int, window: int) -> None
     assert joins <= sr.stats.start_misses + sr.stats.cuts + 2 * sr.stats.straightened + features
 
 
+def test_windows_grow_on_smooth_motion_and_shrink_where_it_is_hard() -> None:
+    """A dense smooth take with a burst of fast motion: grown windows (``grow``) take the
+    smooth stretches in far fewer windows, keep the tolerance, and where the motion is
+    hard go back to ``window`` (which removes more there than a grown one would)."""
+    t = np.arange(30_000) / 1000.0
+    rng = np.random.default_rng(1)
+    x = np.c_[np.sin(0.3 * t), np.cos(0.2 * t), 0.01 * t] + rng.normal(0, 1e-4, (len(t), 3))
+    burst = (t > 12.0) & (t < 14.0)
+    x[burst, 0] += 0.2 * np.sin(40.0 * t[burst]) * np.sin(np.pi * (t[burst] - 12.0) / 2.0)
+    runs = {}
+    for grow in (False, True):
+        sr = sketchanim.StreamReducer(3, 1e-3, grow=grow)
+        sr.extend(t, x)
+        runs[grow] = (sr.finish(), sr.stats)
+    (plain, plain_stats), (grown, grown_stats) = runs[False], runs[True]
+    assert within(grown.spline(t), x, np.full(3, 1e-3))
+    assert grown_stats.windows < plain_stats.windows / 3
+    assert grown.report["max_window"] == 160 and plain.report["max_window"] == 20
+    assert grown.n_coefficients <= plain.n_coefficients
+    hard = lambda r: int(np.count_nonzero((r.spline.t > 12.0) & (r.spline.t < 14.0)))  # noqa: E731
+    assert hard(grown) <= hard(plain) + 2
+
+
 # -- bounded memory --------------------------------------------------------------------------
 
 @settings(max_examples=30)
 @given(signals(min_n=50, max_n=600, dims=(1, 2)), st.integers(2, 5), st.integers(3, 40),
-       st.integers(2, 40))
-def test_buffer_never_exceeds_its_bound(sig, order: int, window: int, max_span: int) -> None:
+       st.integers(2, 40), st.booleans())
+def test_buffer_never_exceeds_its_bound(sig, order: int, window: int, max_span: int, grow: bool) -> None:
     sr = sketchanim.StreamReducer(sig.values.shape[1], sig.tol, order=order, window=window, max_span=max_span,
-                                  keep=False)
-    assert sr.buffer_bound == order * max_span + window + 2 * order
+                                  keep=False, grow=grow)
+    assert sr.buffer_bound == order * max_span + (max(window, max_span) if grow else window) + 2 * order
     for ti, xi in zip(sig.times, sig.values):
         sr.push(ti, xi)
         assert sr.buffered <= sr.buffer_bound
@@ -182,7 +205,7 @@ def test_long_stream_keeps_a_bounded_buffer_and_finishes_pieces_as_it_goes() -> 
 
 def test_bad_sample_mid_stream_is_named_and_everything_before_it_kept() -> None:
     t, x = spiral(400)
-    sr = sketchanim.StreamReducer(2, 0.1, window=10)
+    sr = sketchanim.StreamReducer(2, 0.1, window=10, grow=True)
     sr.extend(t[:200], x[:200])
     bad = x[200:260].copy()
     bad[17, 1] = np.nan

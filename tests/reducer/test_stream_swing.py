@@ -46,11 +46,11 @@ def streamed(times: np.ndarray, values: np.ndarray, tol: np.ndarray, **options) 
 
 
 @settings(max_examples=60)
-@given(signals(max_n=300), st.integers(2, 5), st.integers(3, 40), st.booleans())
+@given(signals(max_n=300), st.integers(2, 5), st.integers(3, 40), st.booleans(), st.booleans())
 def test_every_piece_stays_within_the_local_range_of_its_samples(sig, order: int, window: int,
-                                                                  features: bool) -> None:
+                                                                  features: bool, grow: bool) -> None:
     t = sig.times - sig.times[0]         # the rule in the caller's units; see the offset test below
-    pieces, r = streamed(t, sig.values, sig.tol, order=order, window=window, features=features)
+    pieces, r = streamed(t, sig.values, sig.tol, order=order, window=window, features=features, grow=grow)
     assert pieces_swing(t, sig.values, sig.tol, pieces) <= ROUNDING_TOL
     whole = r.spline if sig.values.shape[1] > 1 else BSpline(r.spline.t, r.spline.c[:, None], r.spline.k)
     whole_piece = Piece(np.asarray(whole.t), np.asarray(whole.c))

@@ -264,7 +264,9 @@ class RotationStream:
     arrive, a rotation curve out (see :class:`sketchanim.StreamReducer`).
 
     Sign flips are fixed and Euler angles unwrapped against the last sample taken, so
-    a stream fed in pieces gives the same curve as the whole take.
+    a stream fed in pieces gives the same curve as the whole take; with ``grow=True``
+    (windows grow on smooth motion, see :class:`~sketchanim.StreamReducer`), the curve
+    of :func:`reduce_rotations` with ``method="incremental"``.
 
     Examples
     --------
@@ -280,15 +282,16 @@ class RotationStream:
 
     def __init__(self, tol_deg: float, *, scalar_first: bool = False, mode: str = "quaternion", seq: str = "ZXY",
                  order: int = 4, window: int = 20, keep: bool = True,
-                 on_piece: Callable[[Piece], object] | None = None, features: bool | FeatureOptions = True) -> None:
+                 on_piece: Callable[[Piece], object] | None = None, features: bool | FeatureOptions = True,
+                 grow: bool = False) -> None:
         angle = _check_mode(mode, tol_deg)
         self.mode, self.seq, self.scalar_first = mode, seq, scalar_first
         if mode == "euler":
             self.stream = StreamReducer(3, angle, order=order, window=window, keep=keep, on_piece=on_piece,
-                                        features=features)
+                                        features=features, grow=grow)
         else:
             self.stream = StreamReducer(4, np.sin(angle / 2), order=order, window=window, keep=keep,
-                                        on_piece=on_piece, angle=angle, features=features)
+                                        on_piece=on_piece, angle=angle, features=features, grow=grow)
         self._last: np.ndarray | None = None
 
     def push(self, t: float, quat: ArrayLike) -> None:

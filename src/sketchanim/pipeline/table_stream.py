@@ -130,7 +130,8 @@ class ChannelStream:
                     self._end_run(wt, wx, a - 1)
                 o = self.options
                 self._runs.append(_Run((float(wt[a]), wx[a].copy()), StreamReducer(
-                    self.dim, self.tol, order=o.order, window=o.window, features=o.features, angle=self.angle or None)))
+                    self.dim, self.tol, order=o.order, window=o.window, features=o.features, angle=self.angle or None,
+                    grow=True)))
             run = self._runs[-1]
             stream = run.stream
             if a == b or stream is None:

@@ -99,8 +99,9 @@ def reduce(
     method : {"global", "incremental"}
         Lyche-Morken knot removal over the whole take, or the incremental method
         (windows of ``window`` knots, as :class:`StreamReducer` does while samples
-        arrive; with ``FeatureOptions(jumps=False)`` or ``features=False``, the same
-        spline as streaming these samples, the stream keeping the no-swing bound itself).
+        arrive, growing where the motion is smooth: ``grow=True``; with
+        ``FeatureOptions(jumps=False)`` or ``features=False``, the same spline as
+        streaming these samples so, the stream keeping the no-swing bound itself).
     start : {"paper", "lm"}
         Starting curve: the samples as control polygon, or LM's reduced
         piecewise-linear interpolant raised to ``order``.
@@ -186,7 +187,7 @@ def reduce(
         the work done is added up in the report."""
         if method == "incremental":
             stream = StreamReducer(samples.dim, samples.tol, order=order, window=window, constraints=constraints,
-                                   angle=angle or None, features=options)
+                                   angle=angle or None, features=options, grow=True)
             for a in range(0, len(t), STREAM_CHUNK):        # in chunks: the same spline, bounded memory
                 stream.extend(t[a : a + STREAM_CHUNK], x[a : a + STREAM_CHUNK])
             streamed = stream.finish()

@@ -179,6 +179,12 @@ class _Rows:
         return self._store[: self.n].copy()
 
 
+def _took_all(out: tuple) -> bool:
+    """Whether a window (the result of :func:`window_kernel.window_step`) removed
+    knots with its first trial and tried no other: its start fit and one more."""
+    return out[2] > 0 and out[3] == 2
+
+
 def _with_knot(knots: np.ndarray, coef: np.ndarray, order: int, at: float, multiplicity: int
                ) -> tuple[np.ndarray, np.ndarray]:
     """The same curve with the knot ``at`` raised to ``multiplicity`` (knot insertion;
@@ -250,6 +256,15 @@ class StreamReducer:
     bounds : (low, high) or None
         Bounds of the channels (each a number or ``dim`` numbers; ±inf: unbounded). A
         sample outside them is refused (:class:`~sketchanim.errors.SampleError`).
+    grow : bool
+        Let windows grow where the motion is smooth, for reducing a whole take: after a
+        window whose first trial removed every candidate it could, the next takes twice
+        as many candidates, up to ``max_span`` (at most 1024); a grown window whose
+        first trial fails is done again at ``window``. Where knots are far apart, a
+        window's time is mostly its past context, so a grown window costs little more
+        than one of ``window`` and smooth, densely sampled takes go several times
+        faster; but pieces come out later (up to ``max_span`` samples), so live display
+        leaves it off.
 
     A removal is accepted only if, besides every sample staying within tolerance, the
     window's curve leaves the no-swing range of no interval between samples
@@ -291,6 +306,7 @@ class StreamReducer:
         angle: float | None = None,
         features: bool | FeatureOptions = True,
         bounds: tuple[ArrayLike, ArrayLike] | None = None,
+        grow: bool = False,
     ) -> None:
         self.dim = check_count("dim", dim, 1)
         self.tol = check_tolerance(tol, self.dim)
@@ -316,8 +332,10 @@ class StreamReducer:
         self.keep = keep
         self.on_piece = on_piece
         self.stats = StreamStats()
+        #: most candidate knots a window takes
+        self.max_window = max(self.window, min(self.max_span, MAX_WINDOW)) if grow else self.window
         #: Most raw samples ever held: the past context, the window and its tail.
-        self.buffer_bound = k * self.max_span + self.window + 2 * k
+        self.buffer_bound = k * self.max_span + self.max_window + 2 * k
         # The held samples are the first _bn of the views _bt, _bx, which slide along
         # a store of twice the bound, so dropping finished samples copies nothing
         # until the views reach the store's end.
@@ -364,6 +382,7 @@ class StreamReducer:
         # the knots then sit centred on the coefficients they separate, which keeps the
         # window's least squares well conditioned.
         self._next_knot = k // 2
+        self._m = self.window                        # candidate knots of the next window
         self._free_tail = k - k // 2                # the last held samples not yet knots
         self._held: tuple[np.ndarray, np.ndarray] | None = None
         self._joint: np.ndarray | None = None         # the value a cut segment ended on
@@ -514,14 +533,14 @@ class StreamReducer:
             end = ((self._end_value - self._center) / self.tol).reshape(1, -1)
         low, high = self._scaled_bounds()
         return window_kernel.window_step(
-            self.order, kt, kc, self._bt, self._bx, self._bn, a, b, self.window, f0, f_back, self.end_tol, final,
+            self.order, kt, kc, self._bt, self._bx, self._bn, a, b, self._m, f0, f_back, self.end_tol, final,
             self.max_span, self.exhaustive_below, self.minimax_iterations, self._curve_reference,
             self._origin, self.tol, self._center, self.angle, end, self._before, self._widen / self.tol, low, high)
 
     def _needed(self) -> int:
         """Sample knots the next window takes (the future context is ``order`` knots)."""
         k = self.order
-        return max(0, 2 * k + self.window - (len(self._kt) - (k - 1)))
+        return max(0, 2 * k + self._m - (len(self._kt) - (k - 1)))
 
     def _run_window(self, *, final: bool) -> None:
         clock = time.perf_counter()
@@ -532,6 +551,10 @@ class StreamReducer:
         f0 = max(f0, k - 1 + self._start_held)
         f_back = max(2 * k - 1 if self._pinned else f0, f0)
         out = self._step(self._kt, self._kc, a, b, f0, f_back, final)
+        if not final and self._m > self.window and not _took_all(out):
+            self._m = self.window                      # harder motion: a window of ``window`` removes more there
+            b = a + self._needed()
+            out = self._step(self._kt, self._kc, a, b, f0, f_back, final)
         restarted = out[4] > window_kernel.PASS and self._pinned
         if restarted:
             self.stats.start_misses += 1
@@ -548,6 +571,7 @@ class StreamReducer:
             if self._end_value is not None:
                 piece_coef[-1] = self._end_value        # exactly, not to rounding
         if not final:
+            self._m = min(2 * self._m, self.max_window) if _took_all(out) and not restarted else self.window
             self._left = (knots[advance:], coef[advance:])
             self._pinned = True
             self._start_held = max(0, self._start_held - advance)
@@ -769,6 +793,7 @@ class StreamReducer:
         s = self.stats
         report = {
             "window": self.window,
+            "max_window": self.max_window,
             "constraints": self.constraints,
             "reference": self.reference,
             "windows": s.windows,

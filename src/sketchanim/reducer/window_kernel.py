@@ -486,8 +486,8 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
     only if no fit of the window from ``f0`` stays within tolerance; the last ``f1``
     coefficients are held too (a value the curve must end on). Rounds of: rank
     the remaining candidates on the current fit; find the largest count ``j`` whose
-    ``j`` lightest knots can go (every count below ``exhaustive_below`` candidates, else
-    bisection); if none, try the knots one by one; stop when a round removes nothing.
+    ``j`` lightest knots can go (all of them first; then every count below ``exhaustive_below``
+    candidates, else bisection); if none, try the knots one by one; stop when a round removes nothing.
     Every accepted fit keeps every sample within ``lim`` tolerances, and on every
     interval between samples ``s`` the curve goes no further outside ``[low[s], high[s]]``
     (:func:`local_ranges`) than the window's starting curve does (:func:`interval_excess`;
@@ -538,11 +538,14 @@ def reduce_window(T: np.ndarray, k: int, coef: np.ndarray, f0: int, f_back: int,
         best_j = 0
         best_T = T
         best_c = c
-        # Largest j in [1, len(order)] whose j lightest knots can go.
+        # Largest j in [1, len(order)] whose j lightest knots can go: all of them first
+        # (on smooth motion they usually can), then down one by one or by bisection.
         lo, hi = 0, len(order)
         exhaustive = np.sum(cand) < exhaustive_below
+        top = True
         while hi > lo:
-            j = hi if exhaustive else (lo + hi + 1) // 2
+            j = hi if exhaustive or top else (lo + hi + 1) // 2
+            top = False
             T2, c2 = _without(T, k, c, f0, f1, order[:j])
             fits += 1
             if fit_minimax(T2, k, c2, f0, f1, ts, target, lim, minimax_iterations, metric) <= PASS \
