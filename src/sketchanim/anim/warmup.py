@@ -1,7 +1,8 @@
 """Warming the compiled kernels ahead of use: ``python -m sketchanim.anim.warmup``.
 
 The kernels (input checks, pause and break detection, the incremental method's windows,
-the player's evaluation, forward kinematics down a skeleton) compile on first use, about
+the player's evaluation, forward kinematics down a skeleton, rotation angles and LINEAR
+rotation keys as clients play them) compile on first use, about
 20 s on a fresh machine, and are then cached beside their modules (``__pycache__``,
 ``cache=True``). ``scripts/setup``
 runs :func:`warm_up`, so the first reduction, recording or playback a user starts runs
@@ -25,12 +26,13 @@ from sketchanim.motion import reduce_rotations
 from sketchanim.motion.kinematics import world_matrices
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer import reduce
+from sketchanim.reducer.linear_keys import linear_keys
 
 
 def warm_up() -> float:
     """Run every compiled path on a small take (both methods, with a pause and a break;
-    an orientation; one playback step; a skeleton's forward kinematics); the seconds it
-    took.
+    an orientation, and its LINEAR keys; one playback step; a skeleton's forward
+    kinematics); the seconds it took.
 
     >>> warm_up() >= 0
     True
@@ -43,6 +45,7 @@ def warm_up() -> float:
     q = np.c_[np.sin(t / 4), 0 * t, 0 * t, np.cos(t / 4)]
     for method in ("global", "incremental"):
         reduce_rotations(t, q, 0.5, method=method)
+    linear_keys(t, q[None], np.radians(0.5), rotation=True)
     scene = Scene()
     scene.add("box")
     spline = r.columns

@@ -15,6 +15,7 @@ Tracks of a group share their key frames (one time array in the file).
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from sketchanim.errors import ArgumentError
 from sketchanim.reducer.metric import rotation_angle
@@ -41,15 +42,39 @@ def spherical_mix(a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
     >>> round(float(np.degrees(2 * np.arctan2(mid[0, 2], mid[0, 3]))), 9)
     45.0
     """
-    ua = a / np.linalg.norm(a, axis=-1, keepdims=True)
-    ub = b / np.linalg.norm(b, axis=-1, keepdims=True)
-    angle = 2 * np.arctan2(np.linalg.norm(ua - ub, axis=-1, keepdims=True),
-                           np.linalg.norm(ua + ub, axis=-1, keepdims=True))
-    sin = np.sin(angle)
-    small = sin < 1e-9
-    wa = np.where(small, 1 - s, np.sin((1 - s) * angle) / np.where(small, 1.0, sin))
-    wb = np.where(small, s, np.sin(s * angle) / np.where(small, 1.0, sin))
-    return wa * a + wb * b
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    shape = a.shape
+    s = np.broadcast_to(np.asarray(s, dtype=float), shape[:-1] + (1,))
+    return _slerped(np.ascontiguousarray(a.reshape(-1, 4)), np.ascontiguousarray(b.reshape(-1, 4)),
+                    np.ascontiguousarray(s.reshape(-1))).reshape(shape)
+
+
+@njit(cache=True, error_model="numpy")
+def _slerped(a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """:func:`spherical_mix` of rows (m, 4) at ``s`` (m,), compiled."""
+    out = np.empty_like(a)
+    for r in range(len(a)):
+        na = 0.0
+        nb = 0.0
+        for c in range(4):
+            na += a[r, c] * a[r, c]
+            nb += b[r, c] * b[r, c]
+        na, nb = np.sqrt(na), np.sqrt(nb)
+        diff = 0.0
+        total = 0.0
+        for c in range(4):
+            ua, ub = a[r, c] / na, b[r, c] / nb
+            diff += (ua - ub) * (ua - ub)
+            total += (ua + ub) * (ua + ub)
+        angle = 2.0 * np.arctan2(np.sqrt(diff), np.sqrt(total))
+        sin = np.sin(angle)
+        if sin < 1e-9:
+            wa, wb = 1.0 - s[r], s[r]
+        else:
+            wa, wb = np.sin((1.0 - s[r]) * angle) / sin, np.sin(s[r] * angle) / sin
+        for c in range(4):
+            out[r, c] = wa * a[r, c] + wb * b[r, c]
+    return out
 
 
 def _mixed(a: np.ndarray, b: np.ndarray, s: np.ndarray, rotation: bool) -> np.ndarray:
