@@ -551,7 +551,9 @@ class StreamReducer:
         f0 = max(f0, k - 1 + self._start_held)
         f_back = max(2 * k - 1 if self._pinned else f0, f0)
         out = self._step(self._kt, self._kc, a, b, f0, f_back, final)
+        spent = 0                                      # fits of a grown window done again
         if not final and self._m > self.window and not _took_all(out):
+            spent = out[3]
             self._m = self.window                      # harder motion: a window of ``window`` removes more there
             b = a + self._needed()
             out = self._step(self._kt, self._kc, a, b, f0, f_back, final)
@@ -584,7 +586,7 @@ class StreamReducer:
             self._next_knot -= done
         if advance > 0 and (self.keep or self.on_piece is not None):
             self._emit(piece_knots, piece_coef, final)
-        self.stats.record(time.perf_counter() - clock, removed, fits)
+        self.stats.record(time.perf_counter() - clock, removed, fits + spent)
 
     def _straighten(self, knots: np.ndarray, coef: np.ndarray, lo: np.ndarray, hi: np.ndarray, n_final: int,
                     advance: int, final: bool) -> tuple:
