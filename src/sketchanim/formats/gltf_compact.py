@@ -121,11 +121,16 @@ def held(values: np.ndarray, path: str, bits: int | np.ndarray) -> np.ndarray:
     >>> bool(fine < coarse)
     True
     """
-    rows = _encoded(values, path, bits)
-    size = rows.shape[1]
+    return _decoded(_encoded(values, path, bits), path)
+
+
+def _decoded(rows: np.ndarray, path: str) -> np.ndarray:
+    """What a client holds of the filter's rows of bytes (m, size) for ``path``, through
+    meshopt's codec and the filter's decoding: (m, d) float32 (rotations: normalised
+    shorts as floats)."""
     filter = "QUATERNION" if path == "rotation" else "EXPONENTIAL"
-    raw = meshopt.decode_gltf_buffer(meshopt.encode_gltf_buffer(rows, "ATTRIBUTES"), len(rows), size, "ATTRIBUTES",
-                                     filter)
+    raw = meshopt.decode_gltf_buffer(meshopt.encode_gltf_buffer(rows, "ATTRIBUTES"), len(rows), rows.shape[1],
+                                     "ATTRIBUTES", filter)
     if path == "rotation":
         return (np.frombuffer(raw.tobytes(), np.int16).reshape(-1, 4) * np.float32(1 / 32767)).astype(np.float32)
     return np.frombuffer(raw.tobytes(), np.float32).reshape(len(rows), -1).copy()
@@ -160,19 +165,13 @@ def roundings(values: np.ndarray, path: str, bits: int | np.ndarray, steps: Sequ
         top = ((1 << (each - 1)) - 1)[:, None]                                         # the shorts' range
         stored = np.repeat(shorts[None], len(combos), axis=0)
         stored[..., :3] = np.clip(shorts[None, :, :3] + combos[:, None, :], -top, top)
-        raw, kind = np.ascontiguousarray(stored.astype(np.int16)).view(np.uint8).reshape(-1, 8), "QUATERNION"
+        raw = np.ascontiguousarray(stored.astype(np.int16)).view(np.uint8).reshape(-1, 8)
     else:
         words = rows.view(np.int32).reshape(m, d).astype(np.int64)
         mantissa = ((words & 0xFFFFFF) ^ 0x800000) - 0x800000                          # 24-bit, signed
         stored = (words >> 24 << 24)[None] | ((mantissa[None] + combos[:, None, :]) & 0xFFFFFF)
-        raw, kind = np.ascontiguousarray(stored.astype(np.uint32)).view(np.uint8).reshape(-1, 4 * d), "EXPONENTIAL"
-    decoded = meshopt.decode_gltf_buffer(meshopt.encode_gltf_buffer(raw, "ATTRIBUTES"), len(raw), raw.shape[1],
-                                         "ATTRIBUTES", kind)
-    if path == "rotation":
-        out = (np.frombuffer(decoded.tobytes(), np.int16).reshape(-1, 4) * np.float32(1 / 32767)).astype(np.float32)
-    else:
-        out = np.frombuffer(decoded.tobytes(), np.float32).reshape(-1, d)
-    out = out.astype(float).reshape(len(combos), m, d)
+        raw = np.ascontiguousarray(stored.astype(np.uint32)).view(np.uint8).reshape(-1, 4 * d)
+    out = _decoded(raw, path).astype(float).reshape(len(combos), m, d)
     again = _encoded(out.reshape(-1, d), path, np.tile(each, len(combos))).view(raw.dtype).reshape(raw.shape)
     out[~np.all(again == raw, axis=1).reshape(len(combos), m)] = np.nan
     return out
