@@ -46,7 +46,7 @@ from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, comp
 from sketchanim.mocap.contacts import SLIDING_RATE, SLIDING_SLACK_M_S, planted, planted_steps, sliding, unit_m
 from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, held_frames, most_moving
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG
-from sketchanim.motion.kinematics import chord, world_matrices
+from sketchanim.motion.kinematics import shell_error, world_matrices
 from sketchanim.motion.rotations import continuous_quaternions
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer.linear_keys import linear_keys, misses, played, played_at
@@ -252,10 +252,7 @@ def _world_errors(skeleton: Skeleton, source: tuple[np.ndarray, np.ndarray], rot
     (``source``: :func:`~sketchanim.motion.kinematics.world_matrices` of the source);
     and the joints' world positions (n, J, 3) and rotations (n, J, 3, 3)."""
     turns, positions = world_matrices(skeleton, rot, trans)
-    out = np.linalg.norm(positions - source[1], axis=-1)
-    if shell:
-        out += shell * chord(turns, source[0])
-    return out, positions, turns
+    return shell_error(turns, positions, *source, shell), positions, turns
 
 
 def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: np.ndarray | None = None,

@@ -27,7 +27,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter1d
 from scipy.spatial.transform import Rotation
 
-from sketchanim.motion.kinematics import chord
+from sketchanim.motion.kinematics import shell_error
 from sketchanim.motion.skeleton import Skeleton
 from sketchanim.reducer.metric import rotation_angle
 
@@ -224,10 +224,8 @@ class PlantedRounding:
 
     def _errors(self, frames: np.ndarray, joints: np.ndarray) -> np.ndarray:
         """(F, D): the world error of ``joints`` at ``frames``, the worse way it plays."""
-        turns, positions = self.turns[:, frames][:, :, joints], self.positions[:, frames][:, :, joints]
-        out = np.linalg.norm(positions - self.source[1][frames][:, joints], axis=-1)
-        if self.shell:
-            out += self.shell * chord(turns, self.source[0][frames][:, joints])
+        out = shell_error(self.turns[:, frames][:, :, joints], self.positions[:, frames][:, :, joints],
+                          self.source[0][frames][:, joints], self.source[1][frames][:, joints], self.shell)
         return out.max(axis=0) + self.moved[frames][:, joints]
 
     def _levers(self, joint: int, rotation: bool, joints: np.ndarray, frames: np.ndarray | slice = slice(None)
@@ -271,9 +269,7 @@ class PlantedRounding:
         for way in (0, 1):
             delta = _world_change(rotation, up[way, f], unit[f] if rotation else None, change[f])
             there, turned = _changed(rotation, delta, at[way, f], points[way, f, d], self.turns[way, key, point])
-            error = np.linalg.norm(there - self.source[1][key, point], axis=-1)
-            if self.shell:
-                error += self.shell * chord(turned, self.source[0][key, point])
+            error = shell_error(turned, there, self.source[0][key, point], self.source[1][key, point], self.shell)
             worst = np.maximum(worst, error)
         misses = worst + self.moved[key, point] > self.bound[key, point]
         return np.bincount(f[misses], minlength=len(frames)) == 0

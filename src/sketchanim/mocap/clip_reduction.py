@@ -35,7 +35,7 @@ from sketchanim.mocap.contacts import CONTACT_SHARE, SLIDING_SLACK_M_S, between_
 from sketchanim.mocap.tracks import FLOAT32, ReducedTrack, curve_bytes, split_path, track_path
 from sketchanim.motion import reduce_rotations
 from sketchanim.motion.rotations import spherical as played_spherically
-from sketchanim.motion.kinematics import chord, world_matrices
+from sketchanim.motion.kinematics import shell_error, world_matrices
 from sketchanim.motion.skeleton import Clip, Skeleton
 from sketchanim.reducer import Reduction, reduce
 from sketchanim.reducer.metric import rotation_angle
@@ -222,10 +222,7 @@ class ReducedClip:
         for way in self.plays:
             frames = self.sample(clip.times, spherical=way)
             turns, pos = world_matrices(clip.skeleton, frames.rotations, frames.translations)
-            error = np.linalg.norm(pos - source_pos, axis=-1)
-            if shell:
-                error += shell * chord(turns, source_turns)
-            out = np.maximum(out, error)
+            out = np.maximum(out, shell_error(turns, pos, source_turns, source_pos, shell))
         return out
 
     def to_json(self) -> str:
