@@ -43,7 +43,7 @@ from sketchanim.float32 import float32_margin, margin_refusal
 from sketchanim.formats.gltf import Node, Skin, bone_mesh
 from sketchanim.export.planted_rounding import PlantedRounding
 from sketchanim.formats.gltf_compact import BITS, CompactChannel, bits_for, compact_glb, held, roundings
-from sketchanim.mocap.contacts import SLIDING_RATE, SLIDING_SLACK_M_S, planted, planted_steps, sliding, unit_m
+from sketchanim.mocap.contacts import SLIDING_SLACK_M_S, planted, planted_steps, sliding, step_speeds, unit_m
 from sketchanim.mocap.clip_reduction import TRANSLATION_SHARE, held_frames, most_moving
 from sketchanim.mocap.world_reduction import MAX_ANGLE_DEG
 from sketchanim.motion.kinematics import shell_error, world_matrices
@@ -358,8 +358,7 @@ def _sliding(clip: Clip, steps: tuple[np.ndarray, np.ndarray, np.ndarray], rotat
     each step the faster way (clip units per second)."""
     at, first, joint = steps
     moved = [world_matrices(clip.skeleton, *_pose(clip, rotations, translations, v, at))[1] for v in (0, 1)]
-    speed = np.max([np.linalg.norm(p[first + 1, joint] - p[first, joint], axis=-1) for p in moved], axis=0)
-    return float(np.median(speed * SLIDING_RATE))
+    return float(np.median(np.max([step_speeds(p, first, joint) for p in moved], axis=0)))
 
 
 def _compact(clip: Clip, source: tuple[np.ndarray, np.ndarray], tol: float, world_bound: np.ndarray, margin: float,

@@ -177,5 +177,17 @@ def sliding(clip: Clip, sample: Callable[[np.ndarray], Clip] | None = None, *,
     if not len(first):
         return float("nan")
     moved = (sample(at) if sample is not None else resampled(clip, at)).world_positions()
-    speed = np.linalg.norm(moved[first + 1, joint] - moved[first, joint], axis=-1) * rate
-    return float(np.median(speed))
+    return float(np.median(step_speeds(moved, first, joint, rate)))
+
+
+def step_speeds(positions: np.ndarray, first: np.ndarray, joint: np.ndarray, rate: float = SLIDING_RATE
+                ) -> np.ndarray:
+    """Each step's speed (units per second): its joint's move from sample ``first`` to
+    the next of ``positions`` (m, J, 3, at ``rate`` samples per second; the steps as
+    :func:`planted_steps` gives them).
+
+    >>> p = np.zeros((3, 1, 3)); p[1:, 0, 0] = [0.5, 1.0]
+    >>> step_speeds(p, np.array([0, 1]), np.array([0, 0]), 60.0).tolist()
+    [30.0, 30.0]
+    """
+    return np.linalg.norm(positions[first + 1, joint] - positions[first, joint], axis=-1) * rate
