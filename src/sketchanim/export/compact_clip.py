@@ -68,7 +68,7 @@ ROUNDS = 6
 
 #: The world bounds tried on planted frames (metres, through the clip's unit; at most
 #: ``tol``), in turn, until one keeps the planted joints' sliding within the slack of the
-#: source's; the last is taken regardless. Sliding is a speed, so the bound that keeps it
+#: source's; the last the filters and float32 can hold is taken regardless. Sliding is a speed, so the bound that keeps it
 #: is a distance whatever ``tol`` is. With the legs' roundings picked to hold the feet
 #: (:mod:`~sketchanim.export.planted_rounding`), 5 mm kept it on four of the six clips
 #: of the project's shared data at 0.5 cm and three at 1 cm, 4 to 2 mm on the others;
@@ -309,14 +309,21 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: np.ndarray |
     for s in ("skeleton", "track") if sharing is None else (sharing,):
         if sharing is None and s == "track" and best.report.keys > SPARSE * best.report.frames * best.report.tracks:
             break                                    # keys at most frames: one time array is the smaller file
+        made = None
         for bound in bounds[bounds.index(best.report.planted_bound):] if best else bounds:
             asked = np.where(still, bound, float(tol))
             world_bound = _budget(clip, source, asked, shell)
-            made = _compact(clip, source, float(tol), world_bound, float((asked - world_bound).max(initial=0.0)),
-                            still, steps, slides, bound, shell, s, mesh, name)
+            try:
+                made = _compact(clip, source, float(tol), world_bound, float((asked - world_bound).max(initial=0.0)),
+                                still, steps, slides, bound, shell, s, mesh, name)
+            except ArgumentError:
+                if made is None and best is None:
+                    raise
+                break                                # finer than the filters' bits or float32 hold: the last one
             if not made.report.sliding or made.report.sliding[1] <= made.report.sliding[0] + SLIDING_SLACK_M_S * metre:
                 break
-        best = made if best is None or len(made.glb) < len(best.glb) else best
+        if made is not None and (best is None or len(made.glb) < len(best.glb)):
+            best = made
     return best
 
 
