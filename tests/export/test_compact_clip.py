@@ -237,6 +237,26 @@ def test_the_command_line_holds_planted_feet_unless_told_not_to(tmp_path):
     assert held[False] == planted(replace(read_clip(source), unit_m=1.0)).sum() > 0 and held[True] == 0
 
 
+@pytest.mark.parametrize(("finest", "refusal"), [(1e-5, "finer than 16 bits hold it"),
+                                               (1e-12, "less than twice what float32 may move it")])
+def test_a_planted_bound_too_fine_to_keep_ends_the_descent_with_the_last_file(tmp_path, monkeypatch, finest, refusal):
+    """A planted bound that 16-bit keys or float32 cannot keep is refused when it is the
+    only one; tried after others, none keeping the sliding (a slack below zero), it ends
+    the descent: the file is the last one made, within its planted bound."""
+    clip, _ = walker_clip(segments([(1.0, 0.0, 0.0), (2.0, 1.2, 0.0)]))
+    clip = replace(clip, unit_m=1.0)
+    monkeypatch.setattr("sketchanim.export.compact_clip.SLIDING_SLACK_M_S", -np.inf)
+    monkeypatch.setattr("sketchanim.export.compact_clip.PLANTED_M", (finest,))
+    with pytest.raises(ArgumentError, match=rf"tol: .*{refusal}"):
+        compact_clip(clip, 0.01, 0.03)
+    monkeypatch.setattr("sketchanim.export.compact_clip.PLANTED_M", (0.005, 0.002, finest))
+    made = compact_clip(clip, 0.01, 0.03)
+    assert made.report.planted_bound == 0.002
+    path = tmp_path / "walk.glb"
+    path.write_bytes(made.glb)
+    assert world_error(path, clip, 0.03)[planted(clip)].max() <= 0.002 * (1 + 1e-6)
+
+
 def assert_compact_contacts_kept(tmp_path: Path, clip: Clip, tol: float, shell: float, unit: float) -> None:
     """A compact file's planted joints: within the planted bound it reports (one of
     PLANTED_M, at most ``tol``) on their frames, and sliding (played from the file, at

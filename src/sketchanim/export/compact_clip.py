@@ -312,8 +312,8 @@ def compact_clip(clip: Clip, tol: float, shell: float, *, contacts: np.ndarray |
         made = None
         for bound in bounds[bounds.index(best.report.planted_bound):] if best else bounds:
             asked = np.where(still, bound, float(tol))
-            world_bound = _budget(clip, source, asked, shell)
             try:
+                world_bound = _budget(clip, source, asked, shell)
                 made = _compact(clip, source, float(tol), world_bound, float((asked - world_bound).max(initial=0.0)),
                                 still, steps, slides, bound, shell, s, mesh, name)
             except ArgumentError:
